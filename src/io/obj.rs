@@ -1,0 +1,247 @@
+//! Wavefront OBJ: `v` and `f` statements; everything else is skipped.
+//!
+//! Written here rather than with `tobj`: `tobj` splits `o`/`g` groups into
+//! separate models with their own vertex numbering (we must ignore groups and
+//! keep one connected surface) and reports errors without line numbers (we
+//! must name the line).
+//!
+//! Accepted: `v x y z [w | r g b]`; faces `f a b c …` whose corners are `v`,
+//! `v/vt`, `v//vn` or `v/vt/vn`, with 1-based or negative (relative)
+//! indices; forward references to vertices defined later; comments; line
+//! continuations (`\` at the end of a line). `l`, `p` and free-form
+//! statements are skipped with a warning in the report.
+
+use std::fmt::Write as _;
+
+use glam::DVec3;
+
+use super::text::{coordinate, lines};
+use super::{IoError, RawMesh};
+use crate::mesh::FaceList;
+
+pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut faces = FaceList::new();
+    // Line of each face, to name it if an index turns out out of range.
+    let mut face_lines: Vec<u32> = Vec::new();
+    let mut skipped: Vec<(&'static str, usize)> = Vec::new();
+    let mut corners: Vec<u32> = Vec::new();
+    let mut pending = String::new();
+    let mut pending_line = 0;
+
+    for item in lines(bytes, file) {
+        let (number, raw_line) = item?;
+        // Line continuation: join with the next line, report the first line.
+        let line: &str = if !pending.is_empty() || raw_line.trim_end().ends_with('\\') {
+            if pending.is_empty() {
+                pending_line = number;
+            }
+            let trimmed = raw_line.trim_end();
+            if let Some(head) = trimmed.strip_suffix('\\') {
+                pending.push_str(head);
+                pending.push(' ');
+                continue;
+            }
+            pending.push_str(trimmed);
+            &pending
+        } else {
+            pending_line = number;
+            raw_line
+        };
+        let number = pending_line;
+        let content = line.split('#').next().unwrap_or("");
+        let mut tokens = content.split_ascii_whitespace();
+        let Some(keyword) = tokens.next() else {
+            pending.clear();
+            continue;
+        };
+        match keyword {
+            "v" => {
+                let mut xyz = [0.0; 3];
+                for (axis, slot) in xyz.iter_mut().enumerate() {
+                    let token = tokens.next().ok_or_else(|| {
+                        IoError::at_line(
+                            file,
+                            number,
+                            format!("vertex has {axis} coordinates, needs 3"),
+                        )
+                    })?;
+                    *slot = coordinate(token, file, number)?;
+                }
+                for extra in tokens {
+                    // w or a colour: must still be numbers.
+                    if extra.parse::<f64>().is_err() {
+                        return Err(IoError::at_line(
+                            file,
+                            number,
+                            format!("'{extra}' is not a number"),
+                        ));
+                    }
+                }
+                if positions.len() >= u32::MAX as usize - 1 {
+                    return Err(IoError::at_line(file, number, "too many vertices"));
+                }
+                positions.push(DVec3::from_array(xyz));
+            }
+            "f" | "fo" => {
+                corners.clear();
+                for token in tokens {
+                    let index_text = token.split('/').next().unwrap_or("");
+                    let index: i64 = index_text.parse().map_err(|_| {
+                        IoError::at_line(
+                            file,
+                            number,
+                            format!("'{token}' is not a face corner (v, v/vt, v//vn or v/vt/vn)"),
+                        )
+                    })?;
+                    let resolved = if index > 0 {
+                        index - 1
+                    } else if index < 0 {
+                        positions.len() as i64 + index
+                    } else {
+                        return Err(IoError::at_line(
+                            file,
+                            number,
+                            "vertex index 0 (OBJ indices start at 1)",
+                        ));
+                    };
+                    if resolved < 0 {
+                        return Err(IoError::at_line(
+                            file,
+                            number,
+                            format!(
+                                "relative index {index} points before the first vertex (only {} defined so far)",
+                                positions.len()
+                            ),
+                        ));
+                    }
+                    if resolved >= u32::MAX as i64 {
+                        return Err(IoError::at_line(
+                            file,
+                            number,
+                            format!("vertex index {index} is out of range"),
+                        ));
+                    }
+                    corners.push(resolved as u32);
+                }
+                if corners.len() < 3 {
+                    return Err(IoError::at_line(
+                        file,
+                        number,
+                        format!("face has {} corners, needs at least 3", corners.len()),
+                    ));
+                }
+                if faces.indices.len() + corners.len() >= u32::MAX as usize {
+                    return Err(IoError::at_line(file, number, "too many face corners"));
+                }
+                faces.push(&corners);
+                face_lines.push(number as u32);
+            }
+            "l" => skipped_count(&mut skipped, "line (l) elements"),
+            "p" => skipped_count(&mut skipped, "point (p) elements"),
+            "curv" | "curv2" | "surf" | "bmat" | "cstype" | "deg" | "step" | "parm" | "trim"
+            | "hole" | "sp" | "end" | "con" => {
+                skipped_count(&mut skipped, "free-form geometry statements")
+            }
+            "vt" | "vn" | "vp" | "g" | "o" | "s" | "mg" | "usemtl" | "mtllib" | "usemap"
+            | "maplib" | "lod" | "shadow_obj" | "trace_obj" | "bevel" | "c_interp" | "d_interp"
+            | "ctech" | "stech" | "call" | "csh" => {}
+            other => {
+                return Err(IoError::at_line(
+                    file,
+                    number,
+                    format!(
+                        "unknown OBJ statement '{}'",
+                        other.chars().take(40).collect::<String>()
+                    ),
+                ));
+            }
+        }
+        pending.clear();
+    }
+    if !pending.is_empty() {
+        return Err(IoError::at_line(
+            file,
+            pending_line,
+            "the file ends inside a line continuation",
+        ));
+    }
+
+    let count = positions.len();
+    for (f, face) in faces.iter().enumerate() {
+        if let Some(&bad) = face.iter().find(|&&i| i as usize >= count) {
+            return Err(IoError::at_line(
+                file,
+                face_lines[f] as usize,
+                format!(
+                    "vertex index {} is out of range (the file has {count} vertices)",
+                    bad as u64 + 1
+                ),
+            ));
+        }
+    }
+    let warnings = skipped
+        .into_iter()
+        .map(|(what, n)| format!("skipped {n} {what}"))
+        .collect();
+    Ok(RawMesh {
+        positions,
+        faces,
+        welded_vertices: 0,
+        warnings,
+    })
+}
+
+fn skipped_count(skipped: &mut Vec<(&'static str, usize)>, what: &'static str) {
+    match skipped.iter_mut().find(|(w, _)| *w == what) {
+        Some((_, n)) => *n += 1,
+        None => skipped.push((what, 1)),
+    }
+}
+
+/// Shortest round-trip decimal form of each coordinate, so reading back
+/// gives the same `f64`s.
+pub fn write(positions: &[DVec3], faces: &FaceList) -> String {
+    let mut out = String::with_capacity(positions.len() * 40 + faces.indices.len() * 8);
+    out.push_str("# written by quadrille\n");
+    for p in positions {
+        let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for face in faces.iter() {
+        out.push('f');
+        for &i in face {
+            let _ = write!(out, " {}", i as u64 + 1);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn corner_forms_and_negative_indices() {
+        let text = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2/2 3//3 4\nf -4 -2 -1\n";
+        let m = read(text, "t.obj").unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.faces.face(0), &[0, 1, 2, 3]);
+        assert_eq!(m.faces.face(1), &[0, 2, 3]);
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let e = read(b"v 0 0 0\nv 1 0 0\n\nf 1 2 9\n", "x.obj").unwrap_err();
+        assert_eq!(e.location, super::super::Location::Line(4));
+        assert!(e.to_string().starts_with("x.obj:4:"), "{e}");
+        let e = read(b"v 0 0 0\nv nan 0 0\n", "x.obj").unwrap_err();
+        assert!(e.to_string().starts_with("x.obj:2:"), "{e}");
+    }
+
+    #[test]
+    fn continuation_lines_join() {
+        let m = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n 2 3\n", "t.obj").unwrap();
+        assert_eq!(m.faces.face(0), &[0, 1, 2]);
+    }
+}

@@ -1,0 +1,23 @@
+//! # Quadrille
+//!
+//! Quadrille turns a triangle mesh (a scan, a sculpt, a CAD tessellation)
+//! into a curvature-adaptive, feature-aligned quad-dominant mesh and a
+//! Catmull–Clark control mesh whose limit surface hugs the input.
+//!
+//! The pipeline, one way: bytes → [`io::import`] (validated, repaired,
+//! normalised [`mesh::TriMesh`]) → surface analysis (normals, curvature,
+//! features, filtered normals) → sizing field → multiresolution hierarchy →
+//! orientation field → position field → extraction into a half-edge
+//! [`mesh::PolyMesh`] → repair and post-processing → Catmull–Clark fitting →
+//! metrics. See `DESIGN.md` for the sources of each stage.
+//!
+//! Modules:
+//! - [`mesh`]: triangle mesh, polygon lists, half-edge mesh, topology, frames;
+//! - [`io`]: OBJ, PLY, STL, OFF, glTF readers; OBJ and PLY writers; import
+//!   validation and repair.
+
+pub mod io;
+pub mod mesh;
+
+#[cfg(target_arch = "wasm32")]
+pub mod web;

@@ -1,0 +1,47 @@
+//! Mesh types: the indexed triangle mesh the pipeline reads ([`TriMesh`]),
+//! polygon lists as files store them ([`FaceList`]), the half-edge polygon
+//! mesh the extraction writes ([`PolyMesh`]), topology statistics
+//! ([`Topology`]) and the similarity that normalises coordinates ([`Frame`]).
+//!
+//! Every type has a `validate()` that checks its documented invariants; tests
+//! call it after every mutating operation.
+
+mod face_list;
+mod frame;
+mod poly;
+mod topology;
+mod tri;
+
+pub use face_list::FaceList;
+pub use frame::{Aabb, Frame};
+pub use poly::{NONE, PolyMesh};
+pub use topology::Topology;
+pub use tri::TriMesh;
+
+/// A broken mesh invariant. Produced by `validate()` and by constructors that
+/// refuse input they cannot represent.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFinite { vertex: usize },
+    #[error("face {face} refers to vertex {index}, but there are only {count} vertices")]
+    IndexOutOfRange {
+        face: usize,
+        index: u32,
+        count: usize,
+    },
+    #[error("face {face} has fewer than 3 distinct vertices")]
+    DegenerateFace { face: usize },
+    #[error("edge {a}-{b} is shared by more than two faces")]
+    NonManifoldEdge { a: u32, b: u32 },
+    #[error("edge {a}-{b} is used twice in the same direction (faces inconsistently oriented)")]
+    InconsistentOrientation { a: u32, b: u32 },
+    #[error("vertex {vertex} is non-manifold (its faces form more than one fan)")]
+    NonManifoldVertex { vertex: u32 },
+    #[error("vertex {vertex} is not used by any face")]
+    IsolatedVertex { vertex: u32 },
+    #[error("too many elements for 32-bit indices")]
+    TooLarge,
+    #[error("half-edge structure broken: {0}")]
+    Connectivity(String),
+}
