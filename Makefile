@@ -1,0 +1,50 @@
+# Quadrille — build, serve and test. Two commands matter (see README.md):
+#   make run    install what the web app needs, build it, serve it on localhost
+#   make test   install what the tests need, run every test (browser tests included)
+
+SHELL := /bin/bash
+PORT ?= 8080
+MESHES ?= ../shared/meshes
+TOOLS := $(CURDIR)/.tools
+WASM := target/wasm32-unknown-unknown/release/quadrille.wasm
+
+.PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean
+
+run: web
+	cargo run --release --example serve -- www $(PORT)
+
+test: native-test wasm-check browser-test
+
+## Native: unit, integration and doc tests.
+native-test:
+	cargo test --all-targets
+	cargo test --doc
+
+## The library must build for the browser target.
+wasm-check: wasm-tools
+	cargo build --lib --target wasm32-unknown-unknown
+
+## Tools for the web build: the wasm32 target and the wasm-bindgen CLI whose
+## version matches Cargo.lock's wasm-bindgen (installed under .tools/).
+wasm-tools:
+	@scripts/install-wasm-tools.sh "$(TOOLS)"
+
+## The web app: wasm module + JS glue into www/pkg, sample meshes into www/samples.
+web: wasm-tools samples
+	cargo build --release --lib --target wasm32-unknown-unknown
+	"$(TOOLS)/bin/wasm-bindgen" --target web --no-typescript --out-dir www/pkg $(WASM)
+
+samples:
+	@scripts/copy-samples.sh "$(MESHES)" www/samples
+
+## Headless Chromium (Debian's package) driven by playwright-core from npm.
+browser-tools:
+	@scripts/install-browser-tools.sh
+
+browser-test: web browser-tools
+	cargo build --release --example serve
+	cd tests/e2e && node run.mjs
+
+clean:
+	cargo clean
+	rm -rf www/pkg www/samples
