@@ -14,10 +14,15 @@
 //! Modules:
 //! - [`mesh`]: triangle mesh, polygon lists, half-edge mesh, topology, frames;
 //! - [`io`]: OBJ, PLY, STL, OFF, glTF readers; OBJ and PLY writers; import
-//!   validation and repair.
+//!   validation and repair;
+//! - [`analysis`]: normals, cell areas, principal curvature, curvature
+//!   averaging, feature vertices, filtered normals;
+//! - [`sizing`]: curvature → target edge length per vertex (the sizing field).
 
+pub mod analysis;
 pub mod io;
 pub mod mesh;
+pub mod sizing;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -6,12 +6,17 @@
 //! Every type has a `validate()` that checks its documented invariants; tests
 //! call it after every mutating operation.
 
+mod adjacency;
 mod face_list;
 mod frame;
+pub mod generate;
 mod poly;
 mod topology;
 mod tri;
 
+pub use adjacency::{
+    Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces, boundary_vertices,
+};
 pub use face_list::FaceList;
 pub use frame::{Aabb, Frame};
 pub use poly::{NONE, PolyMesh};

@@ -1,0 +1,173 @@
+//! Surface analysis: everything the orientation and position fields need to
+//! know about the input surface (Kloiber thesis 3.1–3.3, Ebke et al. 2014
+//! section 3).
+//!
+//! - [`normals`]: face and vertex normals;
+//! - [`areas`]: barycentric cell areas (thesis Fig. 3.9);
+//! - [`curvature`]: principal curvatures and directions, cubic-order fit or
+//!   discrete sums (3.1.1);
+//! - [`selection`]: which curvature drives the edge length (3.1.2);
+//! - [`averaging`]: curvature averaging (3.1.3);
+//! - [`features`]: feature vertices and orientation constraints (3.3);
+//! - [`filtered_normals`]: Gaussian-filtered, scale-aware normals (Ebke 3);
+//! - the sizing field itself is [`crate::sizing`] (3.2).
+//!
+//! Every function takes plain slices (positions, normals, an adjacency) and
+//! returns per-vertex or per-face `Vec`s, so the hierarchy can recompute any
+//! quantity on a coarser level (thesis 3.1.4: curvature re-estimated per
+//! level). [`analyze`] runs them all on the input mesh in order.
+//!
+//! Loops are plain loops over vertices or faces, deterministic, single
+//! threaded; the pipeline can hook progress and cancellation into them.
+
+pub mod areas;
+pub mod averaging;
+pub mod curvature;
+pub mod features;
+pub mod filtered_normals;
+pub mod normals;
+pub mod selection;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::mesh::{FaceAdjacency, TriMesh, VertexAdjacency};
+use crate::sizing::{self, SizingContext, SizingParams};
+
+pub use areas::barycentric_cell_areas;
+pub use averaging::{AveragingMethod, AveragingParams, average_curvature};
+pub use curvature::{
+    CurvatureEstimator, CurvatureParams, PrincipalCurvature, principal_curvatures,
+};
+pub use features::{FeatureParams, FeatureVertices, feature_vertices, orientation_constraints};
+pub use filtered_normals::{FilteredNormalsMode, FilteredNormalsParams, Sigma, filtered_normals};
+pub use normals::{NormalWeighting, face_normals, vertex_normals};
+pub use selection::{CurvatureSelection, directional_curvature, select_curvature};
+
+/// Parameters of the surface analysis. Every field has a documented default
+/// (DESIGN.md's table); `#[serde(default)]` fills missing fields.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AnalysisParams {
+    /// Vertex normal weighting. Default [`NormalWeighting::Angle`].
+    pub normal_weighting: NormalWeighting,
+    /// Estimator and neighbourhood. Default cubic fit on the 2-ring.
+    pub curvature: CurvatureParams,
+    /// Default [`CurvatureSelection::MaxAbs`] (`max(|κ1|, |κ2|)`).
+    pub selection: CurvatureSelection,
+    /// Default simple averaging, 2 iterations, λ = 0.25, 1-ring.
+    pub averaging: AveragingParams,
+    /// Default on, κ3 < 0.1.
+    pub features: FeatureParams,
+    /// Default σ = s/2 for the global edge length s, truncated at 2σ.
+    pub filtered_normals: FilteredNormalsParams,
+}
+
+/// The sizing field: one target edge length per vertex.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SizingField {
+    /// Mesh-wide quantities (global edge length s, …), for reuse on coarser levels.
+    pub context: SizingContext,
+    /// Target edge length per vertex, in `[min_factor, max_factor] · s`.
+    pub edge_length: Vec<f64>,
+    /// With [`CurvatureSelection::Directional`]: lengths along (d1, d2).
+    pub directional: Option<Vec<[f64; 2]>>,
+}
+
+/// Everything [`analyze`] computes, per vertex (`vertex_*`, `curvature`,
+/// `selected`, `averaged`, sizing, features) or per face (`face_*`,
+/// `filtered_normals`).
+#[derive(Debug, Clone)]
+pub struct SurfaceAnalysis {
+    pub adjacency: VertexAdjacency,
+    pub face_adjacency: FaceAdjacency,
+    pub face_normals: Vec<DVec3>,
+    pub vertex_normals: Vec<DVec3>,
+    pub cell_areas: Vec<f64>,
+    pub curvature: Vec<PrincipalCurvature>,
+    /// The selected curvature magnitude (thesis 3.1.2), before averaging.
+    pub selected: Vec<f64>,
+    /// After averaging (thesis 3.1.3); what the sizing field uses.
+    pub averaged: Vec<f64>,
+    pub sizing: SizingField,
+    pub features: FeatureVertices,
+    /// Unit filtered normal per face (the face normals when filtering is off).
+    pub filtered_normals: Vec<DVec3>,
+}
+
+/// Runs the whole analysis on `mesh` in pipeline order.
+pub fn analyze(
+    mesh: &TriMesh,
+    params: &AnalysisParams,
+    sizing_params: &SizingParams,
+) -> SurfaceAnalysis {
+    let adjacency = VertexAdjacency::new(mesh);
+    let face_adjacency = FaceAdjacency::new(mesh);
+    let face_normals = face_normals(mesh);
+    let vertex_normals = vertex_normals(mesh, params.normal_weighting);
+    let cell_areas = barycentric_cell_areas(mesh);
+    let curvature = principal_curvatures(
+        &mesh.positions,
+        &vertex_normals,
+        &adjacency,
+        &params.curvature,
+    );
+    let selected = select_curvature(&curvature, params.selection);
+    let averaged = average_curvature(&selected, &adjacency, &params.averaging);
+    let context = SizingContext::for_mesh(mesh, &averaged, sizing_params);
+    let edge_length = sizing::sizing_field(&averaged, &context, sizing_params);
+    let directional = (params.selection == CurvatureSelection::Directional).then(|| {
+        let pairs = directional_curvature(&curvature);
+        let channel = |i: usize| {
+            let values: Vec<f64> = pairs.iter().map(|p| p[i]).collect();
+            let averaged = average_curvature(&values, &adjacency, &params.averaging);
+            sizing::sizing_field(&averaged, &context, sizing_params)
+        };
+        let (along1, along2) = (channel(0), channel(1));
+        along1
+            .into_iter()
+            .zip(along2)
+            .map(|(a, b)| [a, b])
+            .collect()
+    });
+    let features = feature_vertices(&curvature, &adjacency, &params.features);
+    let fp = &params.filtered_normals;
+    let filtered = match fp.mode {
+        FilteredNormalsMode::Off => face_normals.clone(),
+        FilteredNormalsMode::Global => filtered_normals(
+            mesh,
+            &face_adjacency,
+            &face_normals,
+            Sigma::Uniform(fp.sigma_factor * context.global_edge_length),
+            fp.truncation,
+        ),
+        FilteredNormalsMode::SizingAware => {
+            let sigma =
+                filtered_normals::face_sigma_from_sizing(mesh, &edge_length, fp.sigma_factor);
+            filtered_normals(
+                mesh,
+                &face_adjacency,
+                &face_normals,
+                Sigma::PerFace(&sigma),
+                fp.truncation,
+            )
+        }
+    };
+    SurfaceAnalysis {
+        adjacency,
+        face_adjacency,
+        face_normals,
+        vertex_normals,
+        cell_areas,
+        curvature,
+        selected,
+        averaged,
+        sizing: SizingField {
+            context,
+            edge_length,
+            directional,
+        },
+        features,
+        filtered_normals: filtered,
+    }
+}

@@ -1,0 +1,322 @@
+//! Adjacency in compressed-row (CSR) form: vertex → neighbouring vertices,
+//! vertex → incident faces, face → edge-adjacent faces, and n-ring
+//! neighbourhoods.
+//!
+//! Every list is sorted by index, so everything built on it is deterministic.
+//! Non-manifold input is fine: a vertex's neighbours are simply all vertices
+//! it shares an edge with, and faces around a non-manifold edge are all
+//! adjacent to each other.
+
+use super::TriMesh;
+
+/// Compressed rows: row `i` is `items[offsets[i]..offsets[i + 1]]`.
+///
+/// Invariants: `offsets.len() == rows + 1`, `offsets[0] == 0`, `offsets` is
+/// non-decreasing and ends at `items.len()`.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Csr {
+    pub offsets: Vec<u32>,
+    pub items: Vec<u32>,
+}
+
+impl Csr {
+    /// Builds rows from `(row, item)` pairs; each row sorted, duplicates removed.
+    pub fn from_pairs(rows: usize, mut pairs: Vec<(u32, u32)>) -> Csr {
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut offsets = vec![0u32; rows + 1];
+        for &(r, _) in &pairs {
+            offsets[r as usize + 1] += 1;
+        }
+        for r in 0..rows {
+            offsets[r + 1] += offsets[r];
+        }
+        Csr {
+            offsets,
+            items: pairs.into_iter().map(|(_, i)| i).collect(),
+        }
+    }
+
+    pub fn rows(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    pub fn row(&self, r: usize) -> &[u32] {
+        &self.items[self.offsets[r] as usize..self.offsets[r + 1] as usize]
+    }
+}
+
+/// Vertex → neighbouring vertices (one entry per undirected edge end).
+///
+/// Built from a triangle mesh, or from any edge list — coarser levels of the
+/// multiresolution hierarchy are vertex graphs without triangles, and the
+/// analysis runs on them too.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct VertexAdjacency {
+    csr: Csr,
+}
+
+impl VertexAdjacency {
+    /// The edges of `mesh`'s triangles. Unreferenced vertices get no neighbours.
+    pub fn new(mesh: &TriMesh) -> VertexAdjacency {
+        let mut pairs = Vec::with_capacity(mesh.triangles.len() * 6);
+        for t in &mesh.triangles {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                pairs.push((a, b));
+                pairs.push((b, a));
+            }
+        }
+        VertexAdjacency {
+            csr: Csr::from_pairs(mesh.positions.len(), pairs),
+        }
+    }
+
+    /// From undirected edges over `vertex_count` vertices. Edges with an end
+    /// out of range and self-loops are ignored.
+    pub fn from_edges(vertex_count: usize, edges: &[[u32; 2]]) -> VertexAdjacency {
+        let mut pairs = Vec::with_capacity(edges.len() * 2);
+        for &[a, b] in edges {
+            if a != b && (a as usize) < vertex_count && (b as usize) < vertex_count {
+                pairs.push((a, b));
+                pairs.push((b, a));
+            }
+        }
+        VertexAdjacency {
+            csr: Csr::from_pairs(vertex_count, pairs),
+        }
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.csr.rows()
+    }
+
+    pub fn neighbors(&self, v: usize) -> &[u32] {
+        self.csr.row(v)
+    }
+
+    pub fn degree(&self, v: usize) -> usize {
+        self.neighbors(v).len()
+    }
+
+    /// The underlying rows (offsets and neighbour indices).
+    pub fn csr(&self) -> &Csr {
+        &self.csr
+    }
+}
+
+/// Vertex → incident triangles.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct VertexFaces {
+    csr: Csr,
+}
+
+impl VertexFaces {
+    pub fn new(mesh: &TriMesh) -> VertexFaces {
+        let mut pairs = Vec::with_capacity(mesh.triangles.len() * 3);
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for &v in t {
+                pairs.push((v, f as u32));
+            }
+        }
+        VertexFaces {
+            csr: Csr::from_pairs(mesh.positions.len(), pairs),
+        }
+    }
+
+    pub fn faces(&self, v: usize) -> &[u32] {
+        self.csr.row(v)
+    }
+}
+
+/// Triangle → triangles sharing an edge with it (the dual graph).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct FaceAdjacency {
+    csr: Csr,
+}
+
+impl FaceAdjacency {
+    pub fn new(mesh: &TriMesh) -> FaceAdjacency {
+        // (min, max, face) for every edge side; equal edges sort together.
+        let mut sides: Vec<(u32, u32, u32)> = Vec::with_capacity(mesh.triangles.len() * 3);
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                sides.push((a.min(b), a.max(b), f as u32));
+            }
+        }
+        sides.sort_unstable();
+        let mut pairs = Vec::with_capacity(sides.len() * 2);
+        let mut i = 0;
+        while i < sides.len() {
+            let mut j = i;
+            while j < sides.len() && sides[j].0 == sides[i].0 && sides[j].1 == sides[i].1 {
+                j += 1;
+            }
+            for x in i..j {
+                for y in i..j {
+                    if x != y {
+                        pairs.push((sides[x].2, sides[y].2));
+                    }
+                }
+            }
+            i = j;
+        }
+        FaceAdjacency {
+            csr: Csr::from_pairs(mesh.triangles.len(), pairs),
+        }
+    }
+
+    pub fn neighbors(&self, f: usize) -> &[u32] {
+        self.csr.row(f)
+    }
+}
+
+/// Vertices on an edge that belongs to exactly one triangle.
+pub fn boundary_vertices(mesh: &TriMesh) -> Vec<bool> {
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(mesh.triangles.len() * 3);
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            edges.push((a.min(b), a.max(b)));
+        }
+    }
+    edges.sort_unstable();
+    let mut boundary = vec![false; mesh.positions.len()];
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i;
+        while j < edges.len() && edges[j] == edges[i] {
+            j += 1;
+        }
+        if j - i == 1 {
+            boundary[edges[i].0 as usize] = true;
+            boundary[edges[i].1 as usize] = true;
+        }
+        i = j;
+    }
+    boundary
+}
+
+/// Collects n-ring neighbourhoods by breadth-first search, reusing its
+/// buffers between calls (one per thread; O(ring size) per query).
+#[derive(Debug, Clone, Default)]
+pub struct RingCollector {
+    stamp: Vec<u32>,
+    generation: u32,
+}
+
+impl RingCollector {
+    pub fn new(vertex_count: usize) -> RingCollector {
+        RingCollector {
+            stamp: vec![0; vertex_count],
+            generation: 0,
+        }
+    }
+
+    /// Writes the vertices within `rings` edges of `v` (excluding `v`) into
+    /// `out`, nearest rings first, each ring in discovery order.
+    pub fn collect(
+        &mut self,
+        adjacency: &VertexAdjacency,
+        v: usize,
+        rings: u32,
+        out: &mut Vec<u32>,
+    ) {
+        out.clear();
+        if self.stamp.len() < adjacency.vertex_count() {
+            self.stamp.resize(adjacency.vertex_count(), 0);
+        }
+        if v >= adjacency.vertex_count() {
+            return;
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+        let g = self.generation;
+        self.stamp[v] = g;
+        let mut ring_start = 0;
+        // Ring 1 grows from `v`, later rings from the previous ring.
+        for &n in adjacency.neighbors(v) {
+            if self.stamp[n as usize] != g {
+                self.stamp[n as usize] = g;
+                out.push(n);
+            }
+        }
+        for _ in 1..rings {
+            let ring_end = out.len();
+            if ring_start == ring_end {
+                break;
+            }
+            for i in ring_start..ring_end {
+                let u = out[i] as usize;
+                for &n in adjacency.neighbors(u) {
+                    if self.stamp[n as usize] != g {
+                        self.stamp[n as usize] = g;
+                        out.push(n);
+                    }
+                }
+            }
+            ring_start = ring_end;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn strip() -> TriMesh {
+        // 0-1-2-3 along the bottom, 4-5-6-7 along the top.
+        let mut p = Vec::new();
+        for y in 0..2 {
+            for x in 0..4 {
+                p.push(DVec3::new(x as f64, y as f64, 0.0));
+            }
+        }
+        let mut t = Vec::new();
+        for x in 0..3u32 {
+            t.push([x, x + 1, x + 5]);
+            t.push([x, x + 5, x + 4]);
+        }
+        TriMesh::new(p, t).unwrap()
+    }
+
+    #[test]
+    fn rings_grow_by_edges() {
+        let m = strip();
+        let adj = VertexAdjacency::new(&m);
+        assert_eq!(adj.neighbors(0), &[1, 4, 5]);
+        let mut rc = RingCollector::new(m.vertex_count());
+        let mut out = Vec::new();
+        rc.collect(&adj, 0, 1, &mut out);
+        assert_eq!(out, vec![1, 4, 5]);
+        rc.collect(&adj, 0, 2, &mut out);
+        out.sort();
+        assert_eq!(out, vec![1, 2, 4, 5, 6]);
+        rc.collect(&adj, 0, 10, &mut out);
+        assert_eq!(out.len(), 7);
+    }
+
+    #[test]
+    fn dual_graph_and_boundary() {
+        let m = strip();
+        let fa = FaceAdjacency::new(&m);
+        assert_eq!(fa.neighbors(0), &[1, 3]);
+        assert_eq!(fa.neighbors(5), &[2, 4]);
+        assert!(boundary_vertices(&m).iter().all(|&b| b));
+        let vf = VertexFaces::new(&m);
+        assert_eq!(vf.faces(5), &[0, 1, 3]);
+    }
+
+    #[test]
+    fn edge_list_ignores_bad_edges() {
+        let adj = VertexAdjacency::from_edges(3, &[[0, 1], [1, 1], [2, 9], [1, 0]]);
+        assert_eq!(adj.neighbors(0), &[1]);
+        assert_eq!(adj.neighbors(1), &[0]);
+        assert!(adj.neighbors(2).is_empty());
+    }
+}

@@ -1,0 +1,221 @@
+//! Analytic test surfaces: meshes whose exact normals and curvatures are
+//! known, for tests and benchmarks of every stage.
+//!
+//! All triangles are counter-clockwise seen from outside (normals point away
+//! from the sphere/cylinder axis/torus tube, and towards +z for height
+//! fields). Sizes are clamped to small minimums so no generator panics.
+
+use std::collections::HashMap;
+use std::f64::consts::TAU;
+
+use glam::DVec3;
+
+use super::TriMesh;
+
+/// Sphere of `radius` about the origin: an icosahedron whose faces are split
+/// into four `subdivisions` times, vertices projected onto the sphere.
+/// Vertex count is `10 · 4^subdivisions + 2`.
+pub fn icosphere(radius: f64, subdivisions: u32) -> TriMesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut positions: Vec<DVec3> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|&p| DVec3::from_array(p).normalize())
+    .collect();
+    let mut triangles: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions.min(8) {
+        let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut mid = |a: u32, b: u32, positions: &mut Vec<DVec3>| -> u32 {
+            *midpoint.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let p = (positions[a as usize] + positions[b as usize]).normalize();
+                positions.push(p);
+                (positions.len() - 1) as u32
+            })
+        };
+        let mut next = Vec::with_capacity(triangles.len() * 4);
+        for &[a, b, c] in &triangles {
+            let ab = mid(a, b, &mut positions);
+            let bc = mid(b, c, &mut positions);
+            let ca = mid(c, a, &mut positions);
+            next.extend_from_slice(&[[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        triangles = next;
+    }
+    for p in &mut positions {
+        *p *= radius;
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
+/// Grid of `(nu + 1) × (nv + 1)` points `point(u, v)` for `u, v ∈ [0, 1]`,
+/// each cell split into two triangles ordered counter-clockwise with respect
+/// to `∂u × ∂v`. With `wrap_u`/`wrap_v` the last column/row is the first.
+fn parametric(
+    nu: u32,
+    nv: u32,
+    wrap_u: bool,
+    wrap_v: bool,
+    point: impl Fn(f64, f64) -> DVec3,
+) -> TriMesh {
+    let nu = nu.max(if wrap_u { 3 } else { 1 });
+    let nv = nv.max(if wrap_v { 3 } else { 1 });
+    let cols = if wrap_u { nu } else { nu + 1 };
+    let rows = if wrap_v { nv } else { nv + 1 };
+    let mut positions = Vec::with_capacity((cols * rows) as usize);
+    for j in 0..rows {
+        for i in 0..cols {
+            positions.push(point(i as f64 / nu as f64, j as f64 / nv as f64));
+        }
+    }
+    let index = |i: u32, j: u32| (j % rows) * cols + (i % cols);
+    let mut triangles = Vec::with_capacity((2 * nu * nv) as usize);
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b, c, d) = (
+                index(i, j),
+                index(i + 1, j),
+                index(i + 1, j + 1),
+                index(i, j + 1),
+            );
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
+/// Open cylinder (no caps) of `radius` around the z axis, from
+/// `z = -height/2` to `height/2`, with `segments` around and `stacks` along.
+pub fn cylinder(radius: f64, height: f64, segments: u32, stacks: u32) -> TriMesh {
+    parametric(segments, stacks, true, false, |u, v| {
+        let a = TAU * u;
+        DVec3::new(radius * a.cos(), radius * a.sin(), height * (v - 0.5))
+    })
+}
+
+/// Torus around the z axis: tube of radius `minor` whose centre circle has
+/// radius `major`. The point at angles (u, v) is
+/// `((major + minor cos v) cos u, (major + minor cos v) sin u, minor sin v)`;
+/// `v = 0` is the outer equator.
+pub fn torus(major: f64, minor: f64, major_segments: u32, minor_segments: u32) -> TriMesh {
+    parametric(major_segments, minor_segments, true, true, |u, v| {
+        let (a, b) = (TAU * u, TAU * v);
+        let ring = major + minor * b.cos();
+        DVec3::new(ring * a.cos(), ring * a.sin(), minor * b.sin())
+    })
+}
+
+/// Height field `z = f(x, y)` over `[-half, half]²` sampled on an
+/// `n × n`-cell grid.
+pub fn height_field(half: f64, n: u32, f: impl Fn(f64, f64) -> f64) -> TriMesh {
+    parametric(n, n, false, false, |u, v| {
+        let (x, y) = (half * (2.0 * u - 1.0), half * (2.0 * v - 1.0));
+        DVec3::new(x, y, f(x, y))
+    })
+}
+
+/// Flat square `[-half, half]²` in the plane z = 0, `n × n` cells.
+pub fn flat_grid(half: f64, n: u32) -> TriMesh {
+    height_field(half, n, |_, _| 0.0)
+}
+
+/// Regular tetrahedron inscribed in the unit sphere.
+pub fn tetrahedron() -> TriMesh {
+    let s = 1.0 / 3f64.sqrt();
+    TriMesh {
+        positions: vec![
+            DVec3::new(s, s, s),
+            DVec3::new(s, -s, -s),
+            DVec3::new(-s, s, -s),
+            DVec3::new(-s, -s, s),
+        ],
+        triangles: vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outward(mesh: &TriMesh, center: impl Fn(DVec3) -> DVec3) -> bool {
+        (0..mesh.face_count()).all(|f| {
+            let [a, b, c] = mesh.corners(f);
+            let centroid = (a + b + c) / 3.0;
+            mesh.face_normal_unnormalized(f)
+                .dot(centroid - center(centroid))
+                > 0.0
+        })
+    }
+
+    #[test]
+    fn generated_meshes_are_valid_and_outward() {
+        let s = icosphere(2.0, 2);
+        s.validate().unwrap();
+        assert_eq!(s.vertex_count(), 162);
+        assert!(s.topology().is_closed_manifold());
+        assert!(s.positions.iter().all(|p| (p.length() - 2.0).abs() < 1e-12));
+        assert!(outward(&s, |_| DVec3::ZERO));
+
+        let c = cylinder(1.0, 2.0, 16, 4);
+        c.validate().unwrap();
+        assert_eq!(c.vertex_count(), 16 * 5);
+        assert!(outward(&c, |p| DVec3::new(0.0, 0.0, p.z)));
+
+        let t = torus(2.0, 0.5, 24, 12);
+        t.validate().unwrap();
+        let topo = t.topology();
+        assert!(topo.is_closed_manifold());
+        assert_eq!(topo.genus(), Some(1));
+        assert!(outward(&t, |p| {
+            let r = DVec3::new(p.x, p.y, 0.0);
+            r.normalize() * 2.0
+        }));
+
+        let h = height_field(1.0, 4, |x, y| x * y);
+        h.validate().unwrap();
+        assert!((0..h.face_count()).all(|f| h.face_normal_unnormalized(f).z > 0.0));
+
+        let tet = tetrahedron();
+        assert!(tet.topology().is_closed_manifold());
+        assert!(outward(&tet, |_| DVec3::ZERO));
+    }
+}
