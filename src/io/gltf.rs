@@ -52,7 +52,9 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
             "not a binary glTF file (a .glb must start with the bytes 'glTF')",
         ));
     }
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| document_error(file, e))?;
+    let gltf =
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| document_error(file, e))?;
+    let mut warnings = validate(&gltf.document, file)?;
     let buffers = Buffers::decode(&gltf.document, gltf.blob.as_deref());
 
     let mut out = Collector {
@@ -63,7 +65,6 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         skipped_primitives: 0,
     };
     let doc = &gltf.document;
-    let mut warnings = Vec::new();
     if doc.scenes().len() == 0 {
         for mesh in doc.meshes() {
             out.instance(&mesh, &DMat4::IDENTITY)?;
@@ -93,7 +94,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
                         "node",
                         node.index(),
                         format!(
-                            "is reached twice from scene {} (glTF nodes must form trees)",
+                            "reached twice from scene {} (glTF nodes must form trees, without cycles)",
                             scene.index()
                         ),
                     ));
@@ -151,18 +152,60 @@ fn check_glb_header(bytes: &[u8], file: &str) -> Result<(), IoError> {
     Ok(())
 }
 
+/// Required extensions that change how geometry is stored; anything else a
+/// file requires (materials, lights, texture transforms) does not affect
+/// positions and indices.
+const UNDECODABLE: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
+
+/// The `gltf` crate's validation, minus two checks that would refuse files we
+/// read correctly: the POSITION accessor's `min`/`max` (required by the
+/// specification, unused here, missing from some exporters' files) and
+/// required extensions that do not touch geometry. Returns warnings for the
+/// extensions ignored.
+fn validate(doc: &gltf::Document, file: &str) -> Result<Vec<String>, IoError> {
+    use gltf::json::validation::{Error, Validate};
+    let root = doc.as_json();
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| UNDECODABLE.contains(&e.as_str()))
+    {
+        return Err(IoError::in_file(
+            file,
+            format!("the file's geometry is compressed with {ext}, which Quadrille cannot decode"),
+        ));
+    }
+    let mut errors = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| {
+        let path = path().to_string();
+        let harmless = (error == Error::Missing
+            && (path.ends_with(".min") || path.ends_with(".max")))
+            || (error == Error::Unsupported && path.starts_with("extensionsRequired"));
+        if !harmless {
+            errors.push((path, error));
+        }
+    });
+    if !errors.is_empty() {
+        let mut m = String::from("invalid glTF:");
+        for (path, error) in errors.iter().take(3) {
+            m.push_str(&format!(" {path}: {error};"));
+        }
+        if errors.len() > 3 {
+            m.push_str(&format!(" and {} more", errors.len() - 3));
+        }
+        return Err(IoError::in_file(file, m));
+    }
+    Ok(root
+        .extensions_required
+        .iter()
+        .filter(|e| !gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e.as_str()))
+        .filter(|e| e.as_str() != "KHR_mesh_quantization")
+        .map(|e| format!("ignored required extension {e} (it does not change geometry)"))
+        .collect())
+}
+
 fn document_error(file: &str, e: gltf::Error) -> IoError {
     let message = match e {
-        gltf::Error::Validation(errors) => {
-            let mut m = String::from("invalid glTF:");
-            for (path, error) in errors.iter().take(3) {
-                m.push_str(&format!(" {path}: {error};"));
-            }
-            if errors.len() > 3 {
-                m.push_str(&format!(" and {} more", errors.len() - 3));
-            }
-            m
-        }
         gltf::Error::Binary(b) => format!("invalid binary glTF: {b}"),
         gltf::Error::Deserialize(d) => format!("invalid glTF JSON: {d}"),
         other => format!("invalid glTF: {other}"),
