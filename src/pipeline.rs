@@ -1,0 +1,455 @@
+//! The pipeline: parameters with their defaults, the stages in order, the
+//! cache of each stage's output, and re-running from the first stage whose
+//! inputs changed.
+//!
+//! Stages (each a function of the previous outputs and its own parameters):
+//! 1. [`Stage::Analysis`] — normals, areas, curvature, averaging, sizing
+//!    field, feature vertices, filtered normals ([`crate::analysis`]); the
+//!    sizing field is then calibrated so the target vertex count is met;
+//! 2. [`Stage::Hierarchy`] — the multiresolution hierarchy and the sizing
+//!    field on every level ([`crate::field::hierarchy`]);
+//! 3. [`Stage::Orientation`] — the orientation field with feature-vertex
+//!    constraints;
+//! 4. [`Stage::Position`] — the position field and the singularities.
+//!
+//! Time is read through a clock the caller passes in (`std::time::Instant`
+//! does not exist in the browser).
+
+use glam::{DVec3, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
+use crate::field::{
+    self, FieldParams, Hierarchy, LevelSizing, OrientationConstraints, Singularity, mesh_links,
+    orientation_singularities, position_singularities, restrict_by_area, solve_orientation,
+    solve_position,
+};
+use crate::io::Imported;
+use crate::mesh::VertexAdjacency;
+use crate::progress::{Cancelled, Progress};
+use crate::sizing::{self, SizingParams};
+
+/// Every parameter of the pipeline. `#[serde(default)]` everywhere: a JSON
+/// file with only the values to change is a valid parameter file.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Params {
+    pub analysis: AnalysisParams,
+    pub sizing: SizingParams,
+    pub field: FieldParams,
+    pub alignment: AlignmentParams,
+}
+
+/// Where the orientation field is constrained to principal directions.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AlignmentParams {
+    /// Constrain feature vertices (Kloiber §3.3) to the direction of their
+    /// smaller |κ|. Default on.
+    pub feature_vertices: bool,
+    /// Constraint weight; `f32::INFINITY` (serialised as `null`) fixes the
+    /// cross. Default: fixed.
+    #[serde(with = "infinite_as_null")]
+    pub feature_weight: f32,
+}
+
+impl Default for AlignmentParams {
+    fn default() -> Self {
+        AlignmentParams {
+            feature_vertices: true,
+            feature_weight: f32::INFINITY,
+        }
+    }
+}
+
+mod infinite_as_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(w: &f32, s: S) -> Result<S::Ok, S::Error> {
+        if w.is_finite() {
+            s.serialize_f32(*w)
+        } else {
+            s.serialize_none()
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
+        Ok(Option::<f32>::deserialize(d)?.unwrap_or(f32::INFINITY))
+    }
+}
+
+/// The stages, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stage {
+    Analysis,
+    Hierarchy,
+    Orientation,
+    Position,
+}
+
+impl Stage {
+    pub const ALL: [Stage; 4] = [
+        Stage::Analysis,
+        Stage::Hierarchy,
+        Stage::Orientation,
+        Stage::Position,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Analysis => "analysis",
+            Stage::Hierarchy => "hierarchy",
+            Stage::Orientation => "orientation",
+            Stage::Position => "position",
+        }
+    }
+}
+
+impl Params {
+    /// The first stage whose output differs between `self` and `other`.
+    pub fn first_changed_stage(&self, other: &Params) -> Option<Stage> {
+        let (a, b) = (&self.field, &other.field);
+        if self.analysis != other.analysis || self.sizing != other.sizing {
+            Some(Stage::Analysis)
+        } else if a.level_sizing != b.level_sizing
+            || a.filtered_normals != b.filtered_normals
+            || a.seed != b.seed
+        {
+            Some(Stage::Hierarchy)
+        } else if a.orientation_iterations != b.orientation_iterations
+            || self.alignment != other.alignment
+        {
+            Some(Stage::Orientation)
+        } else if a.scale_mode != b.scale_mode || a.position_iterations != b.position_iterations {
+            Some(Stage::Position)
+        } else {
+            None
+        }
+    }
+}
+
+/// The surface analysis, with its sizing field calibrated to the target
+/// vertex count.
+#[derive(Debug, Clone)]
+pub struct AnalysisStage {
+    pub surface: SurfaceAnalysis,
+    /// The factor applied to the analysis' sizing field (see
+    /// [`calibrate_to_vertex_count`]); coarse levels apply it too.
+    pub sizing_calibration: f64,
+}
+
+/// The hierarchy with the lattice spacing of every level.
+#[derive(Debug, Clone)]
+pub struct HierarchyStage {
+    pub hierarchy: Hierarchy,
+    /// Target edge length per vertex, per level (level 0 first).
+    pub scale: Vec<Vec<f32>>,
+}
+
+/// Orientation field per level (level 0 first) and its constraints.
+#[derive(Debug, Clone)]
+pub struct OrientationStage {
+    pub q: Vec<Vec<Vec3>>,
+    pub constraints: OrientationConstraints,
+    pub singularities: Vec<Singularity>,
+}
+
+/// Position field origins on level 0 and the position singularities.
+#[derive(Debug, Clone)]
+pub struct PositionStage {
+    pub o: Vec<Vec3>,
+    pub singularities: Vec<Singularity>,
+}
+
+/// One mesh's run: its input, parameters, and the cached output of every
+/// stage that is up to date.
+pub struct Pipeline {
+    pub input: Imported,
+    pub params: Params,
+    pub analysis: Option<AnalysisStage>,
+    pub hierarchy: Option<HierarchyStage>,
+    pub orientation: Option<OrientationStage>,
+    pub position: Option<PositionStage>,
+    /// Milliseconds of the last run of each stage.
+    pub timings: Vec<(Stage, f64)>,
+}
+
+impl Pipeline {
+    pub fn new(input: Imported, params: Params) -> Pipeline {
+        Pipeline {
+            input,
+            params,
+            analysis: None,
+            hierarchy: None,
+            orientation: None,
+            position: None,
+            timings: Vec::new(),
+        }
+    }
+
+    /// Replaces the parameters, dropping the outputs they invalidate.
+    /// Returns the first stage that must run again.
+    pub fn set_params(&mut self, params: Params) -> Option<Stage> {
+        let changed = self.params.first_changed_stage(&params);
+        self.params = params;
+        if let Some(stage) = changed {
+            self.invalidate_from(stage);
+        }
+        changed
+    }
+
+    /// Drops the output of `stage` and every later stage.
+    pub fn invalidate_from(&mut self, stage: Stage) {
+        if stage <= Stage::Analysis {
+            self.analysis = None;
+        }
+        if stage <= Stage::Hierarchy {
+            self.hierarchy = None;
+        }
+        if stage <= Stage::Orientation {
+            self.orientation = None;
+        }
+        if stage <= Stage::Position {
+            self.position = None;
+        }
+    }
+
+    /// Runs every stage that is not up to date. `sink` receives progress and
+    /// may cancel; `done` is called after each stage that ran; `clock`
+    /// returns milliseconds.
+    pub fn run(
+        &mut self,
+        sink: &mut dyn FnMut(&str, f32, &str) -> bool,
+        done: &mut dyn FnMut(Stage, &Pipeline),
+        clock: &dyn Fn() -> f64,
+    ) -> Result<(), Cancelled> {
+        for stage in Stage::ALL {
+            if self.has(stage) {
+                continue;
+            }
+            let start = clock();
+            let mut progress = Progress::new(sink, stage.name());
+            progress.report(0.0, "starting")?;
+            match stage {
+                Stage::Analysis => self.analysis = Some(self.run_analysis()),
+                Stage::Hierarchy => self.hierarchy = Some(self.run_hierarchy(&mut progress)?),
+                Stage::Orientation => self.orientation = Some(self.run_orientation(&mut progress)?),
+                Stage::Position => self.position = Some(self.run_position(&mut progress)?),
+            }
+            progress.report(1.0, "done")?;
+            let ms = clock() - start;
+            self.timings.retain(|(s, _)| *s != stage);
+            self.timings.push((stage, ms));
+            done(stage, self);
+        }
+        Ok(())
+    }
+
+    pub fn has(&self, stage: Stage) -> bool {
+        match stage {
+            Stage::Analysis => self.analysis.is_some(),
+            Stage::Hierarchy => self.hierarchy.is_some(),
+            Stage::Orientation => self.orientation.is_some(),
+            Stage::Position => self.position.is_some(),
+        }
+    }
+
+    fn run_analysis(&self) -> AnalysisStage {
+        let mesh = &self.input.mesh;
+        let mut surface = analysis::analyze(mesh, &self.params.analysis, &self.params.sizing);
+        let target = target_vertex_count(mesh.vertex_count(), &self.params.sizing);
+        let sizing_calibration = calibrate_to_vertex_count(&mut surface, target);
+        AnalysisStage {
+            surface,
+            sizing_calibration,
+        }
+    }
+
+    fn run_hierarchy(&self, progress: &mut Progress<'_>) -> Result<HierarchyStage, Cancelled> {
+        let mesh = &self.input.mesh;
+        let stage = self.analysis.as_ref().expect("analysis runs first");
+        let a = &stage.surface;
+        let normals = if self.params.field.filtered_normals {
+            vertex_normals_from_faces(mesh, &a.filtered_normals)
+        } else {
+            a.vertex_normals.clone()
+        };
+        let hierarchy = Hierarchy::build(
+            mesh.positions.iter().map(|p| p.as_vec3()).collect(),
+            normals.iter().map(|n| n.as_vec3()).collect(),
+            a.cell_areas.iter().map(|&x| x as f32).collect(),
+            mesh_links(mesh.vertex_count(), &mesh.triangles),
+            self.params.field.seed,
+            progress,
+        )?;
+        let level0: Vec<f32> = a.sizing.edge_length.iter().map(|&s| s as f32).collect();
+        let scale = match self.params.field.level_sizing {
+            LevelSizing::Summation => restrict_by_area(&hierarchy, &level0),
+            LevelSizing::PerLevel => {
+                let mut scale = vec![level0];
+                for (l, level) in hierarchy.levels.iter().enumerate().skip(1) {
+                    scale.push(level_sizing(level, stage, &self.params));
+                    progress.report(
+                        l as f32 / hierarchy.depth() as f32,
+                        "sizing field per level",
+                    )?;
+                }
+                scale
+            }
+        };
+        Ok(HierarchyStage { hierarchy, scale })
+    }
+
+    fn run_orientation(&self, progress: &mut Progress<'_>) -> Result<OrientationStage, Cancelled> {
+        let mesh = &self.input.mesh;
+        let a = &self.analysis.as_ref().expect("analysis runs first").surface;
+        let h = &self
+            .hierarchy
+            .as_ref()
+            .expect("hierarchy runs first")
+            .hierarchy;
+        let level0 = &h.levels[0];
+        let mut constraints = OrientationConstraints::none(mesh.vertex_count());
+        let align = &self.params.alignment;
+        if align.feature_vertices {
+            for (v, d) in analysis::orientation_constraints(&a.features, &a.curvature) {
+                let n = level0.normals[v as usize];
+                let d = d.as_vec3();
+                if let Some(t) = (d - n * n.dot(d)).try_normalize() {
+                    constraints.set(v as usize, t, align.feature_weight);
+                }
+            }
+        }
+        let fp = &self.params.field;
+        let q = solve_orientation(
+            h,
+            &constraints,
+            fp.orientation_iterations,
+            fp.seed,
+            progress,
+        )?;
+        let singularities = orientation_singularities(level0, &q[0], &mesh.triangles);
+        Ok(OrientationStage {
+            q,
+            constraints,
+            singularities,
+        })
+    }
+
+    fn run_position(&self, progress: &mut Progress<'_>) -> Result<PositionStage, Cancelled> {
+        let mesh = &self.input.mesh;
+        let hs = self.hierarchy.as_ref().expect("hierarchy runs first");
+        let os = self.orientation.as_ref().expect("orientation runs first");
+        let fp = &self.params.field;
+        let o = solve_position(
+            &hs.hierarchy,
+            &os.q,
+            &hs.scale,
+            fp.scale_mode,
+            fp.position_iterations,
+            fp.seed,
+            progress,
+        )?;
+        let singularities = position_singularities(
+            &hs.hierarchy.levels[0],
+            &os.q[0],
+            &hs.scale[0],
+            &o,
+            &mesh.triangles,
+        );
+        Ok(PositionStage { o, singularities })
+    }
+}
+
+/// The vertex count the sizing field aims at.
+pub fn target_vertex_count(input_vertices: usize, params: &SizingParams) -> Option<usize> {
+    if params.edge_length.is_some() {
+        None
+    } else {
+        Some(
+            params
+                .target_vertex_count
+                .unwrap_or(input_vertices / 16)
+                .max(4),
+        )
+    }
+}
+
+/// Scales the sizing field so that a quad mesh following it has the target
+/// vertex count: a quad of edge `s` covers `s²`, so the count is about
+/// `Σ A_i / s_i²` over the barycentric cells. The clamps are relative to
+/// the global length, so one common factor keeps them (digest §7.3's
+/// suggested normalisation `∫ dA / s(x)² ≈ V`). Returns the factor applied
+/// (1 for an explicit edge length, which is honoured as given).
+pub fn calibrate_to_vertex_count(a: &mut SurfaceAnalysis, target: Option<usize>) -> f64 {
+    let Some(target) = target else { return 1.0 };
+    let predicted: f64 = a
+        .cell_areas
+        .iter()
+        .zip(&a.sizing.edge_length)
+        .map(|(&area, &s)| area / (s * s).max(1e-300))
+        .sum();
+    if !(predicted.is_finite() && predicted > 0.0) {
+        return 1.0;
+    }
+    let factor = (predicted / target as f64).sqrt();
+    for s in &mut a.sizing.edge_length {
+        *s *= factor;
+    }
+    if let Some(d) = &mut a.sizing.directional {
+        for pair in d {
+            pair[0] *= factor;
+            pair[1] *= factor;
+        }
+    }
+    factor
+}
+
+/// The sizing field of a coarse level from that level's own points and
+/// links (Kloiber §3.1.4, "curvature estimation per level"), with the
+/// level-0 calibration factor.
+fn level_sizing(level: &field::Level, stage: &AnalysisStage, params: &Params) -> Vec<f32> {
+    let positions: Vec<DVec3> = level.positions.iter().map(|p| p.as_dvec3()).collect();
+    let normals: Vec<DVec3> = level.normals.iter().map(|n| n.as_dvec3()).collect();
+    let edges: Vec<[u32; 2]> = (0..level.len())
+        .flat_map(|i| {
+            level
+                .links
+                .of(i)
+                .filter(move |&(j, _)| j > i)
+                .map(move |(j, _)| [i as u32, j as u32])
+        })
+        .collect();
+    let adjacency = VertexAdjacency::from_edges(level.len(), &edges);
+    let curvature = analysis::principal_curvatures(
+        &positions,
+        &normals,
+        &adjacency,
+        &params.analysis.curvature,
+    );
+    let selected = analysis::select_curvature(&curvature, params.analysis.selection);
+    let averaged = analysis::average_curvature(&selected, &adjacency, &params.analysis.averaging);
+    sizing::sizing_field(&averaged, &stage.surface.sizing.context, &params.sizing)
+        .into_iter()
+        .map(|s| (s * stage.sizing_calibration) as f32)
+        .collect()
+}
+
+/// Vertex normals as the area-weighted mean of per-face normals (used to
+/// carry the filtered face normals to the vertices).
+pub fn vertex_normals_from_faces(
+    mesh: &crate::mesh::TriMesh,
+    face_normals: &[DVec3],
+) -> Vec<DVec3> {
+    let mut sum = vec![DVec3::ZERO; mesh.vertex_count()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let w = mesh.face_area(f);
+        for &v in t {
+            sum[v as usize] += w * face_normals[f];
+        }
+    }
+    sum.into_iter()
+        .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
+        .collect()
+}

@@ -1,0 +1,214 @@
+//! The pipeline through the field stage on real and analytic meshes:
+//! feature alignment on fandisk, scale-aware filtered normals on a bumpy
+//! sphere, re-running only what a parameter change invalidates, and
+//! cancellation.
+
+use glam::{DVec3, Vec3};
+use quadrille::io::Imported;
+use quadrille::mesh::{FaceList, TriMesh, generate};
+use quadrille::pipeline::{Params, Pipeline, Stage};
+
+fn shared(name: &str) -> Imported {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/meshes")
+        .join(name);
+    quadrille::io::import(&std::fs::read(&path).unwrap(), name).unwrap()
+}
+
+fn from_mesh(mesh: TriMesh) -> Imported {
+    let bytes =
+        quadrille::io::write_obj(&mesh.positions, &FaceList::from_triangles(&mesh.triangles));
+    quadrille::io::import(bytes.as_bytes(), "generated.obj").unwrap()
+}
+
+fn run(p: &mut Pipeline) -> Vec<Stage> {
+    let mut ran = Vec::new();
+    p.run(&mut |_, _, _| true, &mut |s, _| ran.push(s), &|| 0.0)
+        .unwrap();
+    ran
+}
+
+/// Angle in degrees between the cross at `n` (arms `q`, `n × q`) and `d`.
+fn cross_deviation(q: Vec3, n: Vec3, d: Vec3) -> f32 {
+    let d = (d - n * n.dot(d)).normalize();
+    let c = q.dot(d).abs().max(n.cross(q).dot(d).abs()).min(1.0);
+    c.acos().to_degrees()
+}
+
+#[test]
+fn fandisk_field_follows_feature_vertices_and_sharp_edges() {
+    let mut p = Pipeline::new(shared("fandisk.obj"), Params::default());
+    run(&mut p);
+    let mesh = &p.input.mesh;
+    let o = p.orientation.as_ref().unwrap();
+    let h = &p.hierarchy.as_ref().unwrap().hierarchy.levels[0];
+    let q = &o.q[0];
+    // At the constrained (feature) vertices.
+    let mut worst = 0.0f32;
+    for v in 0..mesh.vertex_count() {
+        if o.constraints.weight[v] > 0.0 {
+            worst = worst.max(cross_deviation(
+                q[v],
+                h.normals[v],
+                o.constraints.direction[v],
+            ));
+        }
+    }
+    println!(
+        "fandisk: {} feature constraints, worst deviation {worst:.3}°",
+        o.constraints.count()
+    );
+    assert!(o.constraints.count() > 50);
+    assert!(worst < 1.0, "worst deviation at feature vertices {worst}°");
+
+    // Along sharp edges (dihedral angle > 30°), independent of the feature
+    // classification: the cross at both ends against the edge direction.
+    let fnormal: Vec<DVec3> = (0..mesh.face_count())
+        .map(|f| mesh.face_normal_unnormalized(f).normalize())
+        .collect();
+    let mut faces_of_edge = std::collections::HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            faces_of_edge
+                .entry((a.min(b), a.max(b)))
+                .or_insert_with(Vec::new)
+                .push(f);
+        }
+    }
+    let mut deviations = Vec::new();
+    for (&(a, b), faces) in &faces_of_edge {
+        if faces.len() == 2
+            && fnormal[faces[0]]
+                .angle_between(fnormal[faces[1]])
+                .to_degrees()
+                > 30.0
+        {
+            let d = (mesh.positions[b as usize] - mesh.positions[a as usize]).as_vec3();
+            for v in [a as usize, b as usize] {
+                deviations.push(cross_deviation(q[v], h.normals[v], d));
+            }
+        }
+    }
+    deviations.sort_by(f32::total_cmp);
+    let median = deviations[deviations.len() / 2];
+    let p90 = deviations[deviations.len() * 9 / 10];
+    println!(
+        "fandisk sharp edges: {} vertex-edge pairs, median {median:.2}°, 90th percentile {p90:.2}°",
+        deviations.len()
+    );
+    assert!(
+        median < 10.0,
+        "median deviation along sharp edges {median}°"
+    );
+}
+
+/// A sphere with bumps far smaller than the target edge length.
+fn bumpy_sphere() -> TriMesh {
+    let mut mesh = generate::icosphere(1.0, 6);
+    // Bumps from a sum of plane waves in 24 directions: wavelength 5 % and
+    // amplitude ~2.5 % of the radius (rugged like fur or scan noise), far
+    // below the target edge length (~18 % of the radius at 400 vertices).
+    let waves: Vec<(DVec3, f64)> = (0..24)
+        .map(|i| {
+            let t = i as f64 * 2.399_963; // golden angle spiral of directions
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / 24.0;
+            let r = (1.0 - z * z).sqrt();
+            (DVec3::new(r * t.cos(), r * t.sin(), z), 1.3 * t)
+        })
+        .collect();
+    let k = std::f64::consts::TAU / 0.05;
+    mesh.map_positions(|p| {
+        let bump: f64 = waves
+            .iter()
+            .map(|(d, phase)| (k * d.dot(p) + phase).sin())
+            .sum::<f64>()
+            / 24f64.sqrt();
+        p * (1.0 + 0.025 * bump)
+    });
+    mesh
+}
+
+#[test]
+fn filtered_normals_remove_singularities_caused_by_small_bumps() {
+    let input = from_mesh(bumpy_sphere());
+    let mut params = Params::default();
+    params.sizing.target_vertex_count = Some(400);
+    // Feature vertices of the bumps would pin the field to the bumps'
+    // principal directions in both modes; this test isolates the normals.
+    params.alignment.feature_vertices = false;
+    let mut raw = Pipeline::new(input.clone(), params.clone());
+    run(&mut raw);
+    params.field.filtered_normals = true;
+    let mut filtered = Pipeline::new(input, params);
+    run(&mut filtered);
+    let count = |p: &Pipeline| p.orientation.as_ref().unwrap().singularities.len();
+    println!(
+        "bumpy sphere: {} singularities unfiltered, {} filtered",
+        count(&raw),
+        count(&filtered)
+    );
+    assert!(
+        count(&raw) >= 5 * count(&filtered),
+        "{} vs {}",
+        count(&raw),
+        count(&filtered)
+    );
+}
+
+#[test]
+fn a_parameter_change_reruns_only_the_stages_after_it() {
+    let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 3)), Params::default());
+    assert_eq!(run(&mut p), Stage::ALL.to_vec());
+    assert!(run(&mut p).is_empty(), "nothing to do when nothing changed");
+    let mut params = p.params.clone();
+    params.field.position_iterations = 4;
+    assert_eq!(p.set_params(params.clone()), Some(Stage::Position));
+    assert_eq!(run(&mut p), vec![Stage::Position]);
+    params.field.orientation_iterations = 3;
+    p.set_params(params.clone());
+    assert_eq!(run(&mut p), vec![Stage::Orientation, Stage::Position]);
+    params.sizing.epsilon = 0.01;
+    p.set_params(params);
+    assert_eq!(run(&mut p), Stage::ALL.to_vec());
+}
+
+#[test]
+fn cancelling_stops_the_field_stage() {
+    let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 4)), Params::default());
+    let mut reports = 0;
+    let result = p.run(
+        &mut |stage, _, _| {
+            if stage == "orientation" {
+                reports += 1;
+            }
+            reports < 3
+        },
+        &mut |_, _| {},
+        &|| 0.0,
+    );
+    assert!(result.is_err());
+    assert!(p.analysis.is_some() && p.hierarchy.is_some());
+    assert!(p.orientation.is_none() && p.position.is_none());
+    // The pipeline is usable afterwards.
+    run(&mut p);
+    assert!(p.position.is_some());
+}
+
+#[test]
+fn the_sizing_field_is_calibrated_to_the_target_vertex_count() {
+    let mut p = Pipeline::new(shared("fandisk.obj"), Params::default());
+    run(&mut p);
+    let a = &p.analysis.as_ref().unwrap().surface;
+    let predicted: f64 = a
+        .cell_areas
+        .iter()
+        .zip(&a.sizing.edge_length)
+        .map(|(&ar, &s)| ar / (s * s))
+        .sum();
+    let target = (6475 / 16) as f64;
+    assert!(
+        (predicted / target - 1.0).abs() < 1e-6,
+        "predicted {predicted} vs {target}"
+    );
+}
