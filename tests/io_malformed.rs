@@ -180,6 +180,11 @@ fn expected_places() -> Vec<(&'static str, Location, &'static [&'static str])> {
         ),
         ("gltf_node_cycle.gltf", element("node", 0), &["twice"]),
         ("gltf_only_points.gltf", File, &["no faces"]),
+        (
+            "gltf_position_accessor_missing.gltf",
+            element("mesh", 0),
+            &["accessor 9"],
+        ),
     ]
 }
 

@@ -175,6 +175,31 @@ fn validate(doc: &gltf::Document, file: &str) -> Result<Vec<String>, IoError> {
             format!("the file's geometry is compressed with {ext}, which Quadrille cannot decode"),
         ));
     }
+    // gltf-json's validation indexes the POSITION accessor without a bounds
+    // check (it panics on a bad index), so check those first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&gltf::json::validation::Checked::Valid(
+                    gltf::Semantic::Positions,
+                ));
+            if let Some(index) = position
+                && index.value() >= root.accessors.len()
+            {
+                return Err(IoError::at_element(
+                    file,
+                    "mesh",
+                    m,
+                    format!(
+                        "primitive {p}: POSITION refers to accessor {}, but the file has {}",
+                        index.value(),
+                        root.accessors.len()
+                    ),
+                ));
+            }
+        }
+    }
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, error| {
         let path = path().to_string();
