@@ -185,10 +185,13 @@ pub fn principal_curvatures(
 /// Reused buffers for the per-vertex fits.
 #[derive(Default)]
 struct Fit {
-    local: Vec<(f64, f64, f64, Option<(f64, f64)>)>,
+    /// Neighbours in the scaled local frame: (x, y, height, slopes if usable).
+    local: Vec<LocalSample>,
     rows: Vec<f64>,
     rhs: Vec<f64>,
 }
+
+type LocalSample = (f64, f64, f64, Option<(f64, f64)>);
 
 /// Smallest accepted relative pivot / singular value of a fit.
 const RANK_TOLERANCE: f64 = 1e-8;
@@ -283,7 +286,10 @@ impl Fit {
         let qr = a.qr();
         let r = qr.r();
         let largest = (0..7).map(|i| r[(i, i)].abs()).fold(0.0, f64::max);
-        if !(largest > 0.0) || (0..7).any(|i| r[(i, i)].abs() < RANK_TOLERANCE * largest) {
+        if largest.is_nan()
+            || largest <= 0.0
+            || (0..7).any(|i| r[(i, i)].abs() < RANK_TOLERANCE * largest)
+        {
             return None;
         }
         qr.q_tr_mul(&mut b);

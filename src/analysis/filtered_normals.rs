@@ -128,6 +128,19 @@ pub fn filtered_normals(
         })
         .collect();
     let areas: Vec<f64> = (0..faces).map(|f| mesh.face_area(f)).collect();
+    // Dual-edge lengths, aligned with the adjacency rows (NaN marks a
+    // neighbour index out of range, which is skipped).
+    let csr = adjacency.csr();
+    let rows = csr.rows().min(faces);
+    let mut lengths = vec![f64::NAN; csr.items.len()];
+    for f in 0..rows {
+        let (start, end) = (csr.offsets[f] as usize, csr.offsets[f + 1] as usize);
+        for (length, &k) in lengths[start..end].iter_mut().zip(&csr.items[start..end]) {
+            if (k as usize) < faces {
+                *length = centroids[f].distance(centroids[k as usize]);
+            }
+        }
+    }
     let truncation = if truncation.is_finite() && truncation > 0.0 {
         truncation
     } else {
@@ -160,12 +173,14 @@ pub fn filtered_normals(
                 continue;
             }
             sum += face_normals[h] * ((-d * d * inv_two_sigma_sq).exp() * areas[h]);
-            for &k in adjacency.neighbors(h) {
+            if h >= rows {
+                continue;
+            }
+            let (start, end) = (csr.offsets[h] as usize, csr.offsets[h + 1] as usize);
+            for (&k, &length) in csr.items[start..end].iter().zip(&lengths[start..end]) {
                 let k = k as usize;
-                if k >= faces {
-                    continue;
-                }
-                let nd = d + centroids[h].distance(centroids[k]);
+                let nd = d + length;
+                // NaN (out-of-range neighbour) fails the comparison.
                 if nd <= radius && (stamp[k] != g || nd < distance[k]) {
                     stamp[k] = g;
                     distance[k] = nd;

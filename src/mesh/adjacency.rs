@@ -170,6 +170,11 @@ impl FaceAdjacency {
     pub fn neighbors(&self, f: usize) -> &[u32] {
         self.csr.row(f)
     }
+
+    /// The underlying rows (offsets and neighbouring face indices).
+    pub fn csr(&self) -> &Csr {
+        &self.csr
+    }
 }
 
 /// Vertices on an edge that belongs to exactly one triangle.
