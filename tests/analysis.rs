@@ -144,7 +144,7 @@ fn torus_matches_analytic_curvature() {
         let all = curvatures(&mesh, &params);
         let tolerance = match estimator {
             CurvatureEstimator::CubicFit => 0.02,
-            CurvatureEstimator::DiscreteSums => 0.08,
+            CurvatureEstimator::DiscreteSums => 0.02,
         };
         for (p, c) in mesh.positions.iter().zip(&all) {
             // Angle v around the tube from the outer equator.
@@ -437,7 +437,7 @@ fn filtered_normals_recover_a_noisy_sphere() {
     let raw = angle_to_truth(&result.face_normals);
     let filtered = angle_to_truth(&result.filtered_normals);
     assert!(
-        filtered < 0.25 * raw,
+        filtered < 0.15 * raw,
         "mean deviation: filtered {:.3}°, raw {:.3}°",
         filtered * 180.0 / PI,
         raw * 180.0 / PI
@@ -542,4 +542,26 @@ fn params_have_serde_defaults() {
         serde_json::from_str::<AnalysisParams>(&json).unwrap(),
         params
     );
+}
+
+#[test]
+fn curvature_and_averaging_run_on_a_vertex_graph() {
+    // Coarser hierarchy levels have positions, normals and edges but no
+    // triangles; the analysis must give the same answer from the edges alone.
+    let mesh = generate::torus(1.0, 0.35, 40, 16);
+    let normals = vertex_normals(&mesh, NormalWeighting::Angle);
+    let mut edges = Vec::new();
+    for t in &mesh.triangles {
+        edges.extend([[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]]);
+    }
+    let from_edges = VertexAdjacency::from_edges(mesh.vertex_count(), &edges);
+    let from_triangles = VertexAdjacency::new(&mesh);
+    assert_eq!(from_edges, from_triangles);
+    let params = CurvatureParams::default();
+    let a = principal_curvatures(&mesh.positions, &normals, &from_edges, &params);
+    let b = principal_curvatures(&mesh.positions, &normals, &from_triangles, &params);
+    assert_eq!(a, b);
+    let selected = analysis::select_curvature(&a, analysis::CurvatureSelection::MaxAbs);
+    let averaged = average_curvature(&selected, &from_edges, &AveragingParams::default());
+    assert!(averaged.iter().all(|c| c.is_finite() && *c > 0.0));
 }
