@@ -17,12 +17,22 @@
 //!   validation and repair;
 //! - [`analysis`]: normals, cell areas, principal curvature, curvature
 //!   averaging, feature vertices, filtered normals;
-//! - [`sizing`]: curvature → target edge length per vertex (the sizing field).
+//! - [`sizing`]: curvature → target edge length per vertex (the sizing field);
+//! - [`field`]: multiresolution hierarchy, orientation and position fields,
+//!   singularities;
+//! - [`spatial`]: closest points, distances and ray casts (BVH);
+//! - [`pipeline`]: parameters, stages, cache and re-running;
+//! - [`progress`]: progress reporting and cancellation for every stage;
+//!   [`parallel`]: rayon natively, one thread in wasm.
 
 pub mod analysis;
+pub mod field;
 pub mod io;
 pub mod mesh;
+pub mod parallel;
+pub mod pipeline;
+pub mod progress;
 pub mod sizing;
+pub mod spatial;
 
-#[cfg(target_arch = "wasm32")]
 pub mod web;
