@@ -109,8 +109,17 @@ fn singularity_indices_sum_to_the_euler_characteristic() {
         let f = solve(&mesh, vec![s; mesh.vertex_count()], None, &params);
         let sum = index_sum(&mesh, &f);
         let count = orientation_singularities(level(&f), &f.q, &mesh.triangles).len();
-        println!("{name}: {count} orientation singularities, index sum {sum}/4");
+        let position =
+            position_singularities(level(&f), &f.q, &f.scale, &f.o, &mesh.triangles).len();
+        println!(
+            "{name}: {count} orientation singularities, index sum {sum}/4, {position} position singularities"
+        );
         assert_eq!(sum, 4 * chi, "{name}");
+        // The lattice closes up almost everywhere.
+        assert!(
+            position * 100 < 3 * mesh.face_count(),
+            "{name}: {position} position singularities"
+        );
     }
 }
 

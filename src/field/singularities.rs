@@ -16,8 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use super::hierarchy::Level;
 use super::lattice::{
-    Lattice, compat_orientation_extrinsic_4, compat_orientation_extrinsic_index_4,
-    compat_position_extrinsic_4,
+    Lattice, compat_orientation_extrinsic_index_4, compat_position_extrinsic_4, rotate90_by,
 };
 
 /// A singular triangle.
@@ -94,10 +93,13 @@ pub fn position_singularities(
             continue;
         }
         let [a, b, c] = t.map(|i| i as usize);
-        // Turn each cross to the representative closest to vertex a's.
+        // Turn each cross to the representative closest to vertex a's own
+        // (rot(q_a, i) ≈ rot(q_j, k) means q_a ≈ rot(q_j, k − i)).
         let qa = q[a];
         let turn = |j: usize| {
-            compat_orientation_extrinsic_4(qa, level.normals[a], q[j], level.normals[j]).1
+            let (i, k) =
+                compat_orientation_extrinsic_index_4(qa, level.normals[a], q[j], level.normals[j]);
+            rotate90_by(q[j], level.normals[j], (k + 4 - i) % 4)
         };
         let frames = [qa, turn(b), turn(c)];
         let lattice = |k: usize, i: usize| Lattice {
