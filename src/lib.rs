@@ -21,14 +21,19 @@
 //! - [`field`]: multiresolution hierarchy, orientation and position fields,
 //!   singularities;
 //! - [`spatial`]: closest points, distances and ray casts (BVH);
+//! - [`extract`]: vertex clusters, faces, non-manifold repair, hole filling
+//!   and post-processing into a closed quad-dominant [`mesh::PolyMesh`];
+//! - [`metrics`]: the thesis' quality metrics of an output mesh;
 //! - [`pipeline`]: parameters, stages, cache and re-running;
 //! - [`progress`]: progress reporting and cancellation for every stage;
 //!   [`parallel`]: rayon natively, one thread in wasm.
 
 pub mod analysis;
+pub mod extract;
 pub mod field;
 pub mod io;
 pub mod mesh;
+pub mod metrics;
 pub mod parallel;
 pub mod pipeline;
 pub mod progress;

@@ -10,7 +10,14 @@
 //!    field on every level ([`crate::field::hierarchy`]);
 //! 3. [`Stage::Orientation`] — the orientation field with feature-vertex
 //!    constraints;
-//! 4. [`Stage::Position`] — the position field and the singularities.
+//! 4. [`Stage::Position`] — the position field and the singularities;
+//! 5. [`Stage::Extraction`] — clusters, faces, non-manifold repair and hole
+//!    filling into a closed manifold [`PolyMesh`] ([`crate::extract`]); when
+//!    the vertex count misses the target by more than the tolerance, the
+//!    position field and extraction run once more with the edge lengths
+//!    scaled by √(achieved / target) (a measured correction);
+//! 6. [`Stage::PostProcess`] — T-vertices, feature-aligned quads, flat
+//!    triangles, smoothing, optional pure-quad split.
 //!
 //! Time is read through a clock the caller passes in (`std::time::Instant`
 //! does not exist in the browser).
@@ -19,15 +26,17 @@ use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
+use crate::extract::{self, ExtractInput, Extracted, ExtractionParams, PostProcessed};
 use crate::field::{
     self, FieldParams, Hierarchy, LevelSizing, OrientationConstraints, Singularity, mesh_links,
     orientation_singularities, position_singularities, restrict_by_area, solve_orientation,
     solve_position,
 };
 use crate::io::Imported;
-use crate::mesh::VertexAdjacency;
+use crate::mesh::{PolyMesh, VertexAdjacency};
 use crate::progress::{Cancelled, Progress};
 use crate::sizing::{self, SizingParams};
+use crate::spatial::SurfaceIndex;
 
 /// Every parameter of the pipeline. `#[serde(default)]` everywhere: a JSON
 /// file with only the values to change is a valid parameter file.
@@ -38,6 +47,7 @@ pub struct Params {
     pub sizing: SizingParams,
     pub field: FieldParams,
     pub alignment: AlignmentParams,
+    pub extraction: ExtractionParams,
 }
 
 /// Where the orientation field is constrained to principal directions.
@@ -86,14 +96,19 @@ pub enum Stage {
     Hierarchy,
     Orientation,
     Position,
+    Extraction,
+    #[serde(rename = "postprocess")]
+    PostProcess,
 }
 
 impl Stage {
-    pub const ALL: [Stage; 4] = [
+    pub const ALL: [Stage; 6] = [
         Stage::Analysis,
         Stage::Hierarchy,
         Stage::Orientation,
         Stage::Position,
+        Stage::Extraction,
+        Stage::PostProcess,
     ];
 
     pub fn name(self) -> &'static str {
@@ -102,6 +117,8 @@ impl Stage {
             Stage::Hierarchy => "hierarchy",
             Stage::Orientation => "orientation",
             Stage::Position => "position",
+            Stage::Extraction => "extraction",
+            Stage::PostProcess => "postprocess",
         }
     }
 }
@@ -123,10 +140,25 @@ impl Params {
             Some(Stage::Orientation)
         } else if a.scale_mode != b.scale_mode || a.position_iterations != b.position_iterations {
             Some(Stage::Position)
+        } else if extraction_differs(&self.extraction, &other.extraction) {
+            Some(Stage::Extraction)
+        } else if self.extraction != other.extraction {
+            Some(Stage::PostProcess)
         } else {
             None
         }
     }
+}
+
+/// Whether two extraction parameter sets differ in anything before the
+/// post-processing (which has its own stage).
+fn extraction_differs(a: &ExtractionParams, b: &ExtractionParams) -> bool {
+    let strip = |p: &ExtractionParams| ExtractionParams {
+        post: Default::default(),
+        pure_quad: false,
+        ..*p
+    };
+    strip(a) != strip(b)
 }
 
 /// The surface analysis, with its sizing field calibrated to the target
@@ -160,6 +192,30 @@ pub struct OrientationStage {
 pub struct PositionStage {
     pub o: Vec<Vec3>,
     pub singularities: Vec<Singularity>,
+    /// Factor on the hierarchy's lattice spacing this field was solved
+    /// with (1, or the extraction's vertex-count correction).
+    pub scale_correction: f64,
+}
+
+/// The extracted mesh (closed and manifold where the input is), with its
+/// per-vertex attributes and report.
+#[derive(Debug, Clone)]
+pub struct ExtractionStage {
+    pub extracted: Extracted,
+    /// The vertex count the sizing field aimed at, if any.
+    pub target_vertices: Option<usize>,
+}
+
+/// The post-processed quad-dominant (or pure-quad) mesh.
+#[derive(Debug, Clone)]
+pub struct PostProcessStage {
+    pub result: PostProcessed,
+}
+
+impl PostProcessStage {
+    pub fn mesh(&self) -> &PolyMesh {
+        &self.result.mesh
+    }
 }
 
 /// One mesh's run: its input, parameters, and the cached output of every
@@ -171,6 +227,11 @@ pub struct Pipeline {
     pub hierarchy: Option<HierarchyStage>,
     pub orientation: Option<OrientationStage>,
     pub position: Option<PositionStage>,
+    pub extraction: Option<ExtractionStage>,
+    pub postprocess: Option<PostProcessStage>,
+    /// The input's BVH (built on first use by extraction, kept for the
+    /// input's lifetime).
+    pub surface: Option<std::sync::Arc<SurfaceIndex>>,
     /// Milliseconds of the last run of each stage.
     pub timings: Vec<(Stage, f64)>,
 }
@@ -184,6 +245,9 @@ impl Pipeline {
             hierarchy: None,
             orientation: None,
             position: None,
+            extraction: None,
+            postprocess: None,
+            surface: None,
             timings: Vec::new(),
         }
     }
@@ -213,6 +277,12 @@ impl Pipeline {
         if stage <= Stage::Position {
             self.position = None;
         }
+        if stage <= Stage::Extraction {
+            self.extraction = None;
+        }
+        if stage <= Stage::PostProcess {
+            self.postprocess = None;
+        }
     }
 
     /// Runs every stage that is not up to date. `sink` receives progress and
@@ -235,7 +305,9 @@ impl Pipeline {
                 Stage::Analysis => self.analysis = Some(self.run_analysis()),
                 Stage::Hierarchy => self.hierarchy = Some(self.run_hierarchy(&mut progress)?),
                 Stage::Orientation => self.orientation = Some(self.run_orientation(&mut progress)?),
-                Stage::Position => self.position = Some(self.run_position(&mut progress)?),
+                Stage::Position => self.position = Some(self.run_position(&mut progress, 1.0)?),
+                Stage::Extraction => self.run_extraction(&mut progress)?,
+                Stage::PostProcess => self.postprocess = Some(self.run_postprocess(&mut progress)?),
             }
             progress.report(1.0, "done")?;
             let ms = clock() - start;
@@ -252,6 +324,8 @@ impl Pipeline {
             Stage::Hierarchy => self.hierarchy.is_some(),
             Stage::Orientation => self.orientation.is_some(),
             Stage::Position => self.position.is_some(),
+            Stage::Extraction => self.extraction.is_some(),
+            Stage::PostProcess => self.postprocess.is_some(),
         }
     }
 
@@ -337,15 +411,30 @@ impl Pipeline {
         })
     }
 
-    fn run_position(&self, progress: &mut Progress<'_>) -> Result<PositionStage, Cancelled> {
+    fn run_position(
+        &self,
+        progress: &mut Progress<'_>,
+        scale_correction: f64,
+    ) -> Result<PositionStage, Cancelled> {
         let mesh = &self.input.mesh;
         let hs = self.hierarchy.as_ref().expect("hierarchy runs first");
         let os = self.orientation.as_ref().expect("orientation runs first");
         let fp = &self.params.field;
+        let corrected: Vec<Vec<f32>>;
+        let scale = if scale_correction == 1.0 {
+            &hs.scale
+        } else {
+            corrected = hs
+                .scale
+                .iter()
+                .map(|l| l.iter().map(|&s| s * scale_correction as f32).collect())
+                .collect();
+            &corrected
+        };
         let o = solve_position(
             &hs.hierarchy,
             &os.q,
-            &hs.scale,
+            scale,
             fp.scale_mode,
             fp.position_iterations,
             fp.seed,
@@ -354,11 +443,119 @@ impl Pipeline {
         let singularities = position_singularities(
             &hs.hierarchy.levels[0],
             &os.q[0],
-            &hs.scale[0],
+            &scale[0],
             &o,
             &mesh.triangles,
         );
-        Ok(PositionStage { o, singularities })
+        Ok(PositionStage {
+            o,
+            singularities,
+            scale_correction,
+        })
+    }
+
+    /// The input's BVH, built once.
+    pub fn surface(&mut self) -> Option<std::sync::Arc<SurfaceIndex>> {
+        if self.surface.is_none() {
+            self.surface = SurfaceIndex::new(&self.input.mesh).map(std::sync::Arc::new);
+        }
+        self.surface.clone()
+    }
+
+    fn extract_once(
+        &self,
+        progress: &mut Progress<'_>,
+        surface: Option<&SurfaceIndex>,
+    ) -> Result<Extracted, Cancelled> {
+        let a = &self.analysis.as_ref().expect("analysis runs first").surface;
+        let hs = self.hierarchy.as_ref().expect("hierarchy runs first");
+        let os = self.orientation.as_ref().expect("orientation runs first");
+        let ps = self.position.as_ref().expect("position runs first");
+        let corrected: Vec<f32> = hs.scale[0]
+            .iter()
+            .map(|&s| s * ps.scale_correction as f32)
+            .collect();
+        let boundary = crate::mesh::boundary_vertices(&self.input.mesh);
+        let input = ExtractInput {
+            level: &hs.hierarchy.levels[0],
+            q: &os.q[0],
+            o: &ps.o,
+            scale: &corrected,
+            curvature: &a.averaged,
+            feature: &a.features.feature,
+            boundary: &boundary,
+        };
+        let mut e = extract::extract(&input, surface, &self.params.extraction, progress)?;
+        e.report.scale_correction = ps.scale_correction;
+        Ok(e)
+    }
+
+    /// Extraction, with the measured vertex-count correction: if the count
+    /// misses the target by more than the tolerance, the position field is
+    /// solved again with the lattice spacing × √(achieved / target) and the
+    /// extraction repeated (up to twice); the closer result is kept.
+    fn run_extraction(&mut self, progress: &mut Progress<'_>) -> Result<(), Cancelled> {
+        let surface = self.surface();
+        let ep = self.params.extraction;
+        let target = target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
+        // With the pure-quad split the target refers to the split mesh:
+        // V' = V + E + F ≈ 4 V for a quad mesh.
+        let final_count = |e: &Extracted| {
+            let m = &e.mesh;
+            if ep.pure_quad {
+                m.vertex_count() + m.edge_count() + m.face_count()
+            } else {
+                m.vertex_count()
+            }
+        };
+        let mut best = self.extract_once(progress, surface.as_deref())?;
+        if let (Some(t), true) = (target, ep.vertex_count_correction) {
+            let mut correction = self.position.as_ref().map_or(1.0, |p| p.scale_correction);
+            let mut best_position: Option<PositionStage> = None;
+            for _ in 0..2 {
+                let achieved = final_count(&best).max(1) as f64;
+                let miss = (achieved - t as f64).abs() / t as f64;
+                if miss <= ep.count_tolerance {
+                    break;
+                }
+                correction *= (achieved / t as f64).sqrt();
+                progress.report(0.5, "vertex-count correction: position field again")?;
+                let position = self.run_position(progress, correction)?;
+                let previous = self.position.replace(position);
+                let again = self.extract_once(progress, surface.as_deref())?;
+                let miss_again = (final_count(&again) as f64 - t as f64).abs() / t as f64;
+                if miss_again < miss {
+                    best = again;
+                    best_position = None;
+                } else {
+                    best_position = previous;
+                    break;
+                }
+            }
+            if let Some(p) = best_position {
+                self.position = Some(p);
+            }
+        }
+        self.extraction = Some(ExtractionStage {
+            extracted: best,
+            target_vertices: target,
+        });
+        Ok(())
+    }
+
+    fn run_postprocess(
+        &mut self,
+        progress: &mut Progress<'_>,
+    ) -> Result<PostProcessStage, Cancelled> {
+        let surface = self.surface();
+        let e = &self
+            .extraction
+            .as_ref()
+            .expect("extraction runs first")
+            .extracted;
+        let result =
+            extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?;
+        Ok(PostProcessStage { result })
     }
 }
 

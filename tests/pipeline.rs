@@ -164,10 +164,16 @@ fn a_parameter_change_reruns_only_the_stages_after_it() {
     let mut params = p.params.clone();
     params.field.position_iterations = 4;
     assert_eq!(p.set_params(params.clone()), Some(Stage::Position));
-    assert_eq!(run(&mut p), vec![Stage::Position]);
+    assert_eq!(run(&mut p), Stage::ALL[3..].to_vec());
     params.field.orientation_iterations = 3;
     p.set_params(params.clone());
-    assert_eq!(run(&mut p), vec![Stage::Orientation, Stage::Position]);
+    assert_eq!(run(&mut p), Stage::ALL[2..].to_vec());
+    params.extraction.post.smoothing_iterations = 1;
+    assert_eq!(p.set_params(params.clone()), Some(Stage::PostProcess));
+    assert_eq!(run(&mut p), vec![Stage::PostProcess]);
+    params.extraction.min_cluster_fraction = 0.1;
+    assert_eq!(p.set_params(params.clone()), Some(Stage::Extraction));
+    assert_eq!(run(&mut p), vec![Stage::Extraction, Stage::PostProcess]);
     params.sizing.epsilon = 0.01;
     p.set_params(params);
     assert_eq!(run(&mut p), Stage::ALL.to_vec());

@@ -33,6 +33,31 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Run the whole pipeline and write the quad-dominant mesh (OBJ, PLY or
+    /// OFF by the output's extension, polygons kept).
+    Remesh {
+        input: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Target vertex count (default: input vertices / 16).
+        #[arg(long, conflicts_with = "edge_length")]
+        vertices: Option<usize>,
+        /// Global target edge length in the file's units (overrides the count).
+        #[arg(long)]
+        edge_length: Option<f64>,
+        /// Seed of the random initialisation.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Pipeline parameters as JSON (every field optional).
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Write the quality metrics and per-stage timings as JSON here.
+        #[arg(long)]
+        stats: Option<PathBuf>,
+        /// Print progress to stderr.
+        #[arg(short, long)]
+        verbose: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -75,5 +100,139 @@ fn run(cli: Cli) -> Result<(), String> {
                 .map_err(|e| e.to_string())?;
             std::fs::write(&output, bytes).map_err(|e| format!("{name}: {e}"))
         }
+        Command::Remesh {
+            input,
+            output,
+            vertices,
+            edge_length,
+            seed,
+            params,
+            stats,
+            verbose,
+        } => remesh(RemeshArgs {
+            input,
+            output,
+            vertices,
+            edge_length,
+            seed,
+            params,
+            stats,
+            verbose,
+        }),
     }
+}
+
+struct RemeshArgs {
+    input: PathBuf,
+    output: PathBuf,
+    vertices: Option<usize>,
+    edge_length: Option<f64>,
+    seed: Option<u64>,
+    params: Option<PathBuf>,
+    stats: Option<PathBuf>,
+    verbose: bool,
+}
+
+fn remesh(args: RemeshArgs) -> Result<(), String> {
+    use quadrille::pipeline::{Params, Pipeline, target_vertex_count};
+    let name = args.output.display().to_string();
+    if quadrille::io::Format::from_extension(&name).is_none_or(|f| {
+        !matches!(
+            f,
+            quadrille::io::Format::Obj | quadrille::io::Format::Ply | quadrille::io::Format::Off
+        )
+    }) {
+        return Err(format!("{name}: can only write .obj, .ply and .off files"));
+    }
+    let mut params: Params = match &args.params {
+        None => Params::default(),
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?
+        }
+    };
+    let start = std::time::Instant::now();
+    let imported = import(&args.input)?;
+    let import_ms = start.elapsed().as_secs_f64() * 1e3;
+    if let Some(v) = args.vertices {
+        if v < 4 {
+            return Err("--vertices must be at least 4".into());
+        }
+        params.sizing.target_vertex_count = Some(v);
+        params.sizing.edge_length = None;
+    }
+    if let Some(l) = args.edge_length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err("--edge-length must be a positive number".into());
+        }
+        // The pipeline works in the normalised frame.
+        params.sizing.edge_length = Some(l / imported.frame.scale);
+    }
+    if let Some(s) = args.seed {
+        params.field.seed = s;
+    }
+    let input_vertices = imported.mesh.vertex_count();
+    let target = target_vertex_count(input_vertices, &params.sizing);
+    let mut pipeline = Pipeline::new(imported, params);
+    let clock = move || start.elapsed().as_secs_f64() * 1e3;
+    let verbose = args.verbose;
+    let mut last = String::new();
+    let mut sink = |stage: &str, fraction: f32, message: &str| {
+        if verbose {
+            let line = format!("{stage}: {message}");
+            if line != last {
+                eprintln!("[{:>5.1}%] {line}", 100.0 * fraction);
+                last = line;
+            }
+        }
+        true
+    };
+    pipeline
+        .run(&mut sink, &mut |_, _| {}, &clock)
+        .map_err(|e| e.to_string())?;
+    let surface = pipeline.surface();
+    let post = pipeline
+        .postprocess
+        .as_ref()
+        .ok_or("the pipeline produced no mesh")?;
+    let mesh = post.mesh();
+    if mesh.face_count() == 0 {
+        return Err(
+            "extraction produced an empty mesh (is the target vertex count too small?)".into(),
+        );
+    }
+    let frame = pipeline.input.frame;
+    let world: Vec<_> = mesh.positions.iter().map(|&p| frame.to_world(p)).collect();
+    let bytes = quadrille::io::write_by_extension(&name, &world, &mesh.to_face_list())
+        .map_err(|e| e.to_string())?;
+    std::fs::write(&args.output, bytes).map_err(|e| format!("{name}: {e}"))?;
+    if let Some(stats) = &args.stats {
+        let t0 = std::time::Instant::now();
+        let surface = surface.ok_or("the input has no triangles")?;
+        let metrics = quadrille::metrics::metrics(mesh, &pipeline.input.mesh, &surface);
+        let metrics_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let mut timings = serde_json::Map::new();
+        timings.insert("import".into(), serde_json::json!(import_ms));
+        for (stage, ms) in &pipeline.timings {
+            timings.insert(stage.name().into(), serde_json::json!(ms));
+        }
+        timings.insert("metrics".into(), serde_json::json!(metrics_ms));
+        let extraction = pipeline.extraction.as_ref().map(|e| &e.extracted.report);
+        let json = serde_json::json!({
+            "input": args.input.display().to_string(),
+            "output": name,
+            "target_vertices": target,
+            "achieved_vertices": mesh.vertex_count(),
+            "vertex_count_error_percent": target.map(|t| 100.0 * (mesh.vertex_count() as f64 - t as f64) / t as f64),
+            "length_unit": "largest bounding-box axis of the input (multiply by frame_scale for file units)",
+            "frame_scale": frame.scale,
+            "metrics": metrics,
+            "extraction": extraction,
+            "postprocess": post.result.report,
+            "timings_ms": timings,
+        });
+        let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
+        std::fs::write(stats, text).map_err(|e| format!("{}: {e}", stats.display()))?;
+    }
+    Ok(())
 }

@@ -1,0 +1,235 @@
+//! Extraction of the quad-dominant mesh from the position field and its
+//! post-processing: Instant Meshes' extraction (digest §5) with Kloiber
+//! 2018 §3.5–3.7, into a closed, manifold half-edge [`PolyMesh`].
+//!
+//! - [`clusters`]: integer translations → vertex clusters (§5.1–5.5, thesis 3.5.1);
+//! - [`snap`]: thin-triangle snapping, quad diagonals (§5.6, thesis 3.5.2);
+//! - [`faces`]: rotation system, orbits, n-gon splitting, hole loops (§5.7–5.10, thesis 3.5.3);
+//! - [`repair`]: non-manifold repair, orientation, hole filling (thesis 3.6);
+//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, smoothing (thesis 3.7);
+//! - [`pure_quad`]: one Catmull–Clark split (§5.11).
+//!
+//! [`extract`] runs clusters → snapping → faces → repair; [`post_process`]
+//! runs the thesis' post-processing and the optional pure-quad split. Both
+//! end in `PolyMesh::from_faces`, which refuses non-manifold input, so their
+//! output is manifold and consistently oriented by construction.
+
+pub mod clusters;
+pub mod faces;
+pub mod postprocess;
+pub mod pure_quad;
+pub mod repair;
+pub mod snap;
+
+use serde::{Deserialize, Serialize};
+
+pub use clusters::{ClusterReport, ExtractInput, Graph};
+pub use postprocess::{PostProcessParams, PostProcessReport};
+pub use repair::RepairReport;
+pub use snap::SnapReport;
+
+use crate::mesh::PolyMesh;
+use crate::progress::{Cancelled, Progress};
+use crate::spatial::SurfaceIndex;
+
+/// Parameters of extraction and post-processing. Every field has a default.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ExtractionParams {
+    /// Clusters smaller than this fraction of the average cluster are
+    /// dropped (thesis 3.5.1: 1/10 … 1/20). Default 1/20.
+    pub min_cluster_fraction: f64,
+    /// Snap thin triangles (thesis 3.5.2). Default on.
+    pub snap: bool,
+    /// Holes up to this many corners are filled (thesis: 30).
+    pub max_hole: usize,
+    /// Close larger holes that are not the input's with a centroid fan.
+    /// Default on (closed output is the goal).
+    pub fan_large_holes: bool,
+    /// Re-run the position field and extraction once, with the edge lengths
+    /// scaled by √(achieved / target), when the vertex count misses the
+    /// target by more than `count_tolerance`. Default on.
+    pub vertex_count_correction: bool,
+    /// Default 0.05 (5 %).
+    pub count_tolerance: f64,
+    pub post: PostProcessParams,
+    /// One Catmull–Clark split at the end (all quads). Default off.
+    pub pure_quad: bool,
+}
+
+impl Default for ExtractionParams {
+    fn default() -> Self {
+        ExtractionParams {
+            min_cluster_fraction: 0.05,
+            snap: true,
+            max_hole: 30,
+            fan_large_holes: true,
+            vertex_count_correction: true,
+            count_tolerance: 0.05,
+            post: PostProcessParams::default(),
+            pure_quad: false,
+        }
+    }
+}
+
+/// What extraction found and did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct ExtractionReport {
+    pub clusters: ClusterReport,
+    pub snap: SnapReport,
+    /// Loops traced from the rotation system.
+    pub loops: usize,
+    pub faces_traced: usize,
+    /// Loops longer than 8 corners treated as holes.
+    pub long_loops: usize,
+    pub repair: RepairReport,
+    /// Scale factor of the vertex-count correction (1 when not applied).
+    pub scale_correction: f64,
+}
+
+/// The extracted mesh with per-vertex attributes (`graph` vertex `k` is
+/// mesh vertex `k`).
+#[derive(Debug, Clone)]
+pub struct Extracted {
+    pub mesh: PolyMesh,
+    pub graph: Graph,
+    pub report: ExtractionReport,
+}
+
+/// Clusters → snapping → faces → repair.
+pub fn extract(
+    input: &ExtractInput<'_>,
+    surface: Option<&SurfaceIndex>,
+    params: &ExtractionParams,
+    progress: &mut Progress<'_>,
+) -> Result<Extracted, Cancelled> {
+    let mut report = ExtractionReport {
+        scale_correction: 1.0,
+        ..Default::default()
+    };
+    let (mut g, cr) = clusters::build_clusters(input, params.min_cluster_fraction, progress)?;
+    report.clusters = cr;
+    if params.snap {
+        report.snap = snap::snap(&mut g, progress)?;
+    }
+    // Dangling vertices (degree ≤ 1) cannot bound a face.
+    loop {
+        let mut changed = false;
+        for v in 0..g.len() {
+            if g.adj[v].len() == 1 {
+                let x = g.adj[v][0];
+                g.remove_edge(v as u32, x);
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    progress.report(0.7, "tracing faces")?;
+    let loops = faces::trace_loops(&g);
+    report.loops = loops.len();
+    let mut face_list: Vec<Vec<u32>> = Vec::with_capacity(loops.len());
+    let mut edges = std::collections::HashSet::new();
+    for l in &loops {
+        if l.len() <= 8 {
+            for k in 0..l.len() {
+                let (a, b) = (l[k], l[(k + 1) % l.len()]);
+                edges.insert((a.min(b), a.max(b)));
+            }
+        }
+    }
+    for l in loops {
+        if l.len() <= 8 {
+            faces::fill_polygon(
+                &g.pos,
+                &l,
+                &|a, b| edges.contains(&(a.min(b), a.max(b))),
+                &mut face_list,
+            );
+        } else {
+            // Longer orbits are holes; the repair's hole filling decides.
+            report.long_loops += 1;
+        }
+    }
+    report.faces_traced = face_list.len();
+    progress.report(0.8, "repairing")?;
+    let rules = repair::HoleRules {
+        max_hole: params.max_hole,
+        fan_large_holes: params.fan_large_holes,
+        surface,
+    };
+    let (mesh, map) = repair::repair(face_list, &mut g, &rules, &mut report.repair);
+    let graph = g.select(&map);
+    progress.report(1.0, "extracted")?;
+    Ok(Extracted {
+        mesh,
+        graph,
+        report,
+    })
+}
+
+/// The post-processed mesh.
+#[derive(Debug, Clone)]
+pub struct PostProcessed {
+    pub mesh: PolyMesh,
+    pub report: PostProcessReport,
+    /// Repairs the rebuild needed (normally none).
+    pub repair: RepairReport,
+}
+
+/// Thesis 3.7 on an extracted mesh, then the optional pure-quad split.
+pub fn post_process(
+    extracted: &Extracted,
+    surface: Option<&SurfaceIndex>,
+    params: &ExtractionParams,
+    progress: &mut Progress<'_>,
+) -> Result<PostProcessed, Cancelled> {
+    let p = &params.post;
+    let mut g = extracted.graph.clone();
+    let list = extracted.mesh.to_face_list();
+    let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
+    let mut report = PostProcessReport::default();
+    if p.t_vertices {
+        progress.report(0.1, "flat T-vertices")?;
+        for _ in 0..4 {
+            let r = postprocess::remove_t_vertices(&mut faces, &g, p);
+            report.t_vertices_removed += r;
+            if r == 0 {
+                break;
+            }
+        }
+    }
+    if p.feature_quads {
+        progress.report(0.3, "feature-aligned quads")?;
+        let (r, s) = postprocess::align_feature_quads(&mut faces, &mut g, surface);
+        report.feature_quads_removed += r;
+        report.feature_quads_split += s;
+    }
+    if p.flat_triangles {
+        progress.report(0.5, "flat triangles")?;
+        report.triangle_pairs_merged +=
+            postprocess::merge_flat_triangles(&mut faces, &g, p.flat_triangle_degrees);
+    }
+    progress.report(0.6, "smoothing")?;
+    report.smoothed_vertices = postprocess::smooth(&faces, &mut g, p, surface);
+    progress.report(0.8, "rebuilding")?;
+    let rules = repair::HoleRules {
+        max_hole: params.max_hole,
+        fan_large_holes: params.fan_large_holes,
+        surface,
+    };
+    let mut repair_report = RepairReport::default();
+    let (mut mesh, _) = repair::repair(faces, &mut g, &rules, &mut repair_report);
+    if params.pure_quad {
+        progress.report(0.9, "pure-quad split")?;
+        if let Ok(split) = pure_quad::catmull_clark_split(&mesh, surface) {
+            mesh = split;
+        }
+    }
+    Ok(PostProcessed {
+        mesh,
+        report,
+        repair: repair_report,
+    })
+}

@@ -1,0 +1,330 @@
+//! Quality metrics of an output mesh against the input: Kloiber 2018
+//! chapter 4's list, used by `quadrille remesh --stats` and the browser.
+//!
+//! [`Metrics`] is a struct of sections so later stages can add theirs
+//! (e.g. the limit surface's error) without touching these.
+//!
+//! Definitions and decisions:
+//! - EVs (extraordinary vertices): interior vertices of valence ≠ 4 and
+//!   boundary vertices of valence ≠ 3, as a percentage of vertices.
+//! - Planarity: per quad, the distance between the midpoints of its two
+//!   diagonals (thesis: "distance between diagonal centre points").
+//! - Corner angles: mean |α − 90°| over quad corners, and the mean angle.
+//! - Opposite-edge ratio: per quad, the mean of min/max over both pairs of
+//!   opposite edges (1 = parallelogram-like).
+//! - Quad quality after Marinov & Kobbelt 2006 as adapted by the thesis,
+//!   `E = (1 + O)(1 + P) R − 1` with O = Σ|α_i − π/2|, P = Σ|α_i + α_{i+1} − π|,
+//!   R = (2 − min/max(l0,l2))(2 − min/max(l1,l3)). The thesis prints
+//!   `(1 − O)(1 − P)`, which is not minimal at E = 0 as the text says; we use
+//!   the signs that make 0 the optimum.
+//! - Hausdorff distance, two-sided: the output's vertices, edge midpoints
+//!   and face centroids against the input, and the input's vertices against
+//!   the output (triangulated). Face centroids: mean and max distance to the
+//!   input.
+//! - Lengths are in the mesh's coordinates (the pipeline's local frame:
+//!   largest bounding-box axis 1, so distances read as fractions of it).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::mesh::{PolyMesh, TriMesh};
+use crate::spatial::SurfaceIndex;
+
+/// Topology and face statistics.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TopologyMetrics {
+    pub vertices: usize,
+    pub faces: usize,
+    pub edges: usize,
+    pub input_vertices: usize,
+    /// 100 · (1 − V_out / V_in).
+    pub vertex_reduction_percent: f64,
+    pub extraordinary_vertex_percent: f64,
+    pub non_quad_percent: f64,
+    /// `[degree, count]` pairs.
+    pub face_degrees: Vec<[usize; 2]>,
+    pub max_face_degree: usize,
+    pub boundary_edges: usize,
+    pub boundary_vertices: usize,
+    pub boundary_loops: usize,
+    pub nonmanifold_edges: usize,
+    pub nonmanifold_vertices: usize,
+    pub inconsistent_edges: usize,
+    pub components: usize,
+    pub euler_characteristic: i64,
+    pub genus: Option<i64>,
+}
+
+/// Shape of the quads.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct QuadMetrics {
+    pub quads: usize,
+    /// Mean distance between a quad's diagonal midpoints.
+    pub planarity: f64,
+    /// Mean |corner angle − 90°|, degrees.
+    pub corner_angle_deviation_degrees: f64,
+    /// Mean corner angle, degrees.
+    pub mean_corner_angle_degrees: f64,
+    pub opposite_edge_ratio: f64,
+    /// Mean adapted Marinov–Kobbelt quad quality (0 is best).
+    pub quad_quality: f64,
+}
+
+/// Distances to the input.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct DistanceMetrics {
+    pub hausdorff: f64,
+    /// Output samples → input.
+    pub output_to_input_max: f64,
+    pub output_to_input_mean: f64,
+    /// Input vertices → output.
+    pub input_to_output_max: f64,
+    pub input_to_output_mean: f64,
+    pub face_centroid_mean: f64,
+    pub face_centroid_max: f64,
+}
+
+/// Edge lengths.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct EdgeMetrics {
+    pub mean: f64,
+    pub std_dev: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+/// The thesis' chapter-4 metrics of one output mesh.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    pub topology: TopologyMetrics,
+    pub quads: QuadMetrics,
+    pub distance: DistanceMetrics,
+    pub edges: EdgeMetrics,
+}
+
+fn angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (u, v) = (a - b, c - b);
+    if u.length_squared() == 0.0 || v.length_squared() == 0.0 {
+        return 0.0;
+    }
+    u.angle_between(v)
+}
+
+/// Topology and quad-shape metrics (no distances).
+pub fn shape_metrics(
+    mesh: &PolyMesh,
+    input_vertices: usize,
+) -> (TopologyMetrics, QuadMetrics, EdgeMetrics) {
+    let topo = mesh.topology();
+    let nv = mesh.vertex_count();
+    let nf = mesh.face_count();
+    let mut hist: Vec<usize> = Vec::new();
+    let mut quad = QuadMetrics::default();
+    let (mut planarity, mut dev, mut mean_angle, mut ratio, mut quality) =
+        (0.0, 0.0, 0.0, 0.0, 0.0);
+    for f in 0..nf as u32 {
+        let vs: Vec<u32> = mesh.face_vertices(f).collect();
+        let d = vs.len();
+        if hist.len() <= d {
+            hist.resize(d + 1, 0);
+        }
+        hist[d] += 1;
+        if d != 4 {
+            continue;
+        }
+        quad.quads += 1;
+        let p: Vec<DVec3> = vs.iter().map(|&v| mesh.positions[v as usize]).collect();
+        planarity += (0.5 * (p[0] + p[2])).distance(0.5 * (p[1] + p[3]));
+        let a: Vec<f64> = (0..4)
+            .map(|i| angle(p[(i + 3) % 4], p[i], p[(i + 1) % 4]))
+            .collect();
+        let l: Vec<f64> = (0..4).map(|i| p[i].distance(p[(i + 1) % 4])).collect();
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let o: f64 = a.iter().map(|x| (x - half_pi).abs()).sum();
+        let par: f64 = (0..4)
+            .map(|i| (a[i] + a[(i + 1) % 4] - std::f64::consts::PI).abs())
+            .sum();
+        let mm = |x: f64, y: f64| {
+            if x.max(y) > 0.0 {
+                x.min(y) / x.max(y)
+            } else {
+                1.0
+            }
+        };
+        let r = (2.0 - mm(l[0], l[2])) * (2.0 - mm(l[1], l[3]));
+        quality += (1.0 + o) * (1.0 + par) * r - 1.0;
+        ratio += 0.5 * (mm(l[0], l[2]) + mm(l[1], l[3]));
+        dev += a.iter().map(|x| (x.to_degrees() - 90.0).abs()).sum::<f64>() / 4.0;
+        mean_angle += a.iter().map(|x| x.to_degrees()).sum::<f64>() / 4.0;
+    }
+    if quad.quads > 0 {
+        let q = quad.quads as f64;
+        quad.planarity = planarity / q;
+        quad.corner_angle_deviation_degrees = dev / q;
+        quad.mean_corner_angle_degrees = mean_angle / q;
+        quad.opposite_edge_ratio = ratio / q;
+        quad.quad_quality = quality / q;
+    }
+    let mut ev = 0;
+    let mut boundary_vertices = 0;
+    for v in 0..nv as u32 {
+        let b = mesh.is_boundary_vertex(v);
+        boundary_vertices += b as usize;
+        let regular = if b { 3 } else { 4 };
+        if mesh.valence(v) != regular {
+            ev += 1;
+        }
+    }
+    let lengths: Vec<f64> = (0..mesh.edge_count() as u32)
+        .map(|e| {
+            mesh.positions[mesh.origin(2 * e) as usize]
+                .distance(mesh.positions[mesh.tip(2 * e) as usize])
+        })
+        .collect();
+    let mut edges = EdgeMetrics::default();
+    if !lengths.is_empty() {
+        let n = lengths.len() as f64;
+        edges.mean = lengths.iter().sum::<f64>() / n;
+        edges.std_dev = (lengths
+            .iter()
+            .map(|l| (l - edges.mean).powi(2))
+            .sum::<f64>()
+            / n)
+            .sqrt();
+        edges.min = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+        edges.max = lengths.iter().copied().fold(0.0, f64::max);
+    }
+    let pct = |x: usize, of: usize| {
+        if of > 0 {
+            100.0 * x as f64 / of as f64
+        } else {
+            0.0
+        }
+    };
+    let topology = TopologyMetrics {
+        vertices: nv,
+        faces: nf,
+        edges: mesh.edge_count(),
+        input_vertices,
+        vertex_reduction_percent: if input_vertices > 0 {
+            100.0 * (1.0 - nv as f64 / input_vertices as f64)
+        } else {
+            0.0
+        },
+        extraordinary_vertex_percent: pct(ev, nv),
+        non_quad_percent: pct(nf - quad.quads, nf),
+        face_degrees: hist
+            .iter()
+            .enumerate()
+            .filter(|&(_, &c)| c > 0)
+            .map(|(d, &c)| [d, c])
+            .collect(),
+        max_face_degree: hist.len().saturating_sub(1),
+        boundary_edges: topo.boundary_edges,
+        boundary_vertices,
+        boundary_loops: mesh.boundary_loops().len(),
+        nonmanifold_edges: topo.nonmanifold_edges,
+        nonmanifold_vertices: topo.nonmanifold_vertices,
+        inconsistent_edges: topo.inconsistent_edges,
+        components: topo.components,
+        euler_characteristic: topo.euler_characteristic,
+        genus: topo.genus(),
+    };
+    (topology, quad, edges)
+}
+
+/// Distances between the output and the input surface.
+pub fn distance_metrics(
+    mesh: &PolyMesh,
+    input: &TriMesh,
+    input_index: &SurfaceIndex,
+) -> DistanceMetrics {
+    let mut d = DistanceMetrics::default();
+    let mut samples: Vec<DVec3> = mesh.positions.clone();
+    for e in 0..mesh.edge_count() as u32 {
+        samples.push(
+            0.5 * (mesh.positions[mesh.origin(2 * e) as usize]
+                + mesh.positions[mesh.tip(2 * e) as usize]),
+        );
+    }
+    let centroids: Vec<DVec3> = (0..mesh.face_count() as u32)
+        .map(|f| {
+            let (s, k) = mesh.face_vertices(f).fold((DVec3::ZERO, 0.0), |(s, k), v| {
+                (s + mesh.positions[v as usize], k + 1.0)
+            });
+            s / k
+        })
+        .collect();
+    let dist = |pts: &[DVec3], idx: &SurfaceIndex| -> Vec<f64> {
+        let mut out = Vec::new();
+        crate::parallel::map_into(pts, &mut out, |&p| idx.distance(p));
+        out
+    };
+    let c = dist(&centroids, input_index);
+    let s = dist(&samples, input_index);
+    let all_out = s.iter().chain(&c);
+    let n_out = (s.len() + c.len()).max(1) as f64;
+    d.output_to_input_max = all_out.clone().copied().fold(0.0, f64::max);
+    d.output_to_input_mean = all_out.sum::<f64>() / n_out;
+    if !c.is_empty() {
+        d.face_centroid_mean = c.iter().sum::<f64>() / c.len() as f64;
+        d.face_centroid_max = c.iter().copied().fold(0.0, f64::max);
+    }
+    let tris = mesh.to_face_list().triangulate(&mesh.positions);
+    if let Some(out_index) = TriMesh::new(mesh.positions.clone(), tris)
+        .ok()
+        .and_then(|t| SurfaceIndex::new(&t))
+    {
+        let back = dist(&input.positions, &out_index);
+        d.input_to_output_max = back.iter().copied().fold(0.0, f64::max);
+        d.input_to_output_mean = back.iter().sum::<f64>() / back.len().max(1) as f64;
+    }
+    d.hausdorff = d.output_to_input_max.max(d.input_to_output_max);
+    d
+}
+
+/// All metrics of `mesh` against `input`.
+pub fn metrics(mesh: &PolyMesh, input: &TriMesh, input_index: &SurfaceIndex) -> Metrics {
+    let (topology, quads, edges) = shape_metrics(mesh, input.vertex_count());
+    Metrics {
+        topology,
+        quads,
+        distance: distance_metrics(mesh, input, input_index),
+        edges,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::FaceList;
+
+    #[test]
+    fn unit_square_grid_is_perfect() {
+        let mut p = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                p.push(DVec3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        let mut f = FaceList::new();
+        for j in 0..2u32 {
+            for i in 0..2u32 {
+                let id = |i: u32, j: u32| j * 3 + i;
+                f.push(&[id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let m = PolyMesh::from_faces(p, &f).unwrap();
+        let (t, q, e) = shape_metrics(&m, 9);
+        assert_eq!(q.quads, 4);
+        assert!(q.quad_quality.abs() < 1e-12);
+        assert!(q.planarity.abs() < 1e-12);
+        assert!((q.opposite_edge_ratio - 1.0).abs() < 1e-12);
+        assert!((e.mean - 1.0).abs() < 1e-12 && e.std_dev < 1e-12);
+        assert_eq!(t.non_quad_percent, 0.0);
+        assert_eq!(t.boundary_edges, 8);
+        // Corners (valence 2) and the centre (interior valence 4): corner
+        // valence 2 ≠ 3 → 4 EVs of 9.
+        assert!((t.extraordinary_vertex_percent - 100.0 * 4.0 / 9.0).abs() < 1e-9);
+    }
+}
