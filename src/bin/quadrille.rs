@@ -229,6 +229,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             "metrics": metrics,
             "extraction": extraction,
             "postprocess": post.result.report,
+            "postprocess_repair": post.result.repair,
             "timings_ms": timings,
         });
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;

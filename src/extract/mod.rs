@@ -211,6 +211,15 @@ pub fn post_process(
         report.triangle_pairs_merged +=
             postprocess::merge_flat_triangles(&mut faces, &g, p.flat_triangle_degrees);
     }
+    if p.pair_non_quads_degrees > 0.0 {
+        for _ in 0..3 {
+            let m = postprocess::pair_non_quads(&mut faces, &g, p.pair_non_quads_degrees);
+            report.non_quad_pairs_merged += m;
+            if m == 0 {
+                break;
+            }
+        }
+    }
     progress.report(0.6, "smoothing")?;
     report.smoothed_vertices = postprocess::smooth(&faces, &mut g, p, surface);
     progress.report(0.8, "rebuilding")?;

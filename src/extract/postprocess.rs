@@ -48,6 +48,9 @@ pub struct PostProcessParams {
     pub flat_triangles: bool,
     /// Default 10°.
     pub flat_triangle_degrees: f64,
+    /// Merge neighbouring odd faces into quads within this normal angle
+    /// (a deviation, see [`pair_non_quads`]); 0 turns it off. Default 40°.
+    pub pair_non_quads_degrees: f64,
     /// Smoothing iterations. Default 3.
     pub smoothing_iterations: usize,
     /// Feature guard of the smoothing. Default 50°.
@@ -65,6 +68,7 @@ impl Default for PostProcessParams {
             feature_quads: true,
             flat_triangles: true,
             flat_triangle_degrees: 10.0,
+            pair_non_quads_degrees: 40.0,
             smoothing_iterations: 3,
             smoothing_feature_degrees: 50.0,
             reproject: true,
@@ -79,6 +83,7 @@ pub struct PostProcessReport {
     pub feature_quads_removed: usize,
     pub feature_quads_split: usize,
     pub triangle_pairs_merged: usize,
+    pub non_quad_pairs_merged: usize,
     pub smoothed_vertices: usize,
 }
 
@@ -469,4 +474,112 @@ pub fn smooth(
         }
     }
     smoothed.iter().filter(|&&x| x).count()
+}
+
+/// Deviation (not in the thesis): two neighbouring odd faces (triangles,
+/// pentagons) whose normals differ by less than `degrees` are merged and the
+/// union (4, 6 or 8 corners) is split into quads with the thesis' quad
+/// score; two non-quads become one to three quads. Thesis 3.7.3 is the
+/// triangle–triangle case at 10°. Returns the number of merged pairs.
+pub fn pair_non_quads(faces: &mut Vec<Vec<u32>>, g: &Graph, degrees: f64) -> usize {
+    let edges = edge_map(faces);
+    let cos_t = degrees.to_radians().cos();
+    let odd = |f: &Vec<u32>| f.len() == 3 || f.len() == 5;
+    let mut pairs: Vec<(f64, usize, usize, u32, u32)> = Vec::new();
+    for (&(a, b), list) in &edges {
+        if list.len() != 2 {
+            continue;
+        }
+        let (f, h) = (list[0].min(list[1]), list[0].max(list[1]));
+        if !odd(&faces[f]) || !odd(&faces[h]) {
+            continue;
+        }
+        let c = face_normal(&g.pos, &faces[f]).dot(face_normal(&g.pos, &faces[h]));
+        if c >= cos_t {
+            // Prefer small unions (triangle pairs) and flat pairs.
+            let size = (faces[f].len() + faces[h].len()) as f64;
+            pairs.push((size - c, f, h, a, b));
+        }
+    }
+    pairs.sort_by(|x, y| {
+        x.0.total_cmp(&y.0)
+            .then((x.1, x.2, x.3).cmp(&(y.1, y.2, y.3)))
+    });
+    let mut existing: std::collections::HashSet<(u32, u32)> = edges.keys().copied().collect();
+    let mut dead = vec![false; faces.len()];
+    let mut added: Vec<Vec<u32>> = Vec::new();
+    let mut merged = 0;
+    for (_, f, h, a, b) in pairs {
+        if dead[f] || dead[h] {
+            continue;
+        }
+        // Orient: f runs a→b or b→a.
+        let runs = |x: &[u32], p: u32, q: u32| {
+            let n = x.len();
+            (0..n).any(|k| x[k] == p && x[(k + 1) % n] == q)
+        };
+        let (f1, f2) = if runs(&faces[f], a, b) {
+            (f, h)
+        } else {
+            (h, f)
+        };
+        if !runs(&faces[f1], a, b) || !runs(&faces[f2], b, a) {
+            continue;
+        }
+        let r1 = rotate_to(&faces[f1], b); // [b, .., a]
+        let r2 = rotate_to(&faces[f2], a); // [a, .., b]
+        let mut ring = r1.clone();
+        ring.extend_from_slice(&r2[1..r2.len() - 1]);
+        let mut uniq = ring.clone();
+        uniq.sort_unstable();
+        uniq.dedup();
+        if uniq.len() != ring.len() {
+            continue;
+        }
+        existing.remove(&key(a, b));
+        let mut out = Vec::new();
+        super::faces::fill_polygon(
+            &g.pos,
+            &ring,
+            &|x, y| existing.contains(&key(x, y)),
+            &mut out,
+        );
+        let mut ok = out.iter().all(|q| q.len() == 4);
+        // No new chord may already be an edge (or a diagonal of a new quad).
+        let mut chords = Vec::new();
+        for q in &out {
+            for k in 0..4 {
+                let e = key(q[k], q[(k + 1) % 4]);
+                let on_ring =
+                    (0..ring.len()).any(|i| key(ring[i], ring[(i + 1) % ring.len()]) == e);
+                if !on_ring {
+                    if existing.contains(&e) {
+                        ok = false;
+                    }
+                    chords.push(e);
+                }
+            }
+            for (x, y) in [(q[0], q[2]), (q[1], q[3])] {
+                if existing.contains(&key(x, y)) {
+                    ok = false;
+                }
+            }
+        }
+        if !ok {
+            existing.insert(key(a, b));
+            continue;
+        }
+        existing.extend(chords);
+        dead[f] = true;
+        dead[h] = true;
+        added.extend(out);
+        merged += 1;
+    }
+    let mut k = 0;
+    faces.retain(|_| {
+        k += 1;
+        !dead[k - 1]
+    });
+    faces.extend(added);
+    merged
 }

@@ -453,10 +453,14 @@ fn fill_holes(
     if loops.is_empty() {
         return false;
     }
+    // Every vertex pair that shares a face: a new face may not reuse one
+    // except along the hole's own ring (else the repair deletes it again).
     let mut edges: HashMap<(u32, u32), ()> = HashMap::new();
     for f in faces.iter() {
-        for k in 0..f.len() {
-            edges.insert(key(f[k], f[(k + 1) % f.len()]), ());
+        for i in 0..f.len() {
+            for j in i + 1..f.len() {
+                edges.insert(key(f[i], f[j]), ());
+            }
         }
     }
     let mut added = false;
@@ -466,16 +470,38 @@ fn fill_holes(
             report.kept_input_holes += 1;
             continue;
         }
+        let mut out = Vec::new();
         if ring.len() <= rules.max_hole {
             fill_polygon(
                 &g.pos,
                 &ring,
                 &|a, b| edges.contains_key(&key(a, b)),
-                &mut new_faces,
+                &mut out,
             );
+        }
+        let ring_edge = |a: u32, b: u32| {
+            let m = ring.len();
+            (0..m).any(|i| key(ring[i], ring[(i + 1) % m]) == key(a, b))
+        };
+        let valid = !out.is_empty()
+            && out.iter().all(|f| {
+                (0..f.len()).all(|i| {
+                    (i + 1..f.len())
+                        .all(|j| ring_edge(f[i], f[j]) || !edges.contains_key(&key(f[i], f[j])))
+                })
+            });
+        if valid {
+            for f in &out {
+                for i in 0..f.len() {
+                    for j in i + 1..f.len() {
+                        edges.insert(key(f[i], f[j]), ());
+                    }
+                }
+            }
+            new_faces.extend(out);
             report.filled_holes += 1;
             added = true;
-        } else if rules.fan_large_holes {
+        } else if ring.len() <= rules.max_hole || rules.fan_large_holes {
             let c = g.push_copy(ring[0] as usize);
             let m = ring.len() as f64;
             g.pos[c as usize] = ring.iter().map(|&v| g.pos[v as usize]).sum::<DVec3>() / m;
@@ -517,17 +543,27 @@ pub fn repair(
     report: &mut RepairReport,
 ) -> (PolyMesh, Vec<u32>) {
     pass(&mut faces, g, report);
-    for _ in 0..3 {
+    for _ in 0..8 {
         if !fill_holes(&mut faces, g, rules, report) {
             break;
         }
         pass(&mut faces, g, report);
     }
     // Guard: whatever from_faces still refuses is fixed directly.
+    let mut refills = 0;
     loop {
         let (positions, list, map) = compact(&faces, g);
         match PolyMesh::from_faces(positions, &list) {
-            Ok(mesh) => return (mesh, map),
+            Ok(mesh) => {
+                if refills < 4 && !mesh.boundary_loops().is_empty() {
+                    refills += 1;
+                    if fill_holes(&mut faces, g, rules, report) {
+                        pass(&mut faces, g, report);
+                        continue;
+                    }
+                }
+                return (mesh, map);
+            }
             Err(e) => {
                 report.guard_fixes += 1;
                 let remap = |x: u32| map[x as usize];
