@@ -6,7 +6,8 @@ SHELL := /bin/bash
 PORT ?= 8080
 MESHES ?= ../shared/meshes
 TOOLS := $(CURDIR)/.tools
-WASM := target/wasm32-unknown-unknown/release/quadrille.wasm
+# Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
+WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
 .PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean
 
@@ -37,13 +38,15 @@ web: wasm-tools samples
 samples:
 	@scripts/copy-samples.sh "$(MESHES)" www/samples
 
-## Headless Chromium (Debian's package) driven by playwright-core from npm.
+## Headless Chromium (Debian's package) driven by playwright-core from npm;
+## pngjs decodes screenshots to check the canvas is not blank.
 browser-tools:
 	@scripts/install-browser-tools.sh
 
+## Every browser test runs twice: on WebGL2 and on WebGPU (SwiftShader).
 browser-test: web browser-tools
 	cargo build --release --example serve
-	cd tests/e2e && node run.mjs
+	cd tests/e2e && node run.mjs webgl2 webgpu
 
 clean:
 	cargo clean

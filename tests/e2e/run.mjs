@@ -1,6 +1,10 @@
 // Browser tests: the web app in Debian's headless Chromium, driven by
-// playwright-core. Serves www/ with the project's own static server, runs
-// each test in a fresh page, and exits non-zero if any test fails.
+// playwright-core. Serves www/ with the project's own static server and runs
+// every test twice: once on WebGL2 (`?backend=webgl2`) and once on WebGPU
+// (SwiftShader Vulkan). Each test gets a fresh page; screenshots go to
+// target/e2e/. Exits non-zero if any test fails.
+//
+//   node run.mjs [webgl2|webgpu]   (default: both)
 import { spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, mkdirSync } from 'node:fs';
 import { createServer } from 'node:net';
@@ -8,10 +12,12 @@ import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+import { PNG } from 'pngjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, '../..');
 const meshes = process.env.QUADRILLE_MESHES || resolve(root, '../shared/meshes');
+const targetDir = process.env.CARGO_TARGET_DIR ? resolve(root, process.env.CARGO_TARGET_DIR) : join(root, 'target');
 export const artifacts = resolve(root, 'target/e2e');
 mkdirSync(artifacts, { recursive: true });
 
@@ -25,7 +31,7 @@ function freePort() {
 
 async function startServer() {
   const port = await freePort();
-  const server = spawn(join(root, 'target/release/examples/serve'), [join(root, 'www'), String(port)], { stdio: ['ignore', 'pipe', 'inherit'] });
+  const server = spawn(join(targetDir, 'release/examples/serve'), [join(root, 'www'), String(port)], { stdio: ['ignore', 'pipe', 'inherit'] });
   await new Promise((ok, fail) => {
     server.stdout.once('data', ok);
     server.once('exit', (code) => fail(new Error(`server exited with ${code}`)));
@@ -35,7 +41,13 @@ async function startServer() {
 
 const BASE_FLAGS = ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
   '--disable-component-update', '--disable-sync'];
+// Without SwiftShader Vulkan the WebGPU adapter works but the canvas stays blank in screenshots.
 const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-angle=swiftshader'];
+
+const CONFIGS = {
+  webgl2: { flags: [], query: 'backend=webgl2' },
+  webgpu: { flags: WEBGPU_FLAGS, query: '' },
+};
 
 async function launch(extraFlags = []) {
   return chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), 'quadrille-chromium-')), {
@@ -46,13 +58,15 @@ async function launch(extraFlags = []) {
   });
 }
 
-// Opens the app and collects console errors and page errors.
-async function open(context, url) {
-  const page = await context.newPage();
+// Opens the app and collects console errors and page errors (the worker's too).
+async function open(env, query = '') {
+  const page = await env.context.newPage();
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(String(e)));
-  await page.goto(url);
+  page.on('worker', (w) => w.on('console', (m) => { if (m.type() === 'error') errors.push(`worker: ${m.text()}`); }));
+  const q = [env.query, query].filter(Boolean).join('&');
+  await page.goto(env.url + (q ? `?${q}` : ''));
   return { page, errors };
 }
 
@@ -62,6 +76,7 @@ async function dropFile(page, selector, name, bytes) {
     const dt = new DataTransfer();
     dt.items.add(new File([new Uint8Array(data)], name));
     const target = document.querySelector(selector);
+    target.dispatchEvent(new DragEvent('dragenter', { dataTransfer: dt, bubbles: true, cancelable: true }));
     target.dispatchEvent(new DragEvent('dragover', { dataTransfer: dt, bubbles: true, cancelable: true }));
     target.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
   }, { selector, name, data: [...bytes] });
@@ -70,67 +85,205 @@ async function dropFile(page, selector, name, bytes) {
 const waitForImport = (page, name) => page.waitForFunction(
   (n) => window.quadrille && window.quadrille.lastImport && window.quadrille.lastImport.file === n, name, { timeout: 60000 });
 
+// Waits until a run of `name` is complete and two more animation frames have passed.
+async function waitForRun(page, name) {
+  await page.waitForFunction(
+    (n) => window.quadrille && window.quadrille.lastRun && window.quadrille.lastRun.input === n, name, { timeout: 60000 });
+  await settle(page);
+}
+const settle = (page) => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+
+// The background the viewer clears to (see gpu.rs BACKGROUND), in sRGB bytes.
+const BACKGROUND = [246, 247, 249];
+
+// Fraction of the PNG's pixels that differ clearly from the background.
+function inkFraction(png) {
+  const { data, width, height } = PNG.sync.read(png);
+  let ink = 0;
+  for (let i = 0; i < data.length; i += 4) {
+    const d = Math.abs(data[i] - BACKGROUND[0]) + Math.abs(data[i + 1] - BACKGROUND[1]) + Math.abs(data[i + 2] - BACKGROUND[2]);
+    if (d > 30) ink++;
+  }
+  return ink / (width * height);
+}
+
+// A screenshot of the canvas rectangle (what the user sees there), saved and measured.
+async function canvasInk(page, file) {
+  const box = await page.locator('#canvas').boundingBox();
+  const png = await page.screenshot({ path: join(artifacts, file), clip: box });
+  return inkFraction(png);
+}
+
 const tests = [];
 const test = (name, fn) => tests.push({ name, fn });
 const assert = (cond, message) => { if (!cond) throw new Error(message); };
 
-test('page loads without console errors and imports the default sample in the worker', async ({ context, url }) => {
-  const { page, errors } = await open(context, url);
-  await waitForImport(page, 'stanford-bunny.obj');
+test('page loads without console errors, runs the default sample and draws it', async (env) => {
+  const { page, errors } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
   const r = await page.evaluate(() => window.quadrille.lastImport);
   assert(r.vertices === 34834, `bunny vertices ${r.vertices}`);
   assert(r.boundary_edges === 223, `bunny boundary edges ${r.boundary_edges}`);
   assert((await page.textContent('#report')).includes('34834'), 'report table shows the vertex count');
-  await page.screenshot({ path: join(artifacts, 'import-bunny.png'), fullPage: true });
+  const backend = await page.evaluate(() => window.quadrille.backend);
+  assert(backend === env.backend, `backend ${backend}, expected ${env.backend}`);
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  assert(run.complete && run.stages.import >= 0 && run.counts.vertices === 34834, `lastRun ${JSON.stringify(run)}`);
+  const ink = await canvasInk(page, `bunny-${env.backend}.png`);
+  assert(ink > 0.05, `the canvas is (nearly) blank: ${(ink * 100).toFixed(2)}% drawn`);
+  await page.screenshot({ path: join(artifacts, `app-${env.backend}.png`) });
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
-test('a dropped mesh runs through; a malformed file shows an error and the app still works', async ({ context, url }) => {
-  const { page } = await open(context, url);
-  await waitForImport(page, 'stanford-bunny.obj');
-  await dropFile(page, '#drop', 'fandisk.obj', readFileSync(join(meshes, 'fandisk.obj')));
-  await waitForImport(page, 'fandisk.obj');
+test('a dropped mesh runs through; a malformed file shows an error and the app still works', async (env) => {
+  const { page, errors } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  await dropFile(page, '#view', 'fandisk.obj', readFileSync(join(meshes, 'fandisk.obj')));
+  await waitForRun(page, 'fandisk.obj');
   assert(await page.evaluate(() => window.quadrille.lastImport.vertices) === 6475, 'fandisk vertex count');
+  assert(await canvasInk(page, `fandisk-${env.backend}.png`) > 0.03, 'fandisk is drawn');
 
   await dropFile(page, '#drop', 'broken.obj', Buffer.from('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n'));
   await page.waitForFunction(() => window.quadrille.lastError, null, { timeout: 30000 });
   const message = await page.evaluate(() => window.quadrille.lastError);
   assert(message.includes('broken.obj:4'), `error names file and line: ${message}`);
   assert((await page.textContent('#status')).includes('broken.obj:4'), 'error is shown on the page');
-  await page.screenshot({ path: join(artifacts, 'import-error.png'), fullPage: true });
+  await page.screenshot({ path: join(artifacts, `error-${env.backend}.png`) });
 
-  await page.click('text=spot');
-  await waitForImport(page, 'spot.obj');
+  await page.click('#sample-buttons >> text=spot');
+  await waitForRun(page, 'spot.obj');
   assert(await page.evaluate(() => window.quadrille.lastImport.genus) === 0, 'spot imports after the error');
+  assert(await canvasInk(page, `spot-${env.backend}.png`) > 0.03, 'spot is drawn after the error');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
-test('the page works at phone size', async ({ context, url }) => {
-  const page = await context.newPage();
+test('every stage runs and shows its layers: curvature with a legend, cross field, singularities', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  for (const stage of ['import', 'analysis', 'hierarchy', 'orientation', 'position', 'extraction', 'postprocess']) {
+    assert(typeof run.stages[stage] === 'number', `lastRun has ${stage} ms: ${JSON.stringify(run.stages)}`);
+  }
+  assert(run.counts.orientation_singularities > 0, `spot (genus 0) has singularities: ${JSON.stringify(run.counts)}`);
+  assert(!(await page.isHidden('#legend')), 'a legend is shown for the scalar');
+  assert((await page.textContent('#legend')).includes('curvature'), 'the legend names the scalar');
+  assert(run.counts.quad_mesh_faces > 0, `a quad mesh came out: ${JSON.stringify(run.counts)}`);
+  for (const id of ['#layer-cross-field', '#layer-orientation-singularities', '#layer-feature-vertices', '#layer-quad-mesh']) {
+    assert(await page.isEnabled(id), `${id} is available`);
+  }
+  await page.screenshot({ path: join(artifacts, `stages-${env.backend}.png`) });
+  await page.selectOption('#scalar-select', 'sizing field');
+  await settle(page);
+  assert((await page.textContent('#legend')).includes('sizing field'), 'the legend follows the selected scalar');
+  await page.keyboard.press('x');
+  await page.keyboard.press('e');
+  await settle(page);
+  await page.screenshot({ path: join(artifacts, `sizing-${env.backend}.png`) });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('layers toggle with keys, picking marks a point, the PNG export has the picture', async (env) => {
+  const { page } = await open(env, 'sample=suzanne');
+  await waitForRun(page, 'suzanne.obj');
+  const box = await page.locator('#canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  await page.waitForFunction(() => window.quadrille.lastPick, null, { timeout: 10000 });
+  assert(!(await page.isHidden('#pick-info')), 'pick info is shown');
+  await settle(page);
+  await page.screenshot({ path: join(artifacts, `picked-${env.backend}.png`) });
+
+  const png = Buffer.from(await page.evaluate(async () => [...await window.quadrille.screenshot()]));
+  assert(inkFraction(png) > 0.03, 'the exported PNG shows the mesh');
+
+  const withSurface = await canvasInk(page, `suzanne-${env.backend}.png`);
+  await page.keyboard.press('s');
+  await settle(page);
+  assert(!(await page.isChecked('#layer-surface')), 'S unticks the surface layer');
+  const linesOnly = await canvasInk(page, `suzanne-lines-${env.backend}.png`);
+  assert(linesOnly < withSurface && linesOnly > 0.005, `lines and markers alone: ${linesOnly} vs ${withSurface}`);
+  for (const key of ['q', 'g', 'v', 'n']) await page.keyboard.press(key);
+  await settle(page);
+  assert(!(await page.isChecked('#layer-quad-mesh')), 'Q unticks the quad mesh layer');
+  const nothing = await canvasInk(page, `suzanne-nothing-${env.backend}.png`);
+  assert(nothing < linesOnly, `hiding the rest leaves less: ${nothing} vs ${linesOnly}`);
+});
+
+test('cancel stops a run within half a second and the app stays usable', async (env) => {
+  const { page } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  // A grid big enough that importing it takes well over a second; built in the page.
+  await page.evaluate(() => {
+    const n = 700;
+    const lines = [];
+    for (let i = 0; i < n; i++) for (let j = 0; j < n; j++) lines.push(`v ${i} ${j} ${Math.sin(i * 0.1) * Math.cos(j * 0.1)}`);
+    for (let i = 0; i + 1 < n; i++) for (let j = 0; j + 1 < n; j++) {
+      const a = i * n + j + 1;
+      lines.push(`f ${a} ${a + n} ${a + n + 1} ${a + 1}`);
+    }
+    const dt = new DataTransfer();
+    dt.items.add(new File([lines.join('\n')], 'big-grid.obj'));
+    document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+  });
+  await page.waitForFunction(() => !document.getElementById('progress').hidden);
+  const started = Date.now();
+  await page.click('#cancel');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
+  const ms = Date.now() - started;
+  assert(ms < 1000, `cancel took ${ms} ms`);
+  assert(await page.isHidden('#progress'), 'progress bar hidden after cancel');
+  assert(await page.evaluate(() => window.quadrille.lastImport.file) === 'stanford-bunny.obj', 'the cancelled run left no result');
+  await page.click('#sample-buttons >> text=spot');
+  await waitForRun(page, 'spot.obj');
+});
+
+test('a panic in the worker is shown and the app recovers', async (env) => {
+  const { page } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  await page.evaluate(() => window.quadrille.panicForTesting());
+  await page.waitForFunction(() => (window.quadrille.lastError || '').includes('deliberate panic'), null, { timeout: 10000 });
+  assert((await page.textContent('#status')).includes('deliberate panic'), 'panic message on the page');
+  await page.click('#sample-buttons >> text=spot');
+  await waitForRun(page, 'spot.obj');
+});
+
+test('the page works at phone size', async (env) => {
+  const page = await env.context.newPage();
   await page.setViewportSize({ width: 390, height: 844 });
-  await page.goto(url + '?sample=cow');
-  await waitForImport(page, 'cow.obj');
+  await page.goto(env.url + '?sample=cow' + (env.query ? `&${env.query}` : ''));
+  await waitForRun(page, 'cow.obj');
   const overflow = await page.evaluate(() => document.documentElement.scrollWidth > window.innerWidth + 1);
   assert(!overflow, 'no horizontal scrolling at 390 px');
-  await page.screenshot({ path: join(artifacts, 'phone.png'), fullPage: true });
+  assert(await canvasInk(page, `phone-canvas-${env.backend}.png`) > 0.03, 'the cow is drawn at phone size');
+  await page.screenshot({ path: join(artifacts, `phone-${env.backend}.png`), fullPage: true });
 });
 
+const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();
 let failed = 0;
-const context = await launch();
+let passed = 0;
 try {
-  for (const { name, fn } of tests) {
-    const started = Date.now();
+  for (const backend of wanted) {
+    const config = CONFIGS[backend];
+    if (!config) throw new Error(`unknown configuration ${backend}`);
+    const context = await launch(config.flags);
     try {
-      await fn({ context, url });
-      console.log(`ok    ${name} (${Date.now() - started} ms)`);
-    } catch (error) {
-      failed++;
-      console.log(`FAIL  ${name}\n      ${String(error.stack || error).split('\n').join('\n      ')}`);
+      for (const { name, fn } of tests) {
+        const started = Date.now();
+        try {
+          await fn({ context, url, backend, query: config.query });
+          passed++;
+          console.log(`ok    [${backend}] ${name} (${Date.now() - started} ms)`);
+        } catch (error) {
+          failed++;
+          console.log(`FAIL  [${backend}] ${name}\n      ${String(error.stack || error).split('\n').join('\n      ')}`);
+        }
+      }
+    } finally {
+      await context.close();
     }
   }
 } finally {
-  await context.close();
   server.kill();
 }
-console.log(`${tests.length - failed} passed, ${failed} failed`);
+console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);

@@ -1,0 +1,391 @@
+//! What the viewer shows, as plain data with no GPU in sight: one surface
+//! with an optional scalar quantity, named line sets and point sets. The
+//! renderer turns a [`Scene`] into buffers; tests check it natively.
+//!
+//! Everything arrives from JavaScript, so every constructor checks lengths,
+//! indices and finiteness and returns a [`SceneError`] instead of panicking.
+
+use glam::Vec3;
+
+use super::colormap::{Colormap, finite_range};
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    #[error("{what}: length {len} is not a multiple of {multiple}")]
+    Length {
+        what: &'static str,
+        len: usize,
+        multiple: usize,
+    },
+    #[error("{what}: index {index} is out of range (there are {count} vertices)")]
+    Index {
+        what: &'static str,
+        index: u32,
+        count: usize,
+    },
+    #[error("{what}: expected {expected} values, got {got}")]
+    Count {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    #[error("{what}: coordinate {index} is not finite")]
+    NonFinite { what: &'static str, index: usize },
+    #[error("unknown colormap {0:?} (use viridis or violet-green)")]
+    Colormap(String),
+    #[error("there is no surface yet")]
+    NoSurface,
+}
+
+/// Default surface colour when no scalar is shown (sRGB).
+pub const PLAIN: [u8; 4] = [0xc8, 0xcd, 0xd8, 0xff];
+
+/// A triangle mesh to draw: positions, per-vertex normals, triangles.
+#[derive(Debug, Clone, Default)]
+pub struct Surface {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+fn vec3s(what: &'static str, flat: &[f32]) -> Result<Vec<Vec3>, SceneError> {
+    if flat.len() % 3 != 0 {
+        return Err(SceneError::Length {
+            what,
+            len: flat.len(),
+            multiple: 3,
+        });
+    }
+    if let Some(i) = flat.iter().position(|x| !x.is_finite()) {
+        return Err(SceneError::NonFinite { what, index: i });
+    }
+    Ok(flat.chunks_exact(3).map(Vec3::from_slice).collect())
+}
+
+fn check_indices(what: &'static str, indices: &[u32], count: usize) -> Result<(), SceneError> {
+    match indices.iter().find(|&&i| i as usize >= count) {
+        Some(&index) => Err(SceneError::Index { what, index, count }),
+        None => Ok(()),
+    }
+}
+
+impl Surface {
+    /// From flat arrays: `positions` and `normals` are xyz triples,
+    /// `indices` vertex triples (counter-clockwise seen from outside).
+    pub fn new(positions: &[f32], indices: &[u32], normals: &[f32]) -> Result<Surface, SceneError> {
+        let positions = vec3s("positions", positions)?;
+        let normals = vec3s("normals", normals)?;
+        if normals.len() != positions.len() {
+            return Err(SceneError::Count {
+                what: "normals",
+                expected: positions.len(),
+                got: normals.len(),
+            });
+        }
+        if indices.len() % 3 != 0 {
+            return Err(SceneError::Length {
+                what: "triangle indices",
+                len: indices.len(),
+                multiple: 3,
+            });
+        }
+        check_indices("triangle indices", indices, positions.len())?;
+        let triangles = indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect();
+        Ok(Surface {
+            positions,
+            normals,
+            triangles,
+        })
+    }
+
+    /// A bounding sphere: the box's centre and the farthest vertex from it
+    /// (tighter than the box's half diagonal), or `None` when empty.
+    pub fn bounding_sphere(&self) -> Option<(Vec3, f32)> {
+        let first = *self.positions.first()?;
+        let (lo, hi) = self
+            .positions
+            .iter()
+            .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let center = (lo + hi) * 0.5;
+        let radius = self
+            .positions
+            .iter()
+            .map(|p| p.distance_squared(center))
+            .fold(0.0f32, f32::max)
+            .sqrt();
+        Some((center, radius.max(1e-6)))
+    }
+
+    /// The nearest intersection of a ray with the triangles (both sides count).
+    pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        for (t_index, tri) in self.triangles.iter().enumerate() {
+            let [a, b, c] = tri.map(|i| self.positions[i as usize]);
+            if let Some((t, u, v)) = ray_triangle(origin, dir, a, b, c) {
+                if best.is_none_or(|h| t < h.distance) {
+                    let weights = [1.0 - u - v, u, v];
+                    let corner = (0..3).fold(0, |m, k| if weights[k] > weights[m] { k } else { m });
+                    best = Some(Hit {
+                        point: origin + dir * t,
+                        distance: t,
+                        triangle: t_index as u32,
+                        vertex: tri[corner],
+                    });
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Where a pick ray met the surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub point: Vec3,
+    pub distance: f32,
+    pub triangle: u32,
+    /// The triangle's corner nearest to the point.
+    pub vertex: u32,
+}
+
+/// Möller–Trumbore: (t, u, v) with t > 0, or `None`.
+fn ray_triangle(o: Vec3, d: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<(f32, f32, f32)> {
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let u = s.dot(p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = d.dot(q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv;
+    (t > 0.0).then_some((t, u, v))
+}
+
+/// A per-vertex scalar quantity on the surface, shown through a colormap.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scalar {
+    pub name: String,
+    pub values: Vec<f32>,
+    pub min: f32,
+    pub max: f32,
+    pub colormap: Colormap,
+}
+
+impl Scalar {
+    /// `min`/`max` that are not finite or not increasing are replaced by the
+    /// values' own range. `vertex_count` must match `values`.
+    pub fn new(
+        name: &str,
+        values: &[f32],
+        vertex_count: usize,
+        min: f32,
+        max: f32,
+        colormap: &str,
+    ) -> Result<Scalar, SceneError> {
+        if values.len() != vertex_count {
+            return Err(SceneError::Count {
+                what: "scalar values",
+                expected: vertex_count,
+                got: values.len(),
+            });
+        }
+        let colormap =
+            Colormap::from_name(colormap).ok_or_else(|| SceneError::Colormap(colormap.into()))?;
+        let (min, max) = if min.is_finite() && max.is_finite() && min < max {
+            (min, max)
+        } else {
+            finite_range(values)
+        };
+        Ok(Scalar {
+            name: name.to_string(),
+            values: values.to_vec(),
+            min,
+            max,
+            colormap,
+        })
+    }
+
+    /// One sRGB colour per vertex.
+    pub fn colors(&self) -> Vec<[u8; 4]> {
+        let scale = 1.0 / (self.max - self.min);
+        self.values
+            .iter()
+            .map(|&v| {
+                let [r, g, b] = self.colormap.sample((v - self.min) * scale);
+                [r, g, b, 0xff]
+            })
+            .collect()
+    }
+}
+
+/// Line segments with one colour each.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LineSet {
+    pub segments: Vec<[Vec3; 2]>,
+    pub colors: Vec<[u8; 4]>,
+}
+
+/// Accepts one RGBA colour for all or one per element.
+fn colors_for(what: &'static str, rgba: &[u8], count: usize) -> Result<Vec<[u8; 4]>, SceneError> {
+    match rgba.len() {
+        4 => Ok(vec![[rgba[0], rgba[1], rgba[2], rgba[3]]; count]),
+        n if n == 4 * count => Ok(rgba
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect()),
+        n => Err(SceneError::Count {
+            what,
+            expected: 4 * count,
+            got: n,
+        }),
+    }
+}
+
+impl LineSet {
+    /// From segment endpoints, six floats per segment.
+    pub fn from_segments(segments: &[f32], rgba: &[u8]) -> Result<LineSet, SceneError> {
+        if segments.len() % 6 != 0 {
+            return Err(SceneError::Length {
+                what: "line segments",
+                len: segments.len(),
+                multiple: 6,
+            });
+        }
+        let points = vec3s("line segments", segments)?;
+        let segments: Vec<[Vec3; 2]> = points.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+        let colors = colors_for("line colours", rgba, segments.len())?;
+        Ok(LineSet { segments, colors })
+    }
+
+    /// From vertex index pairs over the surface (e.g. polygon edges), so a
+    /// quad is drawn as its four edges and never with a diagonal.
+    pub fn from_edges(
+        surface: &Surface,
+        edges: &[u32],
+        rgba: &[u8],
+    ) -> Result<LineSet, SceneError> {
+        if edges.len() % 2 != 0 {
+            return Err(SceneError::Length {
+                what: "edge indices",
+                len: edges.len(),
+                multiple: 2,
+            });
+        }
+        check_indices("edge indices", edges, surface.positions.len())?;
+        let segments: Vec<[Vec3; 2]> = edges
+            .chunks_exact(2)
+            .map(|e| {
+                [
+                    surface.positions[e[0] as usize],
+                    surface.positions[e[1] as usize],
+                ]
+            })
+            .collect();
+        let colors = colors_for("edge colours", rgba, segments.len())?;
+        Ok(LineSet { segments, colors })
+    }
+}
+
+/// Round markers of one pixel size, one colour each.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PointSet {
+    pub points: Vec<Vec3>,
+    pub colors: Vec<[u8; 4]>,
+    pub size_px: f32,
+}
+
+impl PointSet {
+    pub fn new(positions: &[f32], rgba: &[u8], size_px: f32) -> Result<PointSet, SceneError> {
+        let points = vec3s("points", positions)?;
+        let colors = colors_for("point colours", rgba, points.len())?;
+        let size_px = if size_px.is_finite() && size_px > 0.0 {
+            size_px
+        } else {
+            8.0
+        };
+        Ok(PointSet {
+            points,
+            colors,
+            size_px,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Surface {
+        Surface::new(
+            &[0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0.],
+            &[0, 1, 2, 0, 2, 3],
+            &[0., 0., 1., 0., 0., 1., 0., 0., 1., 0., 0., 1.],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn rejects_bad_input_without_panicking() {
+        assert!(matches!(
+            Surface::new(&[0.0; 4], &[], &[0.0; 4]),
+            Err(SceneError::Length { .. })
+        ));
+        assert!(matches!(
+            Surface::new(&[0.0; 9], &[0, 1, 3], &[0.0; 9]),
+            Err(SceneError::Index { index: 3, .. })
+        ));
+        assert!(matches!(
+            Surface::new(&[f32::NAN, 0., 0.], &[], &[0.0; 3]),
+            Err(SceneError::NonFinite { .. })
+        ));
+        assert!(Scalar::new("k", &[1.0], 4, 0.0, 1.0, "viridis").is_err());
+        assert!(Scalar::new("k", &[1.0; 4], 4, 0.0, 1.0, "jet").is_err());
+        assert!(LineSet::from_edges(&square(), &[0, 9], &[0, 0, 0, 255]).is_err());
+        assert!(PointSet::new(&[0.0; 6], &[1, 2, 3], 5.0).is_err());
+    }
+
+    #[test]
+    fn pick_finds_the_nearest_hit_and_corner() {
+        let s = square();
+        let hit = s.pick(Vec3::new(0.9, 0.2, 5.0), Vec3::NEG_Z).unwrap();
+        assert!((hit.point - Vec3::new(0.9, 0.2, 0.0)).length() < 1e-5);
+        assert_eq!(hit.triangle, 0);
+        assert_eq!(hit.vertex, 1);
+        assert!(s.pick(Vec3::new(2.0, 2.0, 5.0), Vec3::NEG_Z).is_none());
+        assert!(
+            s.pick(Vec3::new(0.5, 0.5, 5.0), Vec3::Z).is_none(),
+            "behind the origin"
+        );
+    }
+
+    #[test]
+    fn scalar_range_and_colors() {
+        let s = Scalar::new("k", &[0.0, 1.0, 2.0, f32::NAN], 4, f32::NAN, 0.0, "viridis").unwrap();
+        assert_eq!((s.min, s.max), (0.0, 2.0));
+        let c = s.colors();
+        assert_eq!(c[0][..3], Colormap::Viridis.sample(0.0));
+        assert_eq!(c[2][..3], Colormap::Viridis.sample(1.0));
+    }
+
+    #[test]
+    fn edges_become_segments() {
+        let l = LineSet::from_edges(&square(), &[0, 1, 1, 2], &[9, 9, 9, 255]).unwrap();
+        assert_eq!(l.segments.len(), 2);
+        assert_eq!(l.segments[1], [Vec3::X, Vec3::new(1.0, 1.0, 0.0)]);
+        assert_eq!(l.colors, vec![[9, 9, 9, 255]; 2]);
+    }
+}

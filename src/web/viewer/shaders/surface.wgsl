@@ -1,0 +1,82 @@
+// The input surface: per-vertex normals and colours (plain or from a scalar
+// field's colormap), lit by a headlight so every view is readable.
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    // Camera position (xyz).
+    eye: vec4<f32>,
+    // Target width and height in pixels, line width in pixels, overlay offset toward the eye (world units).
+    viewport: vec4<f32>,
+    // x: 1 when the render target is sRGB (colours are given in sRGB and must be linearised).
+    flags: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> globals: Globals;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+};
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = globals.view_proj * vec4<f32>(v.position, 1.0);
+    out.world = v.position;
+    out.normal = v.normal;
+    out.color = v.color;
+    return out;
+}
+
+fn to_target(c: vec3<f32>) -> vec4<f32> {
+    if (globals.flags.x > 0.5) {
+        return vec4<f32>(pow(c, vec3<f32>(2.2)), 1.0);
+    }
+    return vec4<f32>(c, 1.0);
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let to_eye = normalize(globals.eye.xyz - in.world);
+    // The triangle's own normal, from screen-space derivatives (uniform
+    // control flow: before any branch), turned toward the eye.
+    var face = cross(dpdx(in.world), dpdy(in.world));
+    if (length(face) > 1e-20) {
+        face = normalize(face);
+    } else {
+        face = to_eye;
+    }
+    if (dot(face, to_eye) < 0.0) {
+        face = -face;
+    }
+    // Smooth vertex normals, except across creases (CAD edges, features),
+    // where they would smear the shading: there the flat normal is used.
+    var n = face;
+    let len = length(in.normal);
+    if (len > 1e-12) {
+        var smooth_n = in.normal / len;
+        if (!front) {
+            smooth_n = -smooth_n;
+        }
+        if (dot(smooth_n, face) > 0.85) {
+            n = smooth_n;
+        }
+    }
+    // Back faces (holes, inconsistent orientation) are darker.
+    var tint = 1.0;
+    if (!front) {
+        tint = 0.7;
+    }
+    let diffuse = max(dot(n, to_eye), 0.0);
+    let specular = pow(diffuse, 48.0) * 0.18;
+    let color = in.color.rgb * tint * (0.3 + 0.7 * diffuse) + vec3<f32>(specular);
+    return to_target(color);
+}

@@ -1,0 +1,464 @@
+//! The stateful object that lives in the Web Worker (Squoosh / wasm-bindgen
+//! worker pattern): the worker script creates one [`Session`], hands it a
+//! file with `start`, then calls `step` until the run is complete. Every
+//! stage's result goes to the page through the `emit` callback as soon as it
+//! exists, with its big arrays as typed arrays that own their buffers, so
+//! the worker transfers them instead of copying.
+//!
+//! Steps: `import`, then `pipeline` (analysis, hierarchy, orientation,
+//! position, extraction, post-processing; [`crate::pipeline::Pipeline::run`]). The worker goes back to
+//! its event loop between steps, where a `cancel` message is seen.
+//!
+//! Cancellation inside a step. The pipeline's progress sink asks the
+//! worker's `progress` callback whether to go on. Without cross-origin
+//! isolation (COOP/COEP headers, which a plain static host cannot promise)
+//! there is no `SharedArrayBuffer`, and the callback cannot learn about a
+//! cancel while wasm runs: then the page terminates the worker as the last
+//! resort (`www/main.js`). With isolation the page passes a shared flag and
+//! the callback reads it.
+//!
+//! Result messages (all arrays in local coordinates, see `mesh_arrays`):
+//! `{ stage, ms, report?, mesh?, scalars?: { name: { values, min, max, colormap } },
+//!    lines?: { name: { segments, colors } }, points?: { name: { positions, colors } }, counts? }`
+
+use glam::{DVec3, Vec3};
+use js_sys::{Float32Array, Function, Object, Reflect, Uint8Array, Uint32Array};
+use wasm_bindgen::prelude::*;
+
+use super::mesh_arrays::MeshArrays;
+use crate::field::Singularity;
+use crate::mesh::PolyMesh;
+use crate::pipeline::{Params, Pipeline, Stage};
+
+const STEPS: [&str; 2] = ["import", "pipeline"];
+
+/// One run of the pipeline over one input file, kept between messages.
+#[wasm_bindgen]
+#[derive(Default)]
+pub struct Session {
+    name: String,
+    bytes: Vec<u8>,
+    next: usize,
+    params: Params,
+    pipeline: Option<Pipeline>,
+    /// Milliseconds per finished stage, in order.
+    timings: Vec<(String, f64)>,
+    cancelled: bool,
+}
+
+fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsError> {
+    Reflect::set(target, &JsValue::from_str(key), &value.into())
+        .map(|_| ())
+        .map_err(|_| JsError::new(&format!("could not set {key}")))
+}
+
+fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
+    let json = serde_json::to_string(value).map_err(|e| JsError::new(&e.to_string()))?;
+    js_sys::JSON::parse(&json).map_err(|_| JsError::new("could not encode a result"))
+}
+
+fn js_err(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+/// A stage result under construction.
+struct StageResult {
+    obj: Object,
+}
+
+impl StageResult {
+    fn new(stage: &str, ms: f64) -> Result<Self, JsError> {
+        let obj = Object::new();
+        set(&obj, "stage", stage)?;
+        set(&obj, "ms", ms)?;
+        Ok(StageResult { obj })
+    }
+
+    fn group(&self, key: &str) -> Result<Object, JsError> {
+        let existing =
+            Reflect::get(&self.obj, &JsValue::from_str(key)).unwrap_or(JsValue::UNDEFINED);
+        if existing.is_object() {
+            return Ok(existing.into());
+        }
+        let group = Object::new();
+        set(&self.obj, key, group.clone())?;
+        Ok(group)
+    }
+
+    /// A per-vertex scalar shown over [min, max] (robust: the 2nd and 98th
+    /// percentiles, so a few extreme values do not wash out the map).
+    fn scalar(&self, name: &str, values: &[f64], colormap: &str) -> Result<(), JsError> {
+        let values: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+        let (min, max) = robust_range(&values);
+        let entry = Object::new();
+        set(&entry, "values", Float32Array::from(&values[..]))?;
+        set(&entry, "min", min)?;
+        set(&entry, "max", max)?;
+        set(&entry, "colormap", colormap)?;
+        set(&self.group("scalars")?, name, entry)
+    }
+
+    fn lines(&self, name: &str, segments: &[f32], colors: &[u8]) -> Result<(), JsError> {
+        let entry = Object::new();
+        set(&entry, "segments", Float32Array::from(segments))?;
+        set(&entry, "colors", Uint8Array::from(colors))?;
+        set(&self.group("lines")?, name, entry)
+    }
+
+    fn points(&self, name: &str, positions: &[f32], colors: &[u8]) -> Result<(), JsError> {
+        let entry = Object::new();
+        set(&entry, "positions", Float32Array::from(positions))?;
+        set(&entry, "colors", Uint8Array::from(colors))?;
+        set(&self.group("points")?, name, entry)
+    }
+
+    fn count(&self, name: &str, n: usize) -> Result<(), JsError> {
+        set(&self.group("counts")?, name, n as f64)
+    }
+}
+
+fn robust_range(values: &[f32]) -> (f32, f32) {
+    let mut finite: Vec<f32> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
+        return (0.0, 1.0);
+    }
+    finite.sort_unstable_by(f32::total_cmp);
+    let at = |q: f64| finite[((finite.len() - 1) as f64 * q).round() as usize];
+    let (lo, hi) = (at(0.02), at(0.98));
+    if lo < hi {
+        (lo, hi)
+    } else {
+        (finite[0], finite[finite.len() - 1].max(finite[0] + 1e-6))
+    }
+}
+
+const D1_COLOR: [u8; 4] = [0xc0, 0x39, 0x2b, 0xff];
+const D2_COLOR: [u8; 4] = [0x1f, 0x5f, 0xbf, 0xff];
+const FEATURE_COLOR: [u8; 4] = [0xe6, 0x8a, 0x00, 0xff];
+const CROSS_COLOR: [u8; 4] = [0x1d, 0x23, 0x30, 0xff];
+const POSITION_COLOR: [u8; 4] = [0x6a, 0x3d, 0x9a, 0xff];
+
+/// Colour of a singularity by its index, as in the papers' figures: +1/4
+/// (valence 3) blue, −1/4 (valence 5) red, others (position) green.
+fn singularity_color(index: i32) -> [u8; 4] {
+    match index {
+        1 => [0x1f, 0x6f, 0xdd, 0xff],
+        -1 => [0xd8, 0x34, 0x2c, 0xff],
+        _ => [0x1b, 0x9e, 0x4b, 0xff],
+    }
+}
+
+fn push(out: &mut Vec<f32>, p: Vec3) {
+    out.extend_from_slice(&p.to_array());
+}
+
+/// A segment of half-length `h` through `p` along `d`.
+fn centred(out: &mut Vec<f32>, p: Vec3, d: Vec3, h: f32) {
+    push(out, p - d * h);
+    push(out, p + d * h);
+}
+
+fn singularity_points(result: &StageResult, name: &str, s: &[Singularity]) -> Result<(), JsError> {
+    let mut positions = Vec::with_capacity(s.len() * 3);
+    let mut colors = Vec::with_capacity(s.len() * 4);
+    for x in s {
+        push(&mut positions, x.position);
+        colors.extend_from_slice(&singularity_color(x.index));
+    }
+    result.points(name, &positions, &colors)?;
+    result.count(name, s.len())
+}
+
+const NON_QUAD_COLORS: [[u8; 4]; 2] = [[0xf2, 0x8e, 0x2b, 0xff], [0x8e, 0x44, 0xad, 0xff]];
+
+/// A polygon mesh as a line layer of its true edges (quads stay quads),
+/// with counts and, if `non_quads`, its non-quad faces as markers
+/// (triangles orange, five or more sides violet).
+fn poly_mesh_layers(
+    r: &StageResult,
+    name: &str,
+    mesh: &PolyMesh,
+    non_quads: bool,
+) -> Result<(), JsError> {
+    let faces = mesh.to_face_list();
+    let (edges, _) = super::mesh_arrays::polygon_edges(&faces);
+    let position = |v: u32| mesh.positions[v as usize].as_vec3();
+    let mut segments = Vec::with_capacity(edges.len() * 3);
+    for &v in &edges {
+        push(&mut segments, position(v));
+    }
+    r.lines(name, &segments, &[0x11, 0x11, 0x11, 0xff])?;
+    r.count(&format!("{name} vertices"), mesh.vertex_count())?;
+    r.count(&format!("{name} faces"), faces.len())?;
+    let quads = faces.iter().filter(|f| f.len() == 4).count();
+    r.count(&format!("{name} quads"), quads)?;
+    if non_quads {
+        let (mut positions, mut colors) = (Vec::new(), Vec::new());
+        for f in faces.iter().filter(|f| f.len() != 4) {
+            let c = f.iter().map(|&v| position(v)).sum::<Vec3>() / f.len() as f32;
+            push(&mut positions, c);
+            colors.extend_from_slice(&NON_QUAD_COLORS[usize::from(f.len() > 4)]);
+        }
+        r.points("non-quad faces", &positions, &colors)?;
+    }
+    Ok(())
+}
+
+/// The page-facing result of one pipeline stage.
+fn stage_result(stage: Stage, p: &Pipeline, ms: f64) -> Result<JsValue, JsError> {
+    let r = StageResult::new(stage.name(), ms)?;
+    let mesh = &p.input.mesh;
+    let as_vec3 = |v: DVec3| v.as_vec3();
+    match stage {
+        Stage::Analysis => {
+            let Some(a) = &p.analysis else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            let s = &a.surface;
+            r.scalar("curvature", &s.averaged, "viridis")?;
+            r.scalar("sizing field", &s.sizing.edge_length, "viridis")?;
+            let mut segments = Vec::with_capacity(mesh.vertex_count() * 12);
+            let mut colors = Vec::with_capacity(mesh.vertex_count() * 8);
+            for (v, c) in s.curvature.iter().enumerate() {
+                let p = as_vec3(mesh.positions[v]);
+                let h = (s.sizing.edge_length[v] * 0.35) as f32;
+                centred(&mut segments, p, as_vec3(c.d1), h);
+                centred(&mut segments, p, as_vec3(c.d2), h);
+                colors.extend_from_slice(&D1_COLOR);
+                colors.extend_from_slice(&D2_COLOR);
+            }
+            r.lines("principal directions", &segments, &colors)?;
+            let features = s.features.indices();
+            let positions: Vec<f32> = features
+                .iter()
+                .flat_map(|&v| as_vec3(mesh.positions[v as usize]).to_array())
+                .collect();
+            r.points("feature vertices", &positions, &FEATURE_COLOR)?;
+            r.count("feature vertices", features.len())?;
+        }
+        Stage::Hierarchy => {
+            let Some(h) = &p.hierarchy else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            r.count("levels", h.hierarchy.levels.len())?;
+        }
+        Stage::Orientation => {
+            let (Some(o), Some(h)) = (&p.orientation, &p.hierarchy) else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            let level = &h.hierarchy.levels[0];
+            let mut segments = Vec::with_capacity(level.positions.len() * 12);
+            for (v, &q) in o.q[0].iter().enumerate() {
+                let n = level.normals[v];
+                let h = h.scale[0].get(v).copied().unwrap_or(0.01) * 0.35;
+                centred(&mut segments, level.positions[v], q, h);
+                centred(&mut segments, level.positions[v], n.cross(q), h);
+            }
+            r.lines("cross field", &segments, &CROSS_COLOR)?;
+            singularity_points(&r, "orientation singularities", &o.singularities)?;
+        }
+        Stage::Position => {
+            let Some(pos) = &p.position else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            let positions: Vec<f32> = pos.o.iter().flat_map(|p| p.to_array()).collect();
+            r.points("position field", &positions, &POSITION_COLOR)?;
+            singularity_points(&r, "position singularities", &pos.singularities)?;
+        }
+        Stage::Extraction => {
+            let Some(e) = &p.extraction else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            poly_mesh_layers(&r, "extracted mesh", &e.extracted.mesh, false)?;
+        }
+        Stage::PostProcess => {
+            let Some(pp) = &p.postprocess else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            poly_mesh_layers(&r, "quad mesh", pp.mesh(), true)?;
+        }
+        // Stages the viewer does not know yet run without layers.
+        #[allow(unreachable_patterns)]
+        _ => {}
+    }
+    Ok(r.obj.into())
+}
+
+#[wasm_bindgen]
+impl Session {
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Session {
+        Session::default()
+    }
+
+    /// Starts a run on a file's bytes, dropping the previous run's results.
+    pub fn start(&mut self, bytes: Vec<u8>, name: String) {
+        *self = Session {
+            name,
+            bytes,
+            params: std::mem::take(&mut self.params),
+            ..Session::default()
+        };
+    }
+
+    /// The step `step` runs next, or `undefined` when the run is complete.
+    #[wasm_bindgen(js_name = nextStep)]
+    pub fn next_step(&self) -> Option<String> {
+        STEPS.get(self.next).map(|s| s.to_string())
+    }
+
+    /// Whether the last step stopped because `progress` returned false.
+    #[wasm_bindgen(getter)]
+    pub fn cancelled(&self) -> bool {
+        self.cancelled
+    }
+
+    /// Runs the next step. `progress(stage, fraction, text)` is called at
+    /// least at every stage's start and end and at most every 50 ms in
+    /// between; returning `false` cancels. `emit(result)` receives each
+    /// stage's result as soon as it exists. Errors are thrown as `Error`s
+    /// with the message (file and place for input errors).
+    pub fn step(&mut self, progress: &Function, emit: &Function) -> Result<(), JsError> {
+        let Some(&step) = STEPS.get(self.next) else {
+            return Ok(());
+        };
+        match step {
+            "import" => self.import(progress, emit)?,
+            _ => self.run_pipeline(progress, emit)?,
+        }
+        if !self.cancelled {
+            self.next += 1;
+        }
+        Ok(())
+    }
+
+    fn import(&mut self, progress: &Function, emit: &Function) -> Result<(), JsError> {
+        let call = |fraction: f64, text: &str| {
+            let _ = progress.call3(
+                &JsValue::NULL,
+                &"import".into(),
+                &fraction.into(),
+                &text.into(),
+            );
+        };
+        call(0.0, "reading");
+        let started = js_sys::Date::now();
+        let bytes = std::mem::take(&mut self.bytes);
+        let imported = crate::io::import(&bytes, &self.name).map_err(js_err)?;
+        drop(bytes);
+        let arrays = MeshArrays::new(&imported.mesh, &imported.polygons);
+        let ms = js_sys::Date::now() - started;
+        let r = StageResult::new("import", ms)?;
+        set(&r.obj, "report", to_js(&imported.report)?)?;
+        let mesh = Object::new();
+        set(
+            &mesh,
+            "positions",
+            Float32Array::from(&arrays.positions[..]),
+        )?;
+        set(&mesh, "triangles", Uint32Array::from(&arrays.triangles[..]))?;
+        set(&mesh, "normals", Float32Array::from(&arrays.normals[..]))?;
+        set(
+            &mesh,
+            "polygonEdges",
+            Uint32Array::from(&arrays.polygon_edges[..]),
+        )?;
+        set(
+            &mesh,
+            "boundaryEdges",
+            Uint32Array::from(&arrays.boundary_edges[..]),
+        )?;
+        set(&r.obj, "mesh", mesh)?;
+        self.timings.push(("import".into(), ms));
+        call(1.0, &format!("{} vertices", imported.mesh.vertex_count()));
+        self.pipeline = Some(Pipeline::new(imported, self.params.clone()));
+        emit.call1(&JsValue::NULL, &r.obj)
+            .map(|_| ())
+            .map_err(|_| js_err("could not send the import result"))
+    }
+
+    fn run_pipeline(&mut self, progress: &Function, emit: &Function) -> Result<(), JsError> {
+        let Some(pipeline) = self.pipeline.as_mut() else {
+            return Err(js_err("nothing was imported"));
+        };
+        let mut last = f64::NEG_INFINITY;
+        let mut go_on = true;
+        let mut sink = |stage: &str, fraction: f32, text: &str| {
+            let now = js_sys::Date::now();
+            if fraction <= 0.0 || fraction >= 1.0 || now - last >= 50.0 {
+                last = now;
+                go_on = progress
+                    .call3(
+                        &JsValue::NULL,
+                        &stage.into(),
+                        &(fraction as f64).into(),
+                        &text.into(),
+                    )
+                    .map(|v| v.as_bool() != Some(false))
+                    .unwrap_or(true);
+            }
+            go_on
+        };
+        let mut failure: Option<JsError> = None;
+        let mut finished: Vec<(String, f64)> = Vec::new();
+        let mut done = |stage: Stage, p: &Pipeline| {
+            let ms = p
+                .timings
+                .iter()
+                .find(|(s, _)| *s == stage)
+                .map_or(0.0, |t| t.1);
+            finished.push((stage.name().to_string(), ms));
+            if failure.is_some() {
+                return;
+            }
+            match stage_result(stage, p, ms) {
+                Ok(result) if !result.is_undefined() => {
+                    if emit.call1(&JsValue::NULL, &result).is_err() {
+                        failure = Some(js_err("could not send a stage result"));
+                    }
+                }
+                Ok(_) => {}
+                Err(e) => failure = Some(e),
+            }
+        };
+        let outcome = pipeline.run(&mut sink, &mut done, &js_sys::Date::now);
+        self.timings.extend(finished);
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        self.cancelled = outcome.is_err();
+        Ok(())
+    }
+
+    /// What the page keeps as `window.quadrille.lastRun`: input name,
+    /// parameters, milliseconds per stage, counts.
+    pub fn summary(&self) -> Result<JsValue, JsError> {
+        let stages: serde_json::Map<String, serde_json::Value> = self
+            .timings
+            .iter()
+            .map(|(s, ms)| (s.clone(), serde_json::json!((ms * 10.0).round() / 10.0)))
+            .collect();
+        let counts = self.pipeline.as_ref().map(|p| {
+            let m = &p.input;
+            serde_json::json!({
+                "vertices": m.mesh.vertex_count(),
+                "triangles": m.mesh.face_count(),
+                "polygons": m.polygons.len(),
+                "feature_vertices": p.analysis.as_ref().map(|a| a.surface.features.indices().len()),
+                "hierarchy_levels": p.hierarchy.as_ref().map(|h| h.hierarchy.levels.len()),
+                "orientation_singularities": p.orientation.as_ref().map(|o| o.singularities.len()),
+                "position_singularities": p.position.as_ref().map(|o| o.singularities.len()),
+                "quad_mesh_vertices": p.postprocess.as_ref().map(|q| q.mesh().vertex_count()),
+                "quad_mesh_faces": p.postprocess.as_ref().map(|q| q.mesh().face_count()),
+            })
+        });
+        to_js(&serde_json::json!({
+            "input": self.name,
+            "parameters": self.params,
+            "stages": stages,
+            "total_ms": (self.timings.iter().map(|(_, ms)| ms).sum::<f64>() * 10.0).round() / 10.0,
+            "complete": self.next == STEPS.len(),
+            "counts": counts,
+        }))
+    }
+}
