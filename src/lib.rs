@@ -24,6 +24,8 @@
 //! - [`extract`]: vertex clusters, faces, non-manifold repair, hole filling
 //!   and post-processing into a closed quad-dominant [`mesh::PolyMesh`];
 //! - [`metrics`]: the thesis' quality metrics of an output mesh;
+//! - [`subdivision`]: Catmull–Clark subdivision, limit positions and
+//!   normals, control-mesh fitting and the limit surface's error;
 //! - [`pipeline`]: parameters, stages, cache and re-running;
 //! - [`progress`]: progress reporting and cancellation for every stage;
 //!   [`parallel`]: rayon natively, one thread in wasm.
@@ -39,5 +41,6 @@ pub mod pipeline;
 pub mod progress;
 pub mod sizing;
 pub mod spatial;
+pub mod subdivision;
 
 pub mod web;

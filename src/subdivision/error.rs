@@ -1,0 +1,84 @@
+//! The limit surface's distance to the input (Kloiber 2018 §3.9's
+//! violet/green colouring and §5's Hausdorff distance between limit surface
+//! and reference mesh).
+//!
+//! The limit surface is sampled by [`limit_mesh`]: `levels` subdivision
+//! steps with every vertex pushed to its limit position, so every sample
+//! lies exactly on the limit surface. Distances are measured from those
+//! samples to the reference (signed, positive on the side the reference's
+//! normals point to) and, for the symmetric Hausdorff distance, from the
+//! reference's vertices to the triangulated limit mesh.
+//!
+//! Deviation: Kloiber colours the control vertices by their distance along
+//! their own normal; here every sample of the limit surface carries its
+//! signed distance to the reference, which is what a viewer colouring the
+//! limit mesh needs (the sign agrees for consistently oriented meshes).
+//! [`LimitError`] is meant to be embedded by `metrics` as-is.
+
+use serde::{Deserialize, Serialize};
+
+use super::{BoundaryRule, limit_mesh};
+use crate::mesh::{PolyMesh, TriMesh};
+use crate::spatial::{DistanceStats, SurfaceIndex};
+
+/// Distances between a control mesh's limit surface and the reference.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct LimitError {
+    /// Signed distance to the reference of each vertex of the limit mesh
+    /// the error was measured on (`limit_mesh(control, levels, rule)`,
+    /// same vertex order), positive outside. Not serialised (it is per
+    /// vertex; the viewer receives it as a typed array).
+    #[serde(skip)]
+    pub per_vertex_signed: Vec<f64>,
+    /// Limit surface → reference: max, mean, RMS over the samples.
+    pub stats: DistanceStats,
+    /// Reference vertices → limit surface (triangulated limit mesh).
+    pub reference_to_limit: DistanceStats,
+    /// Symmetric Hausdorff distance: the larger of the two maxima.
+    pub hausdorff: f64,
+    /// Subdivision levels of the sampling limit mesh.
+    pub levels: u32,
+}
+
+impl LimitError {
+    /// Measures the limit surface of `control`, sampled at `levels`, against
+    /// `reference` (with its prebuilt `index`). Returns the limit mesh too,
+    /// whose vertices `per_vertex_signed` belongs to.
+    pub fn measure(
+        control: &PolyMesh,
+        reference: &TriMesh,
+        index: &SurfaceIndex,
+        levels: u32,
+        rule: BoundaryRule,
+    ) -> (LimitError, PolyMesh) {
+        let limit = limit_mesh(control, levels, rule);
+        let mut per_vertex_signed = Vec::new();
+        crate::parallel::map_into(&limit.positions, &mut per_vertex_signed, |&p| {
+            index.signed_distance(p)
+        });
+        let stats = DistanceStats::of(per_vertex_signed.iter().copied());
+        let triangles = limit.to_face_list().triangulate(&limit.positions);
+        let limit_tris = TriMesh {
+            positions: limit.positions.clone(),
+            triangles,
+        };
+        let reference_to_limit = match SurfaceIndex::new(&limit_tris) {
+            Some(limit_index) => {
+                let mut d = Vec::new();
+                crate::parallel::map_into(&reference.positions, &mut d, |&p| {
+                    limit_index.distance(p)
+                });
+                DistanceStats::of(d)
+            }
+            None => DistanceStats::default(),
+        };
+        let error = LimitError {
+            per_vertex_signed,
+            hausdorff: stats.max.max(reference_to_limit.max),
+            stats,
+            reference_to_limit,
+            levels,
+        };
+        (error, limit)
+    }
+}
