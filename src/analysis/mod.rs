@@ -10,6 +10,8 @@
 //! - [`averaging`]: curvature averaging (3.1.3);
 //! - [`features`]: feature vertices and orientation constraints (3.3);
 //! - [`filtered_normals`]: Gaussian-filtered, scale-aware normals (Ebke 3);
+//! - [`smooth_regions`]: smooth regions, significance and cyclic regions
+//!   (Campen et al. 2016, 3);
 //! - the sizing field itself is [`crate::sizing`] (3.2).
 //!
 //! Every function takes plain slices (positions, normals, an adjacency) and
@@ -27,6 +29,7 @@ pub mod features;
 pub mod filtered_normals;
 pub mod normals;
 pub mod selection;
+pub mod smooth_regions;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

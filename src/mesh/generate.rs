@@ -219,3 +219,69 @@ mod tests {
         assert!(outward(&tet, |_| DVec3::ZERO));
     }
 }
+
+/// The box `[-half, half]³` with edges rounded by fillets of `radius`
+/// (quarter cylinders) and corners by sphere octants: the set of points at
+/// distance `radius` from the box shrunk by `radius`. Each cube face is a
+/// grid whose lines are spaced `flat_cells` across the flat part and
+/// `fillet_cells` across each fillet band, so fillets are resolved at any
+/// radius.
+pub fn rounded_box(half: f64, radius: f64, flat_cells: u32, fillet_cells: u32) -> TriMesh {
+    let radius = radius.clamp(1e-6 * half, half);
+    let inner = half - radius;
+    let (nf, nr) = (flat_cells.max(1), fillet_cells.max(1));
+    let mut coords: Vec<f64> = Vec::new();
+    for i in 0..nr {
+        coords.push(-half + radius * i as f64 / nr as f64);
+    }
+    for i in 0..nf {
+        coords.push(-inner + 2.0 * inner * i as f64 / nf as f64);
+    }
+    for i in 0..=nr {
+        coords.push(inner + radius * i as f64 / nr as f64);
+    }
+    coords.dedup_by(|a, b| (*a - *b).abs() < 1e-12 * half);
+    let m = coords.len();
+    let mut index: HashMap<[i64; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    let key = |q: DVec3| (q / half * 1e9).round().as_i64vec3().to_array();
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            // (u, v) with u × v along the outward normal.
+            let n = DVec3::from_array(std::array::from_fn(|k| if k == axis { sign } else { 0.0 }));
+            let u = DVec3::from_array(std::array::from_fn(|k| {
+                if k == (axis + 1) % 3 { 1.0 } else { 0.0 }
+            }));
+            let v = n.cross(u);
+            let mut ids = vec![0u32; m * m];
+            for (j, &b) in coords.iter().enumerate() {
+                for (i, &a) in coords.iter().enumerate() {
+                    let q = n * half + u * a + v * b;
+                    let id = *index.entry(key(q)).or_insert_with(|| {
+                        let c = q.clamp(DVec3::splat(-inner), DVec3::splat(inner));
+                        positions.push(c + radius * (q - c).normalize());
+                        (positions.len() - 1) as u32
+                    });
+                    ids[j * m + i] = id;
+                }
+            }
+            for j in 0..m - 1 {
+                for i in 0..m - 1 {
+                    let (a, b, c, d) = (
+                        ids[j * m + i],
+                        ids[j * m + i + 1],
+                        ids[(j + 1) * m + i + 1],
+                        ids[(j + 1) * m + i],
+                    );
+                    triangles.push([a, b, c]);
+                    triangles.push([a, c, d]);
+                }
+            }
+        }
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
