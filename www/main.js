@@ -106,11 +106,11 @@ const STYLES = {
   'cross field': { key: 'x', color: '#33415c', dense: true },
   'extracted mesh': { key: 'm', color: '#111111', hidden: true },
   'quad mesh': { key: 'q', color: '#111111' },
-  'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 7 },
-  'feature vertices': { key: 'v', color: '#e68a00', size: 6 },
+  'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 5 },
+  'feature vertices': { key: 'v', color: '#e68a00', size: 6, hidden: true },
   'orientation singularities': { key: 'g', color: '#1f6fdd', color2: '#d8342c', size: 10 },
   'position field': { key: 'l', color: '#6a3d9a', size: 3, hidden: true },
-  'position singularities': { key: 'g', color: '#1b9e4b', size: 9 },
+  'position singularities': { key: 'g', color: '#1b9e4b', size: 8, hidden: true },
 };
 // Meshes with more segments than this open with the layer hidden.
 const DENSE = 30000;

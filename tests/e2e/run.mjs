@@ -201,7 +201,7 @@ test('layers toggle with keys, picking marks a point, the PNG export has the pic
   assert(!(await page.isChecked('#layer-surface')), 'S unticks the surface layer');
   const linesOnly = await canvasInk(page, `suzanne-lines-${env.backend}.png`);
   assert(linesOnly < withSurface && linesOnly > 0.005, `lines and markers alone: ${linesOnly} vs ${withSurface}`);
-  for (const key of ['q', 'g', 'v', 'n']) await page.keyboard.press(key);
+  for (const id of ['#layer-quad-mesh', '#layer-orientation-singularities', '#layer-non-quad-faces']) await page.uncheck(id);
   await settle(page);
   assert(!(await page.isChecked('#layer-quad-mesh')), 'Q unticks the quad mesh layer');
   const nothing = await canvasInk(page, `suzanne-nothing-${env.backend}.png`);
@@ -231,7 +231,7 @@ test('cancel stops a run within half a second and the app stays usable', async (
   const ms = Date.now() - started;
   assert(ms < 1000, `cancel took ${ms} ms`);
   assert(await page.isHidden('#progress'), 'progress bar hidden after cancel');
-  assert(await page.evaluate(() => window.quadrille.lastImport.file) === 'stanford-bunny.obj', 'the cancelled run left no result');
+  assert(await page.evaluate(() => window.quadrille.lastRun.input) === 'stanford-bunny.obj', 'the cancelled run did not complete');
   await page.click('#sample-buttons >> text=spot');
   await waitForRun(page, 'spot.obj');
 });
