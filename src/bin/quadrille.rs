@@ -33,6 +33,13 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Print the quality metrics (JSON) of a polygon mesh against a reference
+    /// surface, both read as stored (e.g. to compare another remesher).
+    Metrics {
+        mesh: PathBuf,
+        #[arg(long)]
+        reference: PathBuf,
+    },
     /// Run the whole pipeline and write the quad-dominant mesh (OBJ, PLY or
     /// OFF by the output's extension, polygons kept).
     Remesh {
@@ -100,6 +107,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 .map_err(|e| e.to_string())?;
             std::fs::write(&output, bytes).map_err(|e| format!("{name}: {e}"))
         }
+        Command::Metrics { mesh, reference } => metrics_of(&mesh, &reference),
         Command::Remesh {
             input,
             output,
@@ -235,5 +243,72 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
         std::fs::write(stats, text).map_err(|e| format!("{}: {e}", stats.display()))?;
     }
+    Ok(())
+}
+
+fn metrics_of(mesh: &Path, reference: &Path) -> Result<(), String> {
+    use quadrille::mesh::{FaceList, PolyMesh, TriMesh};
+    let reference = import(reference)?;
+    let bytes = std::fs::read(mesh).map_err(|e| format!("{}: {e}", mesh.display()))?;
+    let (_, raw) =
+        quadrille::io::read_raw(&bytes, &mesh.display().to_string()).map_err(|e| e.to_string())?;
+    // Both in the reference's frame; unreferenced vertices dropped.
+    let mut index = vec![u32::MAX; raw.positions.len()];
+    let mut positions = Vec::new();
+    let mut faces = FaceList::new();
+    for f in raw.faces.iter() {
+        let g: Vec<u32> = f
+            .iter()
+            .map(|&v| {
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = positions.len() as u32;
+                    positions.push(reference.frame.to_local(raw.positions[v as usize]));
+                }
+                index[v as usize]
+            })
+            .collect();
+        faces.push(&g);
+    }
+    let surface = quadrille::spatial::SurfaceIndex::new(&reference.mesh)
+        .ok_or("the reference has no triangles")?;
+    let json = match PolyMesh::from_faces(positions.clone(), &faces) {
+        Ok(poly) => serde_json::json!({
+            "manifold": true,
+            "metrics": quadrille::metrics::metrics(&poly, &reference.mesh, &surface),
+        }),
+        Err(e) => {
+            let topology = quadrille::mesh::Topology::of(positions.len(), &faces);
+            let tris = faces.triangulate(&positions);
+            let tri = TriMesh::new(positions.clone(), tris).map_err(|e| e.to_string())?;
+            let hist = faces.degree_histogram();
+            let nonquad = faces.len() - hist.get(4).copied().unwrap_or(0);
+            let out = quadrille::spatial::SurfaceIndex::new(&tri);
+            let there = positions
+                .iter()
+                .map(|&p| surface.distance(p))
+                .fold(0.0, f64::max);
+            let back = out.map_or(f64::NAN, |o| {
+                reference
+                    .mesh
+                    .positions
+                    .iter()
+                    .map(|&p| o.distance(p))
+                    .fold(0.0, f64::max)
+            });
+            serde_json::json!({
+                "manifold": false,
+                "why": e.to_string(),
+                "topology": topology,
+                "vertices": positions.len(),
+                "non_quad_percent": 100.0 * nonquad as f64 / faces.len().max(1) as f64,
+                "face_degrees": hist,
+                "hausdorff": there.max(back),
+            })
+        }
+    };
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?
+    );
     Ok(())
 }

@@ -583,3 +583,49 @@ pub fn pair_non_quads(faces: &mut Vec<Vec<u32>>, g: &Graph, degrees: f64) -> usi
     faces.extend(added);
     merged
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A T-vertex: v (4) sits on the straight side of pentagon [0,1,2,4,3]
+    /// (square 0,1,2,3 with v on edge 3–2 … here on the bottom edge) and has
+    /// a triangle and a quad on the flat other side.
+    #[test]
+    fn flat_t_vertex_is_removed() {
+        // Points: bottom row y=0: 0(0,0) 1(1,0) 2(2,0); top y=1: 3(0,1) 4(2,1);
+        // T-vertex 1 on the straight line 0–1–2, faces below: a triangle and
+        // a quad sharing edge 1–5 with 5 = (1,-1); 6 = (0,-1) .
+        let pos = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(0.0, -1.0, 0.0),
+        ];
+        let mut g = Graph {
+            normal: vec![DVec3::Z; 7],
+            scale: vec![1.0; 7],
+            curvature: vec![0.0; 7],
+            q: vec![DVec3::X; 7],
+            feature_count: vec![0; 7],
+            size: vec![1; 7],
+            boundary: vec![false; 7],
+            adj: vec![Vec::new(); 7],
+            pos,
+        };
+        g.pos.truncate(7);
+        let mut faces = vec![
+            vec![0, 1, 2, 4, 3], // pentagon above, 1 is flat in it
+            vec![0, 6, 5, 1],    // quad below left
+            vec![1, 5, 2],       // triangle below right
+        ];
+        let removed = remove_t_vertices(&mut faces, &g, &PostProcessParams::default());
+        assert_eq!(removed, 1, "{faces:?}");
+        assert!(faces.iter().all(|f| !f.contains(&1)), "{faces:?}");
+        assert_eq!(faces.len(), 2);
+        assert!(faces.iter().all(|f| f.len() == 4), "{faces:?}");
+    }
+}
