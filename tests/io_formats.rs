@@ -274,7 +274,7 @@ fn ply_tristrips_restart_at_minus_one_and_alternate_winding() {
         (4.0, 1.0),
         (5.0, 0.0),
     ];
-    let strip = [0, 1, 2, 3, -1, 4, 5, 6, 6, 7, 8];
+    let strip: [i32; 11] = [0, 1, 2, 3, -1, 4, 5, 6, 6, 7, 8];
     // Triangle k of a run is (k, k+1, k+2), first two swapped when k is odd:
     // A: (0 1 2), (2 1 3). B: (4 5 6), (6 5 6), (6 6 7), (7 6 8).
     let expected = FaceList::from_triangles(&[
@@ -308,7 +308,7 @@ property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend
     }
     binary.extend((strip.len() as i32).to_le_bytes());
     for i in strip {
-        binary.extend((i as i32).to_le_bytes());
+        binary.extend(i.to_le_bytes());
     }
     for (name, bytes) in [
         ("strips.ply", ascii.into_bytes()),

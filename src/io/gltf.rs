@@ -25,7 +25,8 @@
 //!   of one dropped file: that is an error only if a mesh we read uses it.
 //! - Nodes must form trees (each scene visits a node at most once), which
 //!   also stops cycles; the total instanced geometry is capped at
-//!   [`MAX_VERTICES`] so a small file cannot instance a mesh millions of times.
+//!   [`MAX_VERTICES`] and the node visits at 2²⁴, so a small file cannot
+//!   instance a mesh millions of times or list one hierarchy in many scenes.
 //! - GLB headers are checked before the `gltf` crate sees them (its length
 //!   arithmetic underflows on a header shorter than 12 bytes).
 
@@ -41,6 +42,9 @@ use crate::mesh::FaceList;
 
 /// Most vertices the instanced scene may produce.
 pub const MAX_VERTICES: usize = 1 << 27;
+
+/// Most node visits (nodes × scenes) one file may ask for.
+const MAX_NODE_VISITS: usize = 1 << 24;
 
 pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
     let glb = bytes.starts_with(b"glTF");
@@ -80,7 +84,15 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
                 scenes.len()
             ));
         }
+        // Several scenes may each list a large hierarchy: bound the work.
+        let mut budget = MAX_NODE_VISITS;
         for scene in scenes {
+            budget = budget.checked_sub(doc.nodes().len()).ok_or_else(|| {
+                IoError::in_file(
+                    file,
+                    format!("the scenes visit more than {MAX_NODE_VISITS} nodes in total"),
+                )
+            })?;
             let mut visited = vec![false; doc.nodes().len()];
             let mut stack: Vec<(gltf::Node, DMat4)> =
                 scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
@@ -250,7 +262,7 @@ fn local_transform(node: &gltf::Node, file: &str) -> Result<DMat4, IoError> {
             scale,
         } => {
             let r = DQuat::from_array(rotation.map(f64::from));
-            if !(r.length() > 1e-12) {
+            if r.length().is_nan() || r.length() <= 1e-12 {
                 return Err(IoError::at_element(
                     file,
                     "node",
@@ -611,7 +623,7 @@ fn read_components(
             decode(vb, &mut replacement);
             let slot = target
                 .checked_mul(components)
-                .and_then(|start| values.get_mut(start..start + components))
+                .and_then(|start| values.get_mut(start..start.checked_add(components)?))
                 .ok_or_else(|| {
                     format!(
                         "sparse index {target} is out of range ({} elements)",
