@@ -266,7 +266,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
     let mut out = Body {
         file,
         vertex_count,
-        // Every vertex takes at least one byte (or one line), so the body's
+        // Every vertex takes at least three bytes (or one line), so the body's
         // length bounds the allocation whatever the header claims.
         positions: Vec::with_capacity(vertex_count.min(body.len() / 3)),
         faces: FaceList::new(),
