@@ -25,6 +25,7 @@
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::smooth_regions::{SmoothRegionParams, SmoothRegions, smooth_regions};
 use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
 use crate::extract::{self, ExtractInput, Extracted, ExtractionParams, PostProcessed};
 use crate::field::{
@@ -50,24 +51,55 @@ pub struct Params {
     pub extraction: ExtractionParams,
 }
 
-/// Where the orientation field is constrained to principal directions.
+/// Which principal-direction alignment constrains the fields.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AlignmentMode {
+    /// No constraints: the fields only follow the surface.
+    None,
+    /// Feature vertices (Kloiber §3.3), pointwise.
+    #[default]
+    FeatureVertices,
+    /// Filtered smooth regions (Campen et al. 2016).
+    SmoothRegions,
+    /// Both.
+    Both,
+}
+
+impl AlignmentMode {
+    pub fn feature_vertices(self) -> bool {
+        matches!(self, AlignmentMode::FeatureVertices | AlignmentMode::Both)
+    }
+
+    pub fn smooth_regions(self) -> bool {
+        matches!(self, AlignmentMode::SmoothRegions | AlignmentMode::Both)
+    }
+}
+
+/// Where the fields are constrained to principal directions.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct AlignmentParams {
-    /// Constrain feature vertices (Kloiber §3.3) to the direction of their
-    /// smaller |κ|. Default on.
-    pub feature_vertices: bool,
-    /// Constraint weight; `f32::INFINITY` (serialised as `null`) fixes the
-    /// cross. Default: fixed.
+    /// Default [`AlignmentMode::FeatureVertices`] (the thesis).
+    pub mode: AlignmentMode,
+    /// Feature-vertex constraint weight; `f32::INFINITY` (serialised as
+    /// `null`) fixes the cross. Default: fixed.
     #[serde(with = "infinite_as_null")]
     pub feature_weight: f32,
+    /// Significance threshold of the smooth regions. Default 70°.
+    pub smooth_regions: SmoothRegionParams,
+    /// Alignment weight in the position field inside filtered smooth regions
+    /// (Campen et al. §4.2's {0, w} weight field). Default 5.
+    pub position_weight: f32,
 }
 
 impl Default for AlignmentParams {
     fn default() -> Self {
         AlignmentParams {
-            feature_vertices: true,
+            mode: AlignmentMode::default(),
             feature_weight: f32::INFINITY,
+            smooth_regions: SmoothRegionParams::default(),
+            position_weight: 5.0,
         }
     }
 }
@@ -185,6 +217,10 @@ pub struct OrientationStage {
     pub q: Vec<Vec<Vec3>>,
     pub constraints: OrientationConstraints,
     pub singularities: Vec<Singularity>,
+    /// The smooth regions, when the alignment mode uses them.
+    pub smooth_regions: Option<SmoothRegions>,
+    /// Per-vertex alignment of the position field (direction `a_min`, weight).
+    pub position_alignment: OrientationConstraints,
 }
 
 /// Position field origins on level 0 and the position singularities.
@@ -385,8 +421,20 @@ impl Pipeline {
             .hierarchy;
         let level0 = &h.levels[0];
         let mut constraints = OrientationConstraints::none(mesh.vertex_count());
+        let mut position_alignment = OrientationConstraints::none(mesh.vertex_count());
         let align = &self.params.alignment;
-        if align.feature_vertices {
+        let smooth_regions = align.mode.smooth_regions().then(|| {
+            let regions = smooth_regions(mesh, &a.curvature, &align.smooth_regions);
+            for (v, d) in region_vertex_directions(mesh, &regions) {
+                let n = level0.normals[v];
+                if let Some(t) = (d - n * n.dot(d)).try_normalize() {
+                    constraints.set(v, t, f32::INFINITY);
+                    position_alignment.set(v, t, align.position_weight);
+                }
+            }
+            regions
+        });
+        if align.mode.feature_vertices() {
             for (v, d) in analysis::orientation_constraints(&a.features, &a.curvature) {
                 let n = level0.normals[v as usize];
                 let d = d.as_vec3();
@@ -408,6 +456,8 @@ impl Pipeline {
             q,
             constraints,
             singularities,
+            smooth_regions,
+            position_alignment,
         })
     }
 
@@ -438,6 +488,7 @@ impl Pipeline {
             fp.scale_mode,
             fp.position_iterations,
             fp.seed,
+            (os.position_alignment.count() > 0).then_some(&os.position_alignment),
             progress,
         )?;
         let singularities = position_singularities(
@@ -557,6 +608,39 @@ impl Pipeline {
             extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?;
         Ok(PostProcessStage { result })
     }
+}
+
+/// Vertices strictly inside one filtered smooth region (every incident face
+/// in it) with the mean `a_min` of those faces, sign-matched. Vertices
+/// between regions stay free, so the field can turn from one region's
+/// directions to the next one's without a forced singularity.
+pub fn region_vertex_directions(
+    mesh: &crate::mesh::TriMesh,
+    regions: &SmoothRegions,
+) -> Vec<(usize, Vec3)> {
+    let selected = regions.selected_faces();
+    let n = mesh.vertex_count();
+    let mut sum = vec![DVec3::ZERO; n];
+    let mut region: Vec<Option<u32>> = vec![None; n];
+    let mut inside = vec![true; n];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            let v = v as usize;
+            let r = regions.region_of_face[f];
+            if !selected[f] || (region[v].is_some() && region[v] != r) {
+                inside[v] = false;
+                continue;
+            }
+            region[v] = r;
+            let d = regions.faces[f].a_min;
+            let signed = if sum[v].dot(d) < 0.0 { -d } else { d };
+            sum[v] += signed;
+        }
+    }
+    (0..n)
+        .filter(|&v| inside[v] && region[v].is_some())
+        .filter_map(|v| sum[v].try_normalize().map(|d| (v, d.as_vec3())))
+        .collect()
 }
 
 /// The vertex count the sizing field aims at.

@@ -63,6 +63,7 @@ fn solve(
             params.scale_mode,
             params.position_iterations,
             params.seed,
+            None,
             p,
         )
     })

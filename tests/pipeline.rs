@@ -136,7 +136,7 @@ fn filtered_normals_remove_singularities_caused_by_small_bumps() {
     params.sizing.target_vertex_count = Some(400);
     // Feature vertices of the bumps would pin the field to the bumps'
     // principal directions in both modes; this test isolates the normals.
-    params.alignment.feature_vertices = false;
+    params.alignment.mode = quadrille::pipeline::AlignmentMode::None;
     let mut raw = Pipeline::new(input.clone(), params.clone());
     run(&mut raw);
     params.field.filtered_normals = true;

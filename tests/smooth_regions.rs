@@ -140,3 +140,68 @@ fn the_selection_does_not_depend_on_scale() {
         );
     }
 }
+
+/// Runs the field stages with one alignment mode; returns the orientation
+/// singularity count and the mean misalignment (degrees) of the cross field
+/// to `a_min` over the faces of the filtered smooth regions, weighted by
+/// area × (κ_min − κ_max)² (Campen et al. §5).
+fn alignment_quality(name: &str, mode: quadrille::pipeline::AlignmentMode) -> (usize, f64, usize) {
+    use quadrille::pipeline::{Params, Pipeline, Stage};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/meshes")
+        .join(name);
+    let input = quadrille::io::import(&std::fs::read(&path).unwrap(), name).unwrap();
+    let mesh = input.mesh.clone();
+    let mut params = Params::default();
+    params.alignment.mode = mode;
+    let mut p = Pipeline::new(input, params);
+    let mut stop_after_position = |_: &str, _: f32, _: &str| true;
+    // Only the field stages are needed.
+    let _ = p.run(&mut stop_after_position, &mut |_, _| {}, &|| 0.0);
+    assert!(p.has(Stage::Position));
+    let o = p.orientation.as_ref().unwrap();
+    let normals = &p.hierarchy.as_ref().unwrap().hierarchy.levels[0].normals;
+    let curvature = &p.analysis.as_ref().unwrap().surface.curvature;
+    let regions = smooth_regions(&mesh, curvature, &SmoothRegionParams::default());
+    let selected = regions.selected_faces();
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for f in (0..mesh.face_count()).filter(|&f| selected[f]) {
+        let fc = regions.faces[f];
+        let w = mesh.face_area(f) * (fc.kappa_min - fc.kappa_max).powi(2);
+        for &v in &mesh.triangles[f] {
+            let (q, n) = (
+                o.q[0][v as usize].as_dvec3(),
+                normals[v as usize].as_dvec3(),
+            );
+            let d = (fc.a_min - n * n.dot(fc.a_min)).normalize();
+            let c = q.dot(d).abs().max(n.cross(q).dot(d).abs()).min(1.0);
+            sum += w * c.acos().to_degrees() / 3.0;
+        }
+        weight += w;
+    }
+    (
+        o.singularities.len(),
+        sum / weight,
+        selected.iter().filter(|&&s| s).count(),
+    )
+}
+
+#[test]
+fn smooth_region_alignment_follows_principal_directions_better_on_cad_parts() {
+    // Singularity counts are printed, not asserted: smooth regions give a
+    // few more than feature vertices today (see the issue note).
+    use quadrille::pipeline::AlignmentMode;
+    for name in ["fandisk.obj", "rocker-arm.obj"] {
+        for mode in [AlignmentMode::None, AlignmentMode::Both] {
+            let (s, m, _) = alignment_quality(name, mode);
+            println!("{name}: {mode:?}: {s} singularities, misalignment {m:.2}°");
+        }
+        let (s_feat, m_feat, faces) = alignment_quality(name, AlignmentMode::FeatureVertices);
+        let (s_reg, m_reg, _) = alignment_quality(name, AlignmentMode::SmoothRegions);
+        println!(
+            "{name}: {faces} faces in filtered regions; feature vertices: {s_feat} singularities, misalignment {m_feat:.2}°; smooth regions: {s_reg} singularities, misalignment {m_reg:.2}°"
+        );
+        assert!(faces > 0, "{name}: no region selected");
+        assert!(m_reg < m_feat, "{name}: misalignment {m_reg}° vs {m_feat}°");
+    }
+}

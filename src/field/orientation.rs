@@ -52,7 +52,7 @@ impl OrientationConstraints {
     }
 
     /// The constraints of the next coarser level.
-    fn restrict(&self, coarse: &Level, fine: &Level) -> OrientationConstraints {
+    pub(crate) fn restrict(&self, coarse: &Level, fine: &Level) -> OrientationConstraints {
         let mut out = OrientationConstraints::none(coarse.len());
         for c in 0..coarse.len() {
             let mut sum = Vec3::ZERO;

@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::hierarchy::{Hierarchy, Level};
 use super::lattice::{Lattice, compat_position_extrinsic_4, coordinate_system, position_round_4};
+use super::orientation::OrientationConstraints;
 use crate::parallel::map_into;
 use crate::progress::{Cancelled, Progress};
 
@@ -38,6 +39,10 @@ pub enum ScaleMode {
 /// Solves the position field coarse to fine. `q` holds the orientation
 /// field per level, `scale` the lattice spacing per level. Returns the
 /// lattice origins of level 0.
+///
+/// `alignment` (optional, level 0) strengthens agreement along a direction
+/// per vertex: see [`update`].
+#[allow(clippy::too_many_arguments)]
 pub fn solve_position(
     hierarchy: &Hierarchy,
     q: &[Vec<Vec3>],
@@ -45,10 +50,17 @@ pub fn solve_position(
     mode: ScaleMode,
     iterations: usize,
     seed: u64,
+    alignment: Option<&OrientationConstraints>,
     progress: &mut Progress<'_>,
 ) -> Result<Vec<Vec3>, Cancelled> {
     let levels = &hierarchy.levels;
     let top = levels.len() - 1;
+    let none = OrientationConstraints::none(levels[0].len());
+    let mut per_level = vec![alignment.unwrap_or(&none).clone()];
+    for l in 1..levels.len() {
+        let next = per_level[l - 1].restrict(&levels[l], &levels[l - 1]);
+        per_level.push(next);
+    }
     let mut o = random_origins(&levels[top], &scale[top], seed ^ 0x5eed ^ top as u64);
     let mut scratch = Vec::new();
     let work: f32 = levels.iter().map(|l| l.len() as f32).sum::<f32>().max(1.0);
@@ -58,12 +70,12 @@ pub fn solve_position(
         if l < top {
             o = prolongate(&levels[l + 1], level, &o);
         }
-        let (ql, sl) = (&q[l], &scale[l]);
+        let (ql, sl, al) = (&q[l], &scale[l], &per_level[l]);
         for it in 0..iterations {
             for phase in &level.phases {
                 let current = &o;
                 map_into(phase, &mut scratch, |&i| {
-                    update(level, ql, sl, current, mode, i as usize)
+                    update(level, ql, sl, current, mode, al, i as usize)
                 });
                 for (k, &i) in phase.iter().enumerate() {
                     o[i as usize] = scratch[k];
@@ -91,8 +103,30 @@ pub fn lattice_at(level: &Level, q: &[Vec3], scale: &[f32], o: &[Vec3], i: usize
     }
 }
 
+/// One Gauss–Seidel step at vertex `i`.
+///
+/// Alignment (Campen et al. 2016 §4.2, adapted to the local update): the
+/// paper adds `w (∇u · a_min)²` to the parametrisation energy so that the
+/// coordinate `u` across `a_min` varies little *along* `a_min`. Here the
+/// running mean is kept per tangent axis of vertex `i` — across `a_min` and
+/// along it — and a neighbour's vote for the across-coordinate counts
+/// `1 + w cos²θ` times, θ the angle between the link and `a_min`: the
+/// finite-difference form of the same term. With no alignment this is the
+/// plain update.
 #[inline]
-fn update(level: &Level, q: &[Vec3], scale: &[f32], o: &[Vec3], mode: ScaleMode, i: usize) -> Vec3 {
+fn update(
+    level: &Level,
+    q: &[Vec3],
+    scale: &[f32],
+    o: &[Vec3],
+    mode: ScaleMode,
+    alignment: &OrientationConstraints,
+    i: usize,
+) -> Vec3 {
+    let w_align = alignment.weight[i];
+    if w_align > 0.0 && w_align.is_finite() {
+        return update_aligned(level, q, scale, o, mode, alignment.direction[i], w_align, i);
+    }
     let (v, n, qi, si) = (level.positions[i], level.normals[i], q[i], scale[i]);
     let mut sum = o[i];
     let mut wsum = 0.0f32;
@@ -123,6 +157,57 @@ fn update(level: &Level, q: &[Vec3], scale: &[f32], o: &[Vec3], mode: ScaleMode,
     }
     if wsum > 0.0 {
         position_round_4(sum, qi, n, v, si)
+    } else {
+        o[i]
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn update_aligned(
+    level: &Level,
+    q: &[Vec3],
+    scale: &[f32],
+    o: &[Vec3],
+    mode: ScaleMode,
+    along: Vec3,
+    w_align: f32,
+    i: usize,
+) -> Vec3 {
+    let (v, n, qi, si) = (level.positions[i], level.normals[i], q[i], scale[i]);
+    let along = (along - n * n.dot(along)).normalize_or_zero();
+    let across = n.cross(along);
+    let (mut x, mut y) = ((o[i] - v).dot(across), (o[i] - v).dot(along));
+    let (mut wx, mut wy) = (0.0f32, 0.0f32);
+    for (j, w) in level.links.of(i) {
+        let (s0, s1) = match mode {
+            ScaleMode::PerVertex => (si, scale[j]),
+            ScaleMode::ReferencePoint => (si, si),
+            ScaleMode::Average => {
+                let m = 0.5 * (si + scale[j]);
+                (m, m)
+            }
+        };
+        let l0 = Lattice {
+            p: v,
+            n,
+            q: qi,
+            o: v + x * across + y * along,
+            s: s0,
+        };
+        let l1 = Lattice {
+            s: s1,
+            ..lattice_at(level, q, scale, o, j)
+        };
+        let m = compat_position_extrinsic_4(&l0, &l1);
+        let cos = (level.positions[j] - v).normalize_or_zero().dot(along);
+        let w_across = w * (1.0 + w_align * cos * cos);
+        x = ((m.p0 - v).dot(across) * wx + (m.p1 - v).dot(across) * w_across) / (wx + w_across);
+        y = ((m.p0 - v).dot(along) * wy + (m.p1 - v).dot(along) * w) / (wy + w);
+        wx += w_across;
+        wy += w;
+    }
+    if wy > 0.0 {
+        position_round_4(v + x * across + y * along, qi, n, v, si)
     } else {
         o[i]
     }
