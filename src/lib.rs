@@ -23,6 +23,7 @@
 //! - [`spatial`]: closest points, distances and ray casts (BVH);
 //! - [`extract`]: vertex clusters, faces, non-manifold repair, hole filling
 //!   and post-processing into a closed quad-dominant [`mesh::PolyMesh`];
+//! - [`layout`]: dual strip weaving: elastica graph and dual loops;
 //! - [`metrics`]: the thesis' quality metrics of an output mesh;
 //! - [`subdivision`]: Catmull–Clark subdivision, limit positions and
 //!   normals, control-mesh fitting and the limit surface's error;
@@ -34,6 +35,7 @@ pub mod analysis;
 pub mod extract;
 pub mod field;
 pub mod io;
+pub mod layout;
 pub mod mesh;
 pub mod metrics;
 pub mod parallel;

@@ -1,0 +1,822 @@
+//! Dual loops through anchors: Campen & Kobbelt 2014, §5.4 (constructing
+//! discrete elastica: shortest paths between consecutive anchors' candidate
+//! g-edges, a metagraph and its minimum-weight cycle), §5.7 (the boundary
+//! node ∂ for dual curves) and §6.2 (strip compatibility: g′-nodes within 45°
+//! of a committed strip's direction inside it are disabled).
+//!
+//! Deviations:
+//! - Searches are A* towards the next anchor (heuristic 0.9 × straight-line
+//!   distance, a lower bound of the length term), and stop as soon as the
+//!   smallest open key reaches the best closing cost (early termination).
+//! - Targets are reached *through an arc* (`x → b` with `x` arriving at the
+//!   anchor vertex), so a loop from a node back to itself is never the empty
+//!   path (the paper's footnote 2).
+//! - g′ weights are reversal-symmetric, so a single positional anchor only
+//!   tries out-directions in a half circle (the other half gives the same
+//!   loops reversed), and the distance *to* ∂ is the distance *from* ∂ of the
+//!   reversed node: one Dijkstra from all boundary g-edges per mesh (cached
+//!   until the covered strips change) serves every dual-curve query.
+//! - Alternatives of a single anchor are de-duplicated by direction: a
+//!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
+//!   same "direction class" and dropped.
+//! - When both consecutive anchors are purely positional, |ξ_i| searches are
+//!   run (the paper runs min(|ξ_i|, |ξ_{i+1}|) via backward search).
+//! - §6.2 uses the strip map's isocurves; before part 2 exists the covered
+//!   direction is given per vertex ([`LoopEngine::set_covered`]) or taken
+//!   from a loop's tangent within a band ([`LoopEngine::cover_loop`]).
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::{DVec3, Vec3};
+
+use super::elastica::{ElasticaGraph, ElasticaParams};
+use super::surface_graph::SurfaceGraph;
+use crate::mesh::TriMesh;
+use crate::spatial::SurfaceIndex;
+
+const NONE: u32 = u32::MAX;
+
+/// A constraint point φ = (p, d) of §5.4: the loop passes near `position`,
+/// and, when `direction` is non-zero, with its tangent parallel to it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Anchor {
+    /// World position (snapped to the nearest vertex).
+    pub position: DVec3,
+    /// World direction; zero for a purely positional anchor.
+    pub direction: DVec3,
+}
+
+impl Anchor {
+    pub fn positional(position: DVec3) -> Anchor {
+        Anchor {
+            position,
+            direction: DVec3::ZERO,
+        }
+    }
+
+    pub fn directional(position: DVec3, direction: DVec3) -> Anchor {
+        Anchor {
+            position,
+            direction,
+        }
+    }
+}
+
+/// A dual loop (closed) or dual curve (ending on the boundary at both ends).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DualLoop {
+    /// The g′-node (directed g-edge) sequence; for a closed loop the last
+    /// node is followed by the first.
+    pub nodes: Vec<u32>,
+    /// Polyline on the surface (world units): vertices of g and chord samples
+    /// projected onto the faces. A closed loop repeats its first point last.
+    pub points: Vec<DVec3>,
+    /// The cost c(E) of equation (2), in normalised units (bbox diagonal 1).
+    pub cost: f64,
+    /// False for a dual curve ending on the boundary (§5.7).
+    pub closed: bool,
+}
+
+impl DualLoop {
+    /// Length of the polyline (world units).
+    pub fn length(&self) -> f64 {
+        self.points.windows(2).map(|w| w[0].distance(w[1])).sum()
+    }
+}
+
+#[derive(Debug, Clone, Default)]
+struct Workspace {
+    dist: Vec<f32>,
+    parent: Vec<u32>,
+    stamp: Vec<u32>,
+    done: Vec<u32>,
+    generation: u32,
+    heap: BinaryHeap<Reverse<u64>>,
+    /// Per out-edge of the goal vertex: best closing cost and the closing
+    /// predecessor.
+    cand: Vec<(f32, u32)>,
+    path: Vec<u32>,
+}
+
+/// The loop engine: g and g′ built once per mesh, then queries.
+pub struct LoopEngine {
+    pub graph: ElasticaGraph,
+    index: Option<SurfaceIndex>,
+    disabled: Vec<bool>,
+    covered: Vec<(u32, DVec3)>,
+    boundary_field: Option<(Vec<f32>, Vec<u32>)>,
+    has_boundary: bool,
+    ws: Workspace,
+}
+
+impl LoopEngine {
+    /// Builds g (k-ring graph) and g′ for `mesh`. Never panics; an empty or
+    /// degenerate mesh yields an engine that returns no loops.
+    pub fn new(mesh: &TriMesh, params: &ElasticaParams) -> LoopEngine {
+        let g = SurfaceGraph::new(mesh, params.rings);
+        let index = SurfaceIndex::new(&g.mesh);
+        let has_boundary = g.boundary.iter().any(|&b| b);
+        let graph = ElasticaGraph::new(g, params);
+        let nodes = graph.node_count();
+        LoopEngine {
+            graph,
+            index,
+            disabled: vec![false; nodes],
+            covered: Vec::new(),
+            boundary_field: None,
+            has_boundary,
+            ws: Workspace {
+                dist: vec![0.0; nodes],
+                parent: vec![NONE; nodes],
+                stamp: vec![0; nodes],
+                done: vec![0; nodes],
+                ..Workspace::default()
+            },
+        }
+    }
+
+    /// Bytes held by g, g′ and the query buffers (excluding the BVH).
+    pub fn memory_bytes(&self) -> usize {
+        let n = self.graph.node_count();
+        self.graph.memory_bytes()
+            + n * (4 + 4 + 4 + 4 + 1)
+            + self.boundary_field.as_ref().map_or(0, |f| f.0.len() * 8)
+    }
+
+    /// The vertex of g nearest to a world position (via the closest face).
+    pub fn nearest_vertex(&self, world: DVec3) -> Option<usize> {
+        let g = &self.graph.g;
+        let p = g.to_local(world);
+        if let Some(index) = &self.index {
+            let c = index.closest(p);
+            let t = g.mesh.triangles.get(c.face as usize)?;
+            return t.iter().map(|&v| v as usize).min_by(|&a, &b| {
+                let da = g.mesh.positions[a].distance_squared(c.point);
+                let db = g.mesh.positions[b].distance_squared(c.point);
+                da.total_cmp(&db).then(a.cmp(&b))
+            });
+        }
+        (0..g.vertex_count()).min_by(|&a, &b| {
+            g.mesh.positions[a]
+                .distance_squared(p)
+                .total_cmp(&g.mesh.positions[b].distance_squared(p))
+        })
+    }
+
+    /// The best dual loop (or dual curve) through one positional anchor.
+    pub fn best_loop(&mut self, position: DVec3) -> Option<DualLoop> {
+        let v = self.nearest_vertex(position)?;
+        let (cost, kind) = self.best_through(v, f32::INFINITY)?;
+        Some(self.make_loop(kind, cost))
+    }
+
+    /// The best loop and ranked alternatives through one positional anchor,
+    /// one per direction class, best first (at most `max` of them).
+    pub fn loops_through(&mut self, position: DVec3, max: usize) -> Vec<DualLoop> {
+        let Some(v) = self.nearest_vertex(position) else {
+            return Vec::new();
+        };
+        if max == 0 {
+            return Vec::new();
+        }
+        let Some((best, _)) = self.best_through(v, f32::INFINITY) else {
+            return Vec::new();
+        };
+        let bound = (3.0 * best).max(best + 0.05);
+        let mut found: Vec<(f32, f32, Kind)> = Vec::new();
+        for b in self.half_circle_sources(v) {
+            let angle = self.graph.g.angle_out[b as usize];
+            let mut kind_best: Option<(f32, Kind)> = None;
+            if let Some((c, k)) = self.open_curve(b) {
+                kind_best = Some((c, k));
+            }
+            let limit = kind_best.as_ref().map_or(bound, |(c, _)| c.min(bound));
+            self.search(b, v, Some(b), limit, f32::INFINITY);
+            let (c, pred) = self.cand_of(v, b);
+            if pred != NONE && c < limit {
+                let path = self.path_to(pred);
+                kind_best = Some((c, Kind::Closed(path)));
+            }
+            if let Some((c, k)) = kind_best {
+                if c <= bound {
+                    found.push((c, angle, k));
+                }
+            }
+        }
+        found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        let class = 25f32.to_radians();
+        let mut kept: Vec<(f32, f32, Kind)> = Vec::new();
+        for f in found {
+            let same = kept.iter().any(|k| {
+                let d = (f.1 - k.1).rem_euclid(std::f32::consts::PI);
+                d.min(std::f32::consts::PI - d) < class
+            });
+            if !same {
+                kept.push(f);
+                if kept.len() >= max {
+                    break;
+                }
+            }
+        }
+        kept.into_iter()
+            .map(|(c, _, k)| self.make_loop(k, c))
+            .collect()
+    }
+
+    /// The minimum-cost loop (or dual curve) interpolating `anchors` in order
+    /// (§5.4, §5.7). `None` when no such loop exists in g′.
+    pub fn constrained_loop(&mut self, anchors: &[Anchor]) -> Option<DualLoop> {
+        if anchors.is_empty() {
+            return None;
+        }
+        let n = anchors.len();
+        let mut verts = Vec::with_capacity(n);
+        let mut layers: Vec<Vec<u32>> = Vec::with_capacity(n);
+        for a in anchors {
+            let v = self.nearest_vertex(a.position)?;
+            verts.push(v);
+            layers.push(self.candidate_edges(v, a.direction));
+            if layers.last().is_none_or(|l| l.is_empty()) {
+                return None;
+            }
+        }
+        // A directional anchor's tangent is the bisector of the arriving and
+        // leaving g-edges: the arc into it may turn at most half the limit.
+        let close: Vec<f32> = anchors
+            .iter()
+            .map(|a| {
+                if a.direction == DVec3::ZERO {
+                    f32::INFINITY
+                } else {
+                    0.5 * self.graph.max_turn
+                }
+            })
+            .collect();
+        // Metaedge weights w̄(a, b) for a ∈ ξ_i, b ∈ ξ_{i+1}.
+        let mut meta: Vec<Vec<f32>> = Vec::with_capacity(n);
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let (li, lj) = (layers[i].clone(), &layers[j]);
+            let only = if lj.len() == 1 { Some(lj[0]) } else { None };
+            let mut w = vec![f32::INFINITY; li.len() * lj.len()];
+            for (ai, &a) in li.iter().enumerate() {
+                self.search(a, verts[j], only, f32::INFINITY, close[j]);
+                for (bi, &b) in lj.iter().enumerate() {
+                    w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
+                }
+            }
+            meta.push(w);
+        }
+        // Minimum-weight cycle of the metagraph: layered DP from each node of
+        // the smallest layer back to itself.
+        let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
+        let mut best: (f32, Vec<usize>, bool) = (f32::INFINITY, Vec::new(), true);
+        for start in 0..layers[s].len() {
+            let (cost, choice) = layered_path(&layers, &meta, s, n, Some(start), None);
+            if cost < best.0 {
+                best = (cost, choice, true);
+            }
+        }
+        if self.has_boundary {
+            self.ensure_boundary_field();
+            let (f, _) = self.boundary_field.as_ref()?;
+            let enter: Vec<f32> = layers[0].iter().map(|&b| f[b as usize]).collect();
+            let leave: Vec<f32> = layers[n - 1]
+                .iter()
+                .map(|&a| {
+                    let r = self.graph.g.reverse[a as usize];
+                    if r == NONE {
+                        f32::INFINITY
+                    } else {
+                        f[r as usize]
+                    }
+                })
+                .collect();
+            let (cost, choice) = layered_path(&layers, &meta, 0, n, None, Some((&enter, &leave)));
+            if cost < best.0 {
+                best = (cost, choice, false);
+            }
+        }
+        if !best.0.is_finite() {
+            return None;
+        }
+        let (cost, choice, closed) = best;
+        // choice[i] = index into layers[i] of the node used at anchor i.
+        let mut nodes: Vec<u32> = Vec::new();
+        let chosen: Vec<u32> = (0..n).map(|i| layers[i][choice[i]]).collect();
+        if !closed {
+            nodes.extend(self.boundary_path(chosen[0]));
+            nodes.pop();
+        }
+        let segments = if closed { n } else { n - 1 };
+        for i in 0..segments {
+            let j = (i + 1) % n;
+            let (a, b) = (chosen[i], chosen[j]);
+            self.search(a, verts[j], Some(b), f32::INFINITY, close[j]);
+            let (_, pred) = self.cand_of(verts[j], b);
+            if pred == NONE {
+                return None;
+            }
+            nodes.extend(self.path_to(pred));
+        }
+        if !closed {
+            let last = chosen[n - 1];
+            let mut tail = self.reversed_boundary_path(last);
+            if !tail.is_empty() {
+                tail.remove(0);
+            }
+            nodes.push(last);
+            nodes.extend(tail);
+            // `nodes` may now contain `last` twice if the final segment ended
+            // with it; segments end *before* their target, so it does not.
+        }
+        Some(self.loop_from_nodes(nodes, cost as f64, closed))
+    }
+
+    /// §6.2: per-vertex covered directions of committed strips (world
+    /// tangents; zero or `None` = uncovered). Replaces the previous state.
+    pub fn set_covered(&mut self, covered: &[Option<DVec3>]) {
+        self.covered = covered
+            .iter()
+            .enumerate()
+            .filter_map(|(v, d)| {
+                let d = (*d)?.try_normalize()?;
+                Some((v as u32, d))
+            })
+            .collect();
+        self.update_disabled();
+    }
+
+    /// Adds a committed loop as a strip of `half_width` (world units) around
+    /// it whose isocurves follow the loop's tangent (stand-in for §6.1's map).
+    pub fn cover_loop(&mut self, l: &DualLoop, half_width: f64) {
+        let g = &self.graph.g;
+        let pts: Vec<DVec3> = l.points.iter().map(|&p| g.to_local(p)).collect();
+        let hw = half_width / g.diagonal;
+        for v in 0..g.vertex_count() {
+            let p = g.mesh.positions[v];
+            let mut best = (hw, DVec3::ZERO);
+            for s in pts.windows(2) {
+                let d = s[1] - s[0];
+                let len2 = d.length_squared();
+                if len2 <= 0.0 {
+                    continue;
+                }
+                let t = ((p - s[0]).dot(d) / len2).clamp(0.0, 1.0);
+                let dist = p.distance(s[0] + d * t);
+                if dist <= best.0 {
+                    best = (dist, d);
+                }
+            }
+            if best.1 != DVec3::ZERO {
+                self.covered.push((v as u32, best.1.normalize()));
+            }
+        }
+        self.update_disabled();
+    }
+
+    /// Removes every covered strip.
+    pub fn clear_covered(&mut self) {
+        self.covered.clear();
+        self.update_disabled();
+    }
+
+    /// Number of g′-nodes currently disabled by covered strips.
+    pub fn disabled_count(&self) -> usize {
+        self.disabled.iter().filter(|&&d| d).count()
+    }
+
+    fn update_disabled(&mut self) {
+        self.covered.sort_by_key(|c| c.0);
+        let g = &self.graph.g;
+        let n = g.vertex_count();
+        let mut first = vec![0u32; n + 1];
+        for &(v, _) in &self.covered {
+            if (v as usize) < n {
+                first[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..n {
+            first[v + 1] += first[v];
+        }
+        let cos45 = std::f64::consts::FRAC_1_SQRT_2 - 1e-9;
+        let within = |v: usize, t: DVec3| -> bool {
+            self.covered[first[v] as usize..first[v + 1] as usize]
+                .iter()
+                .any(|&(_, d)| {
+                    let nv = g.normals[v];
+                    let dt = (d - nv * d.dot(nv)).normalize_or_zero();
+                    dt.dot(t).abs() >= cos45
+                })
+        };
+        for e in 0..g.edge_count() {
+            let (v, w) = (g.source[e] as usize, g.target[e] as usize);
+            self.disabled[e] = within(v, g.direction_out(e)) || within(w, g.direction_in(e));
+        }
+        self.boundary_field = None;
+    }
+
+    fn half_circle_sources(&self, v: usize) -> Vec<u32> {
+        let g = &self.graph.g;
+        g.out_edges(v)
+            .filter(|&e| g.angle_out[e] < std::f32::consts::PI && !self.disabled[e])
+            .map(|e| e as u32)
+            .collect()
+    }
+
+    /// ξ: the out-edge closest to `direction`, or all out-edges.
+    fn candidate_edges(&self, v: usize, direction: DVec3) -> Vec<u32> {
+        let g = &self.graph.g;
+        let row = g.out_edges(v).filter(|&e| !self.disabled[e]);
+        let nv = g.normals[v];
+        let d = (direction - nv * direction.dot(nv)).normalize_or_zero();
+        if d == DVec3::ZERO || !d.is_finite() {
+            return row.map(|e| e as u32).collect();
+        }
+        row.max_by(|&a, &b| {
+            d.dot(g.direction_out(a))
+                .total_cmp(&d.dot(g.direction_out(b)))
+                .then(b.cmp(&a))
+        })
+        .map(|e| vec![e as u32])
+        .unwrap_or_default()
+    }
+
+    /// Best cost over all directions through `v` (closed loops and, with a
+    /// boundary, dual curves), pruned by `bound`.
+    fn best_through(&mut self, v: usize, bound: f32) -> Option<(f32, Kind)> {
+        let mut best: Option<(f32, Kind)> = None;
+        let mut limit = bound;
+        let sources = self.half_circle_sources(v);
+        if self.has_boundary {
+            for &b in &sources {
+                if let Some((c, k)) = self.open_curve(b) {
+                    if c < limit {
+                        limit = c;
+                        best = Some((c, k));
+                    }
+                }
+            }
+        }
+        for &b in &sources {
+            self.search(b, v, Some(b), limit, f32::INFINITY);
+            let (c, pred) = self.cand_of(v, b);
+            if pred != NONE && c < limit {
+                limit = c;
+                let mut path = std::mem::take(&mut self.ws.path);
+                path.clear();
+                self.collect_path(pred, &mut path);
+                best = Some((c, Kind::Closed(path.clone())));
+                self.ws.path = path;
+            }
+        }
+        best
+    }
+
+    /// The dual curve ∂ → … → b → … → ∂ through node `b` (§5.7).
+    fn open_curve(&mut self, b: u32) -> Option<(f32, Kind)> {
+        if !self.has_boundary {
+            return None;
+        }
+        self.ensure_boundary_field();
+        let r = self.graph.g.reverse[b as usize];
+        let (f, _) = self.boundary_field.as_ref()?;
+        if r == NONE {
+            return None;
+        }
+        let c = f[b as usize] + f[r as usize];
+        c.is_finite().then_some((c, Kind::Open(b)))
+    }
+
+    fn ensure_boundary_field(&mut self) {
+        if self.boundary_field.is_some() || !self.has_boundary {
+            return;
+        }
+        let g = &self.graph.g;
+        let nodes = self.graph.node_count();
+        let mut dist = vec![f32::INFINITY; nodes];
+        let mut parent = vec![NONE; nodes];
+        let mut heap = BinaryHeap::new();
+        for e in 0..nodes {
+            if self.disabled[e] {
+                continue;
+            }
+            if g.boundary[g.source[e] as usize] || g.boundary[g.target[e] as usize] {
+                dist[e] = 0.0;
+                heap.push(Reverse(key(0.0, e as u32)));
+            }
+        }
+        let mut done = vec![false; nodes];
+        while let Some(Reverse(k)) = heap.pop() {
+            let x = (k & 0xffff_ffff) as usize;
+            if done[x] {
+                continue;
+            }
+            done[x] = true;
+            let d = dist[x];
+            let graph = &self.graph;
+            let disabled = &self.disabled;
+            graph.for_each_successor(x, |y| {
+                if disabled[y] {
+                    return;
+                }
+                let nd = d + graph.arc_weight(x, y);
+                if nd < dist[y] {
+                    dist[y] = nd;
+                    parent[y] = x as u32;
+                    heap.push(Reverse(key(nd, y as u32)));
+                }
+            });
+        }
+        self.boundary_field = Some((dist, parent));
+    }
+
+    /// Seed … `node` along the boundary field's parents.
+    fn boundary_path(&self, node: u32) -> Vec<u32> {
+        let mut out = Vec::new();
+        if let Some((_, parent)) = &self.boundary_field {
+            let mut x = node;
+            while x != NONE && out.len() <= parent.len() {
+                out.push(x);
+                x = parent[x as usize];
+            }
+        }
+        out.reverse();
+        out
+    }
+
+    /// `node` … ∂: the reversed boundary path of `reverse(node)`.
+    fn reversed_boundary_path(&self, node: u32) -> Vec<u32> {
+        let r = self.graph.g.reverse[node as usize];
+        if r == NONE {
+            return vec![node];
+        }
+        let mut p = self.boundary_path(r);
+        p.reverse();
+        for x in &mut p {
+            *x = self.graph.g.reverse[*x as usize];
+        }
+        p.retain(|&x| x != NONE);
+        p
+    }
+
+    /// A* in g′ from `source` towards the out-edges of `goal` (all of them,
+    /// or only `only`), each reached through an arc. Results in `ws.cand`.
+    fn search(&mut self, source: u32, goal: usize, only: Option<u32>, bound: f32, close_turn: f32) {
+        let graph = &self.graph;
+        let g = &graph.g;
+        let ws = &mut self.ws;
+        let row = g.out_edges(goal);
+        ws.cand.clear();
+        ws.cand.resize(row.len(), (f32::INFINITY, NONE));
+        if self.disabled.get(source as usize).is_none_or(|&d| d) || row.is_empty() {
+            return;
+        }
+        ws.generation = ws.generation.wrapping_add(1);
+        if ws.generation == 0 {
+            ws.stamp.fill(0);
+            ws.done.fill(0);
+            ws.generation = 1;
+        }
+        let stamp_now = ws.generation;
+        let goal_p = g.mesh.positions[goal].as_vec3();
+        let radius = row
+            .clone()
+            .map(|e| graph.midpoint[e].distance(goal_p))
+            .fold(0.0f32, f32::max);
+        let h = |x: usize| 0.9 * (graph.midpoint[x].distance(goal_p) - radius).max(0.0);
+        ws.heap.clear();
+        ws.dist[source as usize] = 0.0;
+        ws.parent[source as usize] = NONE;
+        ws.stamp[source as usize] = stamp_now;
+        ws.heap.push(Reverse(key(h(source as usize), source)));
+        let mut remaining = match only {
+            Some(o) if row.contains(&(o as usize)) && !self.disabled[o as usize] => 1,
+            Some(_) => return,
+            None => row.clone().filter(|&e| !self.disabled[e]).count(),
+        };
+        let mut threshold = bound;
+        while let Some(Reverse(k)) = ws.heap.pop() {
+            let x = (k & 0xffff_ffff) as usize;
+            if ws.done[x] == stamp_now {
+                continue;
+            }
+            if f32::from_bits((k >> 32) as u32) >= threshold {
+                break;
+            }
+            ws.done[x] = stamp_now;
+            let d = ws.dist[x];
+            if g.target[x] as usize == goal {
+                let mut improved = false;
+                graph.for_each_successor(x, |y| {
+                    if self.disabled[y]
+                        || only.is_some_and(|o| o as usize != y)
+                        || graph.turn(x, y).abs() > close_turn
+                    {
+                        return;
+                    }
+                    let c = d + graph.arc_weight(x, y);
+                    let slot = &mut ws.cand[y - row.start];
+                    if c < slot.0 {
+                        if slot.1 == NONE {
+                            remaining -= 1;
+                        }
+                        *slot = (c, x as u32);
+                        improved = true;
+                    }
+                });
+                if improved && remaining == 0 {
+                    let worst = ws
+                        .cand
+                        .iter()
+                        .map(|c| c.0)
+                        .filter(|c| c.is_finite())
+                        .fold(0.0f32, f32::max);
+                    threshold = threshold.min(worst);
+                }
+            }
+            let disabled = &self.disabled;
+            let (dist, parent, stamp, heap) =
+                (&mut ws.dist, &mut ws.parent, &mut ws.stamp, &mut ws.heap);
+            graph.for_each_successor(x, |y| {
+                if disabled[y] {
+                    return;
+                }
+                let nd = d + graph.arc_weight(x, y);
+                if stamp[y] != stamp_now || nd < dist[y] {
+                    stamp[y] = stamp_now;
+                    dist[y] = nd;
+                    parent[y] = x as u32;
+                    heap.push(Reverse(key(nd + h(y), y as u32)));
+                }
+            });
+        }
+    }
+
+    fn cand_of(&self, goal: usize, b: u32) -> (f32, u32) {
+        let row = self.graph.g.out_edges(goal);
+        if !row.contains(&(b as usize)) {
+            return (f32::INFINITY, NONE);
+        }
+        self.ws
+            .cand
+            .get(b as usize - row.start)
+            .copied()
+            .unwrap_or((f32::INFINITY, NONE))
+    }
+
+    /// Source … `last` of the latest search.
+    fn path_to(&self, last: u32) -> Vec<u32> {
+        let mut out = Vec::new();
+        self.collect_path(last, &mut out);
+        out
+    }
+
+    fn collect_path(&self, last: u32, out: &mut Vec<u32>) {
+        let start = out.len();
+        let mut x = last;
+        let stamp_now = self.ws.generation;
+        while x != NONE
+            && self.ws.stamp[x as usize] == stamp_now
+            && out.len() - start <= self.ws.dist.len()
+        {
+            out.push(x);
+            x = self.ws.parent[x as usize];
+        }
+        out[start..].reverse();
+    }
+
+    fn make_loop(&self, kind: Kind, cost: f32) -> DualLoop {
+        match kind {
+            Kind::Closed(nodes) => self.loop_from_nodes(nodes, cost as f64, true),
+            Kind::Open(b) => {
+                let mut nodes = self.boundary_path(b);
+                let tail = self.reversed_boundary_path(b);
+                nodes.extend(tail.into_iter().skip(1));
+                self.loop_from_nodes(nodes, cost as f64, false)
+            }
+        }
+    }
+
+    fn loop_from_nodes(&self, nodes: Vec<u32>, cost: f64, closed: bool) -> DualLoop {
+        let g = &self.graph.g;
+        let mut points = Vec::with_capacity(nodes.len() * 4 + 1);
+        for &e in &nodes {
+            let (a, b) = (
+                g.mesh.positions[g.source[e as usize] as usize],
+                g.mesh.positions[g.target[e as usize] as usize],
+            );
+            points.push(g.to_world(a));
+            for i in 1..4 {
+                let p = a.lerp(b, i as f64 / 4.0);
+                let p = self.index.as_ref().map_or(p, |ix| ix.closest(p).point);
+                points.push(g.to_world(p));
+            }
+        }
+        if let Some(&last) = nodes.last() {
+            if closed {
+                if let Some(&first) = points.first() {
+                    points.push(first);
+                }
+            } else {
+                points.push(g.to_world(g.mesh.positions[g.target[last as usize] as usize]));
+            }
+        }
+        DualLoop {
+            nodes,
+            points,
+            cost,
+            closed,
+        }
+    }
+
+    /// Normalised position of a g-vertex (for tests and tools).
+    pub fn vertex_position(&self, v: usize) -> DVec3 {
+        self.graph.g.to_world(self.graph.g.mesh.positions[v])
+    }
+
+    /// Unit midpoint of a node (normalised units).
+    pub fn node_midpoint(&self, e: usize) -> Vec3 {
+        self.graph.midpoint[e]
+    }
+}
+
+#[derive(Debug, Clone)]
+enum Kind {
+    Closed(Vec<u32>),
+    Open(u32),
+}
+
+#[inline]
+fn key(cost: f32, node: u32) -> u64 {
+    ((cost.max(0.0).to_bits() as u64) << 32) | node as u64
+}
+
+/// Min-cost walk through the metagraph layers. With `start = Some(i)`: a
+/// cycle from node i of layer `s` through all layers back to it. With
+/// `ends = Some((enter, leave))`: ∂ → layer 0 → … → layer n−1 → ∂.
+/// Returns the cost and the chosen index per layer.
+fn layered_path(
+    layers: &[Vec<u32>],
+    meta: &[Vec<f32>],
+    s: usize,
+    n: usize,
+    start: Option<usize>,
+    ends: Option<(&[f32], &[f32])>,
+) -> (f32, Vec<usize>) {
+    let mut back: Vec<Vec<usize>> = vec![Vec::new(); n + 1];
+    let mut cost: Vec<f32> = match (start, ends) {
+        (Some(i), _) => (0..layers[s].len())
+            .map(|j| if j == i { 0.0 } else { f32::INFINITY })
+            .collect(),
+        (None, Some((enter, _))) => enter.to_vec(),
+        _ => return (f32::INFINITY, Vec::new()),
+    };
+    let steps = if start.is_some() { n } else { n - 1 };
+    for step in 0..steps {
+        let i = (s + step) % n;
+        let j = (i + 1) % n;
+        let (li, lj) = (layers[i].len(), layers[j].len());
+        let mut next = vec![f32::INFINITY; lj];
+        let mut arg = vec![usize::MAX; lj];
+        for a in 0..li {
+            if !cost[a].is_finite() {
+                continue;
+            }
+            for b in 0..lj {
+                let c = cost[a] + meta[i][a * lj + b];
+                if c < next[b] {
+                    next[b] = c;
+                    arg[b] = a;
+                }
+            }
+        }
+        back[step + 1] = arg;
+        cost = next;
+    }
+    let (total, mut idx) = match (start, ends) {
+        (Some(i), _) => (cost.get(i).copied().unwrap_or(f32::INFINITY), i),
+        (None, Some((_, leave))) => cost
+            .iter()
+            .zip(leave)
+            .enumerate()
+            .map(|(b, (c, l))| (c + l, b))
+            .fold((f32::INFINITY, 0), |m, x| if x.0 < m.0 { x } else { m }),
+        _ => return (f32::INFINITY, Vec::new()),
+    };
+    if !total.is_finite() {
+        return (f32::INFINITY, Vec::new());
+    }
+    let mut choice = vec![0usize; n];
+    for step in (1..=steps).rev() {
+        let layer = (s + step) % n;
+        choice[layer] = idx;
+        idx = back[step][idx];
+        if idx == usize::MAX {
+            return (f32::INFINITY, Vec::new());
+        }
+    }
+    choice[s] = idx;
+    (total, choice)
+}
