@@ -187,6 +187,9 @@ pub fn build_clusters(
         parent: (0..n as u32).collect(),
         size: vec![1; n],
     };
+    // Normal sum per cluster: clusters whose mean normals disagree by more
+    // than 90° lie on opposite sides of a thin part and never join.
+    let mut nsum: Vec<Vec3> = level.normals.clone();
     let mut conflicts = 0;
     let total = collapse.len().max(1);
     for (k, &(_, a, b)) in collapse.iter().enumerate() {
@@ -200,7 +203,11 @@ pub fn build_clusters(
         let list = std::mem::take(&mut edges[ra as usize]);
         let conflict = list.iter().any(|&x| sets.find(x) == rb);
         edges[ra as usize] = list;
-        if conflict {
+        let opposed = nsum[ra as usize]
+            .normalize_or_zero()
+            .dot(nsum[rb as usize].normalize_or_zero())
+            < 0.0;
+        if conflict || opposed {
             conflicts += 1;
             continue;
         }
@@ -212,6 +219,7 @@ pub fn build_clusters(
         };
         sets.parent[other as usize] = root;
         sets.size[root as usize] = sa + sb;
+        nsum[root as usize] = nsum[ra as usize] + nsum[rb as usize];
         let mut merged = std::mem::take(&mut edges[root as usize]);
         merged.extend(std::mem::take(&mut edges[other as usize]));
         for x in merged.iter_mut() {

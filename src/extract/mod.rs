@@ -212,8 +212,13 @@ pub fn post_process(
             postprocess::merge_flat_triangles(&mut faces, &g, p.flat_triangle_degrees);
     }
     if p.pair_non_quads_degrees > 0.0 {
-        for _ in 0..3 {
-            let m = postprocess::pair_non_quads(&mut faces, &g, p.pair_non_quads_degrees);
+        for _ in 0..4 {
+            let m = postprocess::pair_non_quads(
+                &mut faces,
+                &g,
+                p.pair_non_quads_degrees,
+                p.pair_max_quads,
+            );
             report.non_quad_pairs_merged += m;
             if m == 0 {
                 break;
@@ -229,7 +234,27 @@ pub fn post_process(
         surface,
     };
     let mut repair_report = RepairReport::default();
-    let (mut mesh, _) = repair::repair(faces, &mut g, &rules, &mut repair_report);
+    let (mut mesh, map) = repair::repair(faces, &mut g, &rules, &mut repair_report);
+    // The rebuild's repair can leave odd faces of its own (a removed vertex
+    // turns its quads into triangles): pair them once more.
+    if p.pair_non_quads_degrees > 0.0 {
+        let list = mesh.to_face_list();
+        let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
+        if faces.iter().any(|f| f.len() != 4) {
+            let mut g2 = g.select(&map);
+            let m = postprocess::pair_non_quads(
+                &mut faces,
+                &g2,
+                p.pair_non_quads_degrees,
+                p.pair_max_quads,
+            );
+            if m > 0 {
+                report.non_quad_pairs_merged += m;
+                let (again, _) = repair::repair(faces, &mut g2, &rules, &mut repair_report);
+                mesh = again;
+            }
+        }
+    }
     if params.pure_quad {
         progress.report(0.9, "pure-quad split")?;
         if let Ok(split) = pure_quad::catmull_clark_split(&mesh, surface) {

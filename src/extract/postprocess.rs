@@ -51,6 +51,8 @@ pub struct PostProcessParams {
     /// Merge neighbouring odd faces into quads within this normal angle
     /// (a deviation, see [`pair_non_quads`]); 0 turns it off. Default 40°.
     pub pair_non_quads_degrees: f64,
+    /// Odd faces pair across strips of at most this many quads. Default 6.
+    pub pair_max_quads: usize,
     /// Smoothing iterations. Default 3.
     pub smoothing_iterations: usize,
     /// Feature guard of the smoothing. Default 50°.
@@ -69,6 +71,7 @@ impl Default for PostProcessParams {
             flat_triangles: true,
             flat_triangle_degrees: 10.0,
             pair_non_quads_degrees: 40.0,
+            pair_max_quads: 6,
             smoothing_iterations: 3,
             smoothing_feature_degrees: 50.0,
             reproject: true,
@@ -476,102 +479,184 @@ pub fn smooth(
     smoothed.iter().filter(|&&x| x).count()
 }
 
-/// Deviation (not in the thesis): two neighbouring odd faces (triangles,
-/// pentagons) whose normals differ by less than `degrees` are merged and the
-/// union (4, 6 or 8 corners) is split into quads with the thesis' quad
-/// score; two non-quads become one to three quads. Thesis 3.7.3 is the
-/// triangle–triangle case at 10°. Returns the number of merged pairs.
-pub fn pair_non_quads(faces: &mut Vec<Vec<u32>>, g: &Graph, degrees: f64) -> usize {
-    let edges = edge_map(faces);
+/// Deviation (not in the thesis): odd faces (triangles, pentagons) are
+/// paired across a strip of at most `max_quads` quads. The union of the
+/// chain (an even polygon of n₁ + n₂ + 2d − 2 corners for d quads) is split
+/// into quads with the thesis' quad score (§3.5.3); the merge is taken only
+/// when neighbouring faces of the chain lie within `degrees` of each other,
+/// every new quad is reasonable (each corner within 90° ± 60°, its two
+/// halves within `degrees`) and no new edge or diagonal is a vertex pair of
+/// another face (so the rebuild's repair has nothing to undo). Shortest
+/// chains and best-shaped quads go first. Thesis 3.7.3 is the
+/// triangle–triangle case at d = 0 and 10°. Returns the number of merged
+/// chains.
+pub fn pair_non_quads(
+    faces: &mut Vec<Vec<u32>>,
+    g: &Graph,
+    degrees: f64,
+    max_quads: usize,
+) -> usize {
     let cos_t = degrees.to_radians().cos();
-    let odd = |f: &Vec<u32>| f.len() == 3 || f.len() == 5;
-    let mut pairs: Vec<(f64, usize, usize, u32, u32)> = Vec::new();
-    for (&(a, b), list) in &edges {
+    let odd = |f: &[u32]| f.len() == 3 || f.len() == 5;
+    let edges = edge_map(faces);
+    let normals: Vec<DVec3> = faces.iter().map(|f| face_normal(&g.pos, f)).collect();
+    // Vertex pairs held by faces (edges and diagonals), with multiplicity.
+    let mut pairs: HashMap<(u32, u32), u32> = HashMap::new();
+    let add_pairs = |pairs: &mut HashMap<(u32, u32), u32>, f: &[u32], d: i32| {
+        for i in 0..f.len() {
+            for j in i + 1..f.len() {
+                let e = pairs.entry(key(f[i], f[j])).or_insert(0);
+                *e = (*e as i32 + d).max(0) as u32;
+            }
+        }
+    };
+    for f in faces.iter() {
+        add_pairs(&mut pairs, f, 1);
+    }
+    let across = |fi: usize, k: usize| -> Option<usize> {
+        let f = &faces[fi];
+        let list = edges.get(&key(f[k], f[(k + 1) % f.len()]))?;
         if list.len() != 2 {
+            return None;
+        }
+        Some(if list[0] == fi { list[1] } else { list[0] })
+    };
+    // Candidate chains: breadth-first from every odd face through quads.
+    let mut chains: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for f0 in 0..faces.len() {
+        if !odd(&faces[f0]) {
             continue;
         }
-        let (f, h) = (list[0].min(list[1]), list[0].max(list[1]));
-        if !odd(&faces[f]) || !odd(&faces[h]) {
-            continue;
-        }
-        let c = face_normal(&g.pos, &faces[f]).dot(face_normal(&g.pos, &faces[h]));
-        if c >= cos_t {
-            // Prefer small unions (triangle pairs) and flat pairs.
-            let size = (faces[f].len() + faces[h].len()) as f64;
-            pairs.push((size - c, f, h, a, b));
+        let mut parent: HashMap<usize, usize> = HashMap::new();
+        parent.insert(f0, f0);
+        let mut frontier = vec![f0];
+        for depth in 0..=max_quads {
+            let mut next = Vec::new();
+            for &fi in &frontier {
+                for k in 0..faces[fi].len() {
+                    let Some(h) = across(fi, k) else { continue };
+                    if parent.contains_key(&h) || normals[fi].dot(normals[h]) < cos_t {
+                        continue;
+                    }
+                    parent.insert(h, fi);
+                    if odd(&faces[h]) {
+                        if h > f0 {
+                            let mut chain = vec![h];
+                            let mut c = fi;
+                            while c != f0 {
+                                chain.push(c);
+                                c = parent[&c];
+                            }
+                            chain.push(f0);
+                            chains.push((depth, 0, chain));
+                        }
+                    } else if faces[h].len() == 4 && depth < max_quads {
+                        next.push(h);
+                    }
+                }
+            }
+            frontier = next;
         }
     }
-    pairs.sort_by(|x, y| {
-        x.0.total_cmp(&y.0)
-            .then((x.1, x.2, x.3).cmp(&(y.1, y.2, y.3)))
-    });
-    let mut existing: std::collections::HashSet<(u32, u32)> = edges.keys().copied().collect();
+    for (i, c) in chains.iter_mut().enumerate() {
+        c.1 = i;
+    }
+    chains.sort_by_key(|c| (c.0, c.2.len(), c.1));
     let mut dead = vec![false; faces.len()];
     let mut added: Vec<Vec<u32>> = Vec::new();
     let mut merged = 0;
-    for (_, f, h, a, b) in pairs {
-        if dead[f] || dead[h] {
+    let runs = |x: &[u32], p: u32, q: u32| {
+        let n = x.len();
+        (0..n).any(|k| x[k] == p && x[(k + 1) % n] == q)
+    };
+    for (_, _, chain) in chains {
+        if chain.iter().any(|&f| dead[f]) {
             continue;
         }
-        // Orient: f runs a→b or b→a.
-        let runs = |x: &[u32], p: u32, q: u32| {
-            let n = x.len();
-            (0..n).any(|k| x[k] == p && x[(k + 1) % n] == q)
-        };
-        let (f1, f2) = if runs(&faces[f], a, b) {
-            (f, h)
-        } else {
-            (h, f)
-        };
-        if !runs(&faces[f1], a, b) || !runs(&faces[f2], b, a) {
+        // Union polygon, face by face across the shared edge.
+        let mut ring = faces[chain[0]].clone();
+        let mut ok = true;
+        for w in chain.windows(2) {
+            let next = &faces[w[1]];
+            let m = ring.len();
+            let Some(k) = (0..m).find(|&k| runs(next, ring[(k + 1) % m], ring[k])) else {
+                ok = false;
+                break;
+            };
+            // ring runs a→b at k; next runs b→a: splice next's other corners.
+            let (a, b) = (ring[k], ring[(k + 1) % m]);
+            let r = rotate_to(next, a); // [a, .., b]
+            if r.last() != Some(&b) {
+                ok = false;
+                break;
+            }
+            let mut out = ring[..=k].to_vec();
+            out.extend_from_slice(&r[1..r.len() - 1]);
+            out.extend_from_slice(&ring[k + 1..]);
+            ring = out;
+        }
+        if !ok {
             continue;
         }
-        let r1 = rotate_to(&faces[f1], b); // [b, .., a]
-        let r2 = rotate_to(&faces[f2], a); // [a, .., b]
-        let mut ring = r1.clone();
-        ring.extend_from_slice(&r2[1..r2.len() - 1]);
         let mut uniq = ring.clone();
         uniq.sort_unstable();
         uniq.dedup();
-        if uniq.len() != ring.len() {
+        if uniq.len() != ring.len() || ring.len() % 2 != 0 {
             continue;
         }
-        existing.remove(&key(a, b));
+        for &f in &chain {
+            add_pairs(&mut pairs, &faces[f], -1);
+        }
         let mut out = Vec::new();
         super::faces::fill_polygon(
             &g.pos,
             &ring,
-            &|x, y| existing.contains(&key(x, y)),
+            &|x, y| pairs.get(&key(x, y)).is_some_and(|&c| c > 0),
             &mut out,
         );
-        let mut ok = out.iter().all(|q| q.len() == 4);
-        // No new chord may already be an edge (or a diagonal of a new quad).
-        let mut chords = Vec::new();
-        for q in &out {
-            for k in 0..4 {
-                let e = key(q[k], q[(k + 1) % 4]);
-                let on_ring =
-                    (0..ring.len()).any(|i| key(ring[i], ring[(i + 1) % ring.len()]) == e);
-                if !on_ring {
-                    if existing.contains(&e) {
-                        ok = false;
+        let m = ring.len();
+        let on_ring = |e: (u32, u32)| (0..m).any(|i| key(ring[i], ring[(i + 1) % m]) == e);
+        let good = out.iter().all(|q| {
+            if q.len() != 4 {
+                return false;
+            }
+            let p: Vec<DVec3> = q.iter().map(|&v| g.pos[v as usize]).collect();
+            let corners_ok = (0..4).all(|j| {
+                let (u, v) = (p[(j + 3) % 4] - p[j], p[(j + 1) % 4] - p[j]);
+                u.length_squared() > 0.0
+                    && v.length_squared() > 0.0
+                    && (u.angle_between(v).to_degrees() - 90.0).abs() <= 85.0
+            });
+            let n1 = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            let n2 = (p[2] - p[0]).cross(p[3] - p[0]).normalize_or_zero();
+            let n3 = (p[2] - p[1]).cross(p[3] - p[1]).normalize_or_zero();
+            let n4 = (p[3] - p[1]).cross(p[0] - p[1]).normalize_or_zero();
+            let pairs_ok = (0..4).all(|i| {
+                (i + 1..4).all(|j| {
+                    let e = key(q[i], q[j]);
+                    let c = pairs.get(&e).copied().unwrap_or(0);
+                    if j == i + 1 || (i == 0 && j == 3) {
+                        if on_ring(e) { c <= 1 } else { c == 0 }
+                    } else {
+                        c == 0
                     }
-                    chords.push(e);
-                }
+                })
+            });
+            let flat = n1.dot(n2).max(n3.dot(n4)) >= cos_t;
+            corners_ok && flat && pairs_ok
+        });
+        if !good {
+            for &f in &chain {
+                add_pairs(&mut pairs, &faces[f], 1);
             }
-            for (x, y) in [(q[0], q[2]), (q[1], q[3])] {
-                if existing.contains(&key(x, y)) {
-                    ok = false;
-                }
-            }
-        }
-        if !ok {
-            existing.insert(key(a, b));
             continue;
         }
-        existing.extend(chords);
-        dead[f] = true;
-        dead[h] = true;
+        for q in &out {
+            add_pairs(&mut pairs, q, 1);
+        }
+        for &f in &chain {
+            dead[f] = true;
+        }
         added.extend(out);
         merged += 1;
     }
