@@ -15,6 +15,12 @@
 //!   cluster vanished are dropped.
 //! - Each link compares the lattices at their own per-vertex spacing
 //!   (the position field's [`crate::field::ScaleMode::PerVertex`]).
+//! - A collapse is refused when the two clusters' summed normals differ by
+//!   more than 90°: on a part thinner than the lattice spacing (a cow's
+//!   legs) the lattice points of opposite sides coincide, IM joins them and
+//!   the part flattens into a sheet or tears off. Kept apart, both sides
+//!   stay separate vertices and the surface stays closed (IM's own test
+//!   only asks for integer translation 0).
 
 use glam::{DVec3, IVec2, Vec3};
 

@@ -6,7 +6,7 @@
 //! - [`snap`]: thin-triangle snapping, quad diagonals (§5.6, thesis 3.5.2);
 //! - [`faces`]: rotation system, orbits, n-gon splitting, hole loops (§5.7–5.10, thesis 3.5.3);
 //! - [`repair`]: non-manifold repair, orientation, hole filling (thesis 3.6);
-//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, smoothing (thesis 3.7);
+//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, odd-face pairing, smoothing (thesis 3.7);
 //! - [`pure_quad`]: one Catmull–Clark split (§5.11).
 //!
 //! [`extract`] runs clusters → snapping → faces → repair; [`post_process`]
