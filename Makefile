@@ -14,7 +14,9 @@ WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrill
 run: web
 	cargo run --release --example serve -- www $(PORT)
 
-test: native-test wasm-check browser-test
+# The browser tests build the library for wasm32 (release), which is also the
+# wasm build check; `make wasm-check` alone does a quick debug build.
+test: native-test browser-test
 
 ## Native: unit, integration and doc tests.
 native-test:

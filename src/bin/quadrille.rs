@@ -61,6 +61,16 @@ enum Command {
         /// Write the quality metrics and per-stage timings as JSON here.
         #[arg(long)]
         stats: Option<PathBuf>,
+        /// Also fit a Catmull–Clark control mesh to the input (Kloiber §3.8)
+        /// and write it here.
+        #[arg(long)]
+        control: Option<PathBuf>,
+        /// Also write the fitted control mesh's limit surface here.
+        #[arg(long)]
+        limit: Option<PathBuf>,
+        /// Subdivision levels of the written limit surface.
+        #[arg(long, default_value_t = 2)]
+        limit_levels: u32,
         /// Print progress to stderr.
         #[arg(short, long)]
         verbose: bool,
@@ -122,6 +132,9 @@ fn run(cli: Cli) -> Result<(), String> {
             seed,
             params,
             stats,
+            control,
+            limit,
+            limit_levels,
             verbose,
         } => remesh(RemeshArgs {
             input,
@@ -131,6 +144,9 @@ fn run(cli: Cli) -> Result<(), String> {
             seed,
             params,
             stats,
+            control,
+            limit,
+            limit_levels,
             verbose,
         }),
     }
@@ -144,6 +160,9 @@ struct RemeshArgs {
     seed: Option<u64>,
     params: Option<PathBuf>,
     stats: Option<PathBuf>,
+    control: Option<PathBuf>,
+    limit: Option<PathBuf>,
+    limit_levels: u32,
     verbose: bool,
 }
 
@@ -220,6 +239,45 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     let bytes = quadrille::io::write_by_extension(&name, &world, &mesh.to_face_list())
         .map_err(|e| e.to_string())?;
     std::fs::write(&args.output, bytes).map_err(|e| format!("{name}: {e}"))?;
+
+    // The subdivision control mesh (and, for the stats, its limit error
+    // before and after fitting).
+    let fitted = if args.control.is_some() || args.limit.is_some() || args.stats.is_some() {
+        use quadrille::subdivision::{self, FitParams};
+        let t0 = std::time::Instant::now();
+        let fit_params = FitParams::default();
+        let mut progress = quadrille::progress::Progress::new(&mut sink, "fit");
+        let result =
+            subdivision::fit_control_mesh(mesh, &pipeline.input.mesh, &fit_params, &mut progress)
+                .map_err(|e| e.to_string())?;
+        let write = |path: &Path, m: &quadrille::mesh::PolyMesh| -> Result<(), String> {
+            let name = path.display().to_string();
+            let world: Vec<_> = m.positions.iter().map(|&p| frame.to_world(p)).collect();
+            let bytes = quadrille::io::write_by_extension(&name, &world, &m.to_face_list())
+                .map_err(|e| e.to_string())?;
+            std::fs::write(path, bytes).map_err(|e| format!("{name}: {e}"))
+        };
+        if let Some(path) = &args.control {
+            write(path, &result.control)?;
+        }
+        if let Some(path) = &args.limit {
+            if args.limit_levels == fit_params.error_levels {
+                write(path, &result.limit)?;
+            } else {
+                write(
+                    path,
+                    &subdivision::limit_mesh(
+                        &result.control,
+                        args.limit_levels,
+                        fit_params.boundary,
+                    ),
+                )?;
+            }
+        }
+        Some((result.summary, t0.elapsed().as_secs_f64() * 1e3))
+    } else {
+        None
+    };
     if let Some(stats) = &args.stats {
         let t0 = std::time::Instant::now();
         let surface = surface.ok_or("the input has no triangles")?;
@@ -231,6 +289,9 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             timings.insert(stage.name().into(), serde_json::json!(ms));
         }
         timings.insert("metrics".into(), serde_json::json!(metrics_ms));
+        if let Some((_, ms)) = &fitted {
+            timings.insert("fit".into(), serde_json::json!(ms));
+        }
         let extraction = pipeline.extraction.as_ref().map(|e| &e.extracted.report);
         let json = serde_json::json!({
             "input": args.input.display().to_string(),
@@ -244,6 +305,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             "extraction": extraction,
             "postprocess": post.result.report,
             "postprocess_repair": post.result.repair,
+            "limit_surface": fitted.as_ref().map(|(summary, _)| summary),
             "timings_ms": timings,
         });
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
