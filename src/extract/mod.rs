@@ -218,6 +218,7 @@ pub fn post_process(
                 &g,
                 p.pair_non_quads_degrees,
                 p.pair_max_quads,
+                surface,
             );
             report.non_quad_pairs_merged += m;
             if m == 0 {
@@ -247,6 +248,7 @@ pub fn post_process(
                 &g2,
                 p.pair_non_quads_degrees,
                 p.pair_max_quads,
+                surface,
             );
             if m > 0 {
                 report.non_quad_pairs_merged += m;

@@ -491,7 +491,10 @@ pub fn smooth(
 /// when neighbouring faces of the chain lie within `degrees` of each other,
 /// every new quad is reasonable (each corner within 90° ± 60°, its two
 /// halves within `degrees`) and no new edge or diagonal is a vertex pair of
-/// another face (so the rebuild's repair has nothing to undo). Shortest
+/// another face (so the rebuild's repair has nothing to undo), and no new
+/// quad strays further from the input than 1.25 × the chain's worst face
+/// plus 5 % of the edge length (a strip bent across a crease would cut the
+/// corner: the rocker arm's Hausdorff distance tripled without it). Shortest
 /// chains and best-shaped quads go first. Thesis 3.7.3 is the
 /// triangle–triangle case at d = 0 and 10°. Returns the number of merged
 /// chains.
@@ -500,7 +503,19 @@ pub fn pair_non_quads(
     g: &Graph,
     degrees: f64,
     max_quads: usize,
+    surface: Option<&SurfaceIndex>,
 ) -> usize {
+    // How far a face strays from the input: its centroid and the midpoints
+    // of its corners' chords through the centroid.
+    let stray = |f: &[u32]| -> f64 {
+        let Some(s) = surface else { return 0.0 };
+        let c = f.iter().map(|&v| g.pos[v as usize]).sum::<DVec3>() / f.len() as f64;
+        let mut d = s.distance(c);
+        for &v in f {
+            d = d.max(s.distance(0.5 * (c + g.pos[v as usize])));
+        }
+        d
+    };
     let cos_t = degrees.to_radians().cos();
     let odd = |f: &[u32]| f.len() == 3 || f.len() == 5;
     let edges = edge_map(faces);
@@ -650,6 +665,16 @@ pub fn pair_non_quads(
             let flat = n1.dot(n2).max(n3.dot(n4)) >= cos_t;
             corners_ok && flat && pairs_ok
         });
+        // The quads may not approximate the input worse than the chain did
+        // (a strip across a crease would cut the corner).
+        let good = good && {
+            let before = chain.iter().map(|&f| stray(&faces[f])).fold(0.0, f64::max);
+            let edge = (0..m)
+                .map(|i| g.pos[ring[i] as usize].distance(g.pos[ring[(i + 1) % m] as usize]))
+                .sum::<f64>()
+                / m as f64;
+            out.iter().all(|q| stray(q) <= 1.25 * before + 0.05 * edge)
+        };
         if !good {
             for &f in &chain {
                 add_pairs(&mut pairs, &faces[f], 1);
