@@ -97,6 +97,8 @@ struct Workspace {
     /// predecessor.
     cand: Vec<(f32, u32)>,
     path: Vec<u32>,
+    /// Source of the path that settled each node (multi-source search).
+    label: Vec<u32>,
 }
 
 /// The loop engine: g and g′ built once per mesh, then queries.
@@ -129,6 +131,7 @@ impl LoopEngine {
             ws: Workspace {
                 dist: vec![0.0; nodes],
                 parent: vec![NONE; nodes],
+                label: vec![NONE; nodes],
                 stamp: vec![0; nodes],
                 done: vec![0; nodes],
                 ..Workspace::default()
@@ -459,17 +462,102 @@ impl LoopEngine {
                 }
             }
         }
-        for &b in &sources {
-            self.search(b, v, Some(b), limit, f32::INFINITY);
-            let (c, pred) = self.cand_of(v, b);
-            if pred != NONE && c < limit {
-                limit = c;
-                let mut path = std::mem::take(&mut self.ws.path);
-                path.clear();
-                self.collect_path(pred, &mut path);
-                best = Some((c, Kind::Closed(path.clone())));
-                self.ws.path = path;
+        // One labelled multi-source search finds the best closing direction
+        // (approximately: each node keeps only its cheapest source), then an
+        // exact single-source search from that direction yields the loop.
+        let Some((approx, b)) = self.search_labelled(&sources, v, limit) else {
+            return best;
+        };
+        let bound = approx * (1.0 + 1e-5) + 1e-6;
+        self.search(b, v, Some(b), bound, f32::INFINITY);
+        let (c, pred) = self.cand_of(v, b);
+        if pred != NONE && c < limit {
+            let mut path = std::mem::take(&mut self.ws.path);
+            path.clear();
+            self.collect_path(pred, &mut path);
+            best = Some((c, Kind::Closed(path.clone())));
+            self.ws.path = path;
+        }
+        best
+    }
+
+    /// Multi-source A* from all `sources` (out-edges of `goal`) back to
+    /// `goal`; a node closes a loop when an arc leads from it to the source
+    /// whose path settled it. Returns the best closing cost and its source.
+    fn search_labelled(&mut self, sources: &[u32], goal: usize, bound: f32) -> Option<(f32, u32)> {
+        let graph = &self.graph;
+        let g = &graph.g;
+        let ws = &mut self.ws;
+        let row = g.out_edges(goal);
+        if row.is_empty() || sources.is_empty() {
+            return None;
+        }
+        ws.generation = ws.generation.wrapping_add(1);
+        if ws.generation == 0 {
+            ws.stamp.fill(0);
+            ws.done.fill(0);
+            ws.generation = 1;
+        }
+        let now = ws.generation;
+        let goal_p = g.mesh.positions[goal].as_vec3();
+        let radius = row
+            .clone()
+            .map(|e| graph.midpoint[e].distance(goal_p))
+            .fold(0.0f32, f32::max);
+        let h = |x: usize| 0.9 * (graph.midpoint[x].distance(goal_p) - radius).max(0.0);
+        ws.heap.clear();
+        for &b in sources {
+            let b = b as usize;
+            if self.disabled[b] {
+                continue;
             }
+            ws.dist[b] = 0.0;
+            ws.parent[b] = NONE;
+            ws.label[b] = b as u32;
+            ws.stamp[b] = now;
+            ws.heap.push(Reverse(key(h(b), b as u32)));
+        }
+        let mut best: Option<(f32, u32)> = None;
+        let mut threshold = bound;
+        while let Some(Reverse(k)) = ws.heap.pop() {
+            let x = (k & 0xffff_ffff) as usize;
+            if ws.done[x] == now {
+                continue;
+            }
+            if f32::from_bits((k >> 32) as u32) >= threshold {
+                break;
+            }
+            ws.done[x] = now;
+            let d = ws.dist[x];
+            let lx = ws.label[x];
+            if g.target[x] as usize == goal && graph.is_arc(x, lx as usize) {
+                let c = d + graph.arc_weight(x, lx as usize);
+                if c < threshold {
+                    threshold = c;
+                    best = Some((c, lx));
+                }
+            }
+            let disabled = &self.disabled;
+            let (dist, parent, stamp, heap, label) = (
+                &mut ws.dist,
+                &mut ws.parent,
+                &mut ws.stamp,
+                &mut ws.heap,
+                &mut ws.label,
+            );
+            graph.for_each_successor(x, |y| {
+                if disabled[y] {
+                    return;
+                }
+                let nd = d + graph.arc_weight(x, y);
+                if stamp[y] != now || nd < dist[y] {
+                    stamp[y] = now;
+                    dist[y] = nd;
+                    parent[y] = x as u32;
+                    label[y] = lx;
+                    heap.push(Reverse(key(nd + h(y), y as u32)));
+                }
+            });
         }
         best
     }
