@@ -82,6 +82,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{:<34} {:>9.1} ms", "total (defaults)", timer.total * 1e3);
     println!();
     // Alternatives, not part of the total above.
+    let regions = timed!(
+        "smooth regions + significance",
+        analysis::smooth_regions::smooth_regions(
+            mesh,
+            &curvature,
+            &analysis::smooth_regions::SmoothRegionParams::default()
+        )
+    );
+    println!(
+        "  {} regions, {} kept at 70°, {} cyclic",
+        regions.region_count(),
+        regions.filtered.iter().filter(|&&f| f).count(),
+        regions.cyclic.iter().filter(|&&c| c).count()
+    );
     let _ = timed!(
         "curvature (discrete sums, 1-ring)",
         analysis::principal_curvatures(
