@@ -404,16 +404,13 @@ fn check_shared(name: &str, source: &str, reference: &quadrille::io::Imported, q
         s.before.stats.mean,
         s.after.stats.mean
     );
-    // Thesis semantics: at most 20 iterations. The moves shrink
-    // geometrically (about ×0.85 per iteration; the slowest mode of the
-    // limit stencil is the checkerboard one, factor 8/9); on fandisk's
-    // sharp creases, which a smooth limit surface can only approach, the
-    // 1e-4 tolerance is reached around iteration 20, so require that the
-    // last move is within a few tolerances and far below the first.
-    let (first, last) = (s.max_move[0], *s.max_move.last().unwrap());
-    assert!(s.iterations <= 20, "{name}");
+    // Thesis semantics: converged (largest move below 1e-4 of the largest
+    // axis) within 20 iterations. The moves shrink geometrically (about
+    // ×0.85 per iteration; the slowest mode of the limit stencil is the
+    // checkerboard one); measured: fandisk 17 (ours) and 20 (Instant
+    // Meshes' quads), bunny 18 and 14.
     assert!(
-        s.converged || (last < 5e-4 && last < 0.01 * first),
+        s.converged && s.iterations <= 20,
         "{name}: {:?}",
         s.max_move
     );
