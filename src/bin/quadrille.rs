@@ -42,39 +42,7 @@ enum Command {
     },
     /// Run the whole pipeline and write the quad-dominant mesh (OBJ, PLY or
     /// OFF by the output's extension, polygons kept).
-    Remesh {
-        input: PathBuf,
-        #[arg(short, long)]
-        output: PathBuf,
-        /// Target vertex count (default: input vertices / 16).
-        #[arg(long, conflicts_with = "edge_length")]
-        vertices: Option<usize>,
-        /// Global target edge length in the file's units (overrides the count).
-        #[arg(long)]
-        edge_length: Option<f64>,
-        /// Seed of the random initialisation.
-        #[arg(long)]
-        seed: Option<u64>,
-        /// Pipeline parameters as JSON (every field optional).
-        #[arg(long)]
-        params: Option<PathBuf>,
-        /// Write the quality metrics and per-stage timings as JSON here.
-        #[arg(long)]
-        stats: Option<PathBuf>,
-        /// Also fit a Catmull–Clark control mesh to the input (Kloiber §3.8)
-        /// and write it here.
-        #[arg(long)]
-        control: Option<PathBuf>,
-        /// Also write the fitted control mesh's limit surface here.
-        #[arg(long)]
-        limit: Option<PathBuf>,
-        /// Subdivision levels of the written limit surface.
-        #[arg(long, default_value_t = 2)]
-        limit_levels: u32,
-        /// Print progress to stderr.
-        #[arg(short, long)]
-        verbose: bool,
-    },
+    Remesh(RemeshArgs),
     /// Fit a Catmull–Clark control mesh to a reference surface, starting
     /// from any polygon mesh (a retopology, another remesher's output):
     /// one subdivision step, then Kloiber §3.8's normal-offset iterations.
@@ -124,45 +92,42 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Metrics { mesh, reference } => metrics_of(&mesh, &reference),
         Command::Fit(args) => fit(args),
-        Command::Remesh {
-            input,
-            output,
-            vertices,
-            edge_length,
-            seed,
-            params,
-            stats,
-            control,
-            limit,
-            limit_levels,
-            verbose,
-        } => remesh(RemeshArgs {
-            input,
-            output,
-            vertices,
-            edge_length,
-            seed,
-            params,
-            stats,
-            control,
-            limit,
-            limit_levels,
-            verbose,
-        }),
+        Command::Remesh(args) => remesh(args),
     }
 }
 
+#[derive(clap::Args)]
 struct RemeshArgs {
     input: PathBuf,
+    #[arg(short, long)]
     output: PathBuf,
+    /// Target vertex count (default: input vertices / 16).
+    #[arg(long, conflicts_with = "edge_length")]
     vertices: Option<usize>,
+    /// Global target edge length in the file's units (overrides the count).
+    #[arg(long)]
     edge_length: Option<f64>,
+    /// Seed of the random initialisation.
+    #[arg(long)]
     seed: Option<u64>,
+    /// Pipeline parameters as JSON (every field optional).
+    #[arg(long)]
     params: Option<PathBuf>,
+    /// Write the quality metrics and per-stage timings as JSON here.
+    #[arg(long)]
     stats: Option<PathBuf>,
+    /// Also fit a Catmull–Clark control mesh to the input (Kloiber §3.8)
+    /// and write it here.
+    #[arg(long)]
     control: Option<PathBuf>,
+    /// Also write the fitted control mesh's limit surface here.
+    #[arg(long)]
     limit: Option<PathBuf>,
+    /// Subdivision levels of the written limit surface.
+    #[arg(long, default_value_t = 2)]
     limit_levels: u32,
+    /// Print progress to stderr.
+    #[arg(short, long)]
     verbose: bool,
 }
 

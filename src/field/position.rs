@@ -36,6 +36,22 @@ pub enum ScaleMode {
     PerVertex,
 }
 
+impl ScaleMode {
+    /// The lattice spacings used when vertex `i` (spacing `si`) meets its
+    /// neighbour `j` (spacing `sj`).
+    #[inline]
+    pub fn spacings(self, si: f32, sj: f32) -> (f32, f32) {
+        match self {
+            ScaleMode::PerVertex => (si, sj),
+            ScaleMode::ReferencePoint => (si, si),
+            ScaleMode::Average => {
+                let m = 0.5 * (si + sj);
+                (m, m)
+            }
+        }
+    }
+}
+
 /// Solves the position field coarse to fine. `q` holds the orientation
 /// field per level, `scale` the lattice spacing per level. Returns the
 /// lattice origins of level 0.
@@ -131,14 +147,7 @@ fn update(
     let mut sum = o[i];
     let mut wsum = 0.0f32;
     for (j, w) in level.links.of(i) {
-        let (s0, s1) = match mode {
-            ScaleMode::PerVertex => (si, scale[j]),
-            ScaleMode::ReferencePoint => (si, si),
-            ScaleMode::Average => {
-                let m = 0.5 * (si + scale[j]);
-                (m, m)
-            }
-        };
+        let (s0, s1) = mode.spacings(si, scale[j]);
         let l0 = Lattice {
             p: v,
             n,
@@ -179,14 +188,7 @@ fn update_aligned(
     let (mut x, mut y) = ((o[i] - v).dot(across), (o[i] - v).dot(along));
     let (mut wx, mut wy) = (0.0f32, 0.0f32);
     for (j, w) in level.links.of(i) {
-        let (s0, s1) = match mode {
-            ScaleMode::PerVertex => (si, scale[j]),
-            ScaleMode::ReferencePoint => (si, si),
-            ScaleMode::Average => {
-                let m = 0.5 * (si + scale[j]);
-                (m, m)
-            }
-        };
+        let (s0, s1) = mode.spacings(si, scale[j]);
         let l0 = Lattice {
             p: v,
             n,
