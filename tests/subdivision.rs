@@ -19,20 +19,7 @@ use quadrille::subdivision::{
 };
 
 fn unit_cube() -> PolyMesh {
-    let p = (0..8)
-        .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-        .collect();
-    let mut faces = FaceList::new();
-    for q in [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ] {
-        faces.push(&q);
-    }
+    let (p, faces) = quadrille::mesh::generate::unit_cube_quads();
     PolyMesh::from_faces(p, &faces).unwrap()
 }
 

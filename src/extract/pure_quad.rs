@@ -65,20 +65,7 @@ mod tests {
 
     #[test]
     fn cube_split_has_24_quads_and_stays_closed() {
-        let p: Vec<DVec3> = (0..8)
-            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-            .collect();
-        let mut faces = FaceList::new();
-        for q in [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
-            faces.push(&q);
-        }
+        let (p, faces) = crate::mesh::generate::unit_cube_quads();
         let cube = PolyMesh::from_faces(p, &faces).unwrap();
         let split = catmull_clark_split(&cube, None).unwrap();
         split.validate().unwrap();

@@ -101,6 +101,35 @@ struct Workspace {
     label: Vec<u32>,
 }
 
+impl Workspace {
+    /// Starts a search: a new stamp marks the entries it writes, so nothing
+    /// has to be cleared (all stamps are reset once every 2³² searches).
+    fn next_generation(&mut self) -> u32 {
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.done.fill(0);
+            self.generation = 1;
+        }
+        self.generation
+    }
+}
+
+impl ElasticaGraph {
+    /// An admissible lower bound of the cost from g′ node `x` to a g-edge
+    /// leaving vertex `goal`: 0.9 × the distance from `x`'s midpoint to the
+    /// ball around `goal` holding the midpoints of its out-edges.
+    fn heuristic_to(&self, goal: usize) -> impl Fn(usize) -> f32 + '_ {
+        let goal_p = self.g.mesh.positions[goal].as_vec3();
+        let radius = self
+            .g
+            .out_edges(goal)
+            .map(|e| self.midpoint[e].distance(goal_p))
+            .fold(0.0f32, f32::max);
+        move |x: usize| 0.9 * (self.midpoint[x].distance(goal_p) - radius).max(0.0)
+    }
+}
+
 /// The loop engine: g and g′ built once per mesh, then queries.
 pub struct LoopEngine {
     pub graph: ElasticaGraph,
@@ -492,19 +521,8 @@ impl LoopEngine {
         if row.is_empty() || sources.is_empty() {
             return None;
         }
-        ws.generation = ws.generation.wrapping_add(1);
-        if ws.generation == 0 {
-            ws.stamp.fill(0);
-            ws.done.fill(0);
-            ws.generation = 1;
-        }
-        let now = ws.generation;
-        let goal_p = g.mesh.positions[goal].as_vec3();
-        let radius = row
-            .clone()
-            .map(|e| graph.midpoint[e].distance(goal_p))
-            .fold(0.0f32, f32::max);
-        let h = |x: usize| 0.9 * (graph.midpoint[x].distance(goal_p) - radius).max(0.0);
+        let now = ws.next_generation();
+        let h = graph.heuristic_to(goal);
         ws.heap.clear();
         for &b in sources {
             let b = b as usize;
@@ -661,19 +679,8 @@ impl LoopEngine {
         if self.disabled.get(source as usize).is_none_or(|&d| d) || row.is_empty() {
             return;
         }
-        ws.generation = ws.generation.wrapping_add(1);
-        if ws.generation == 0 {
-            ws.stamp.fill(0);
-            ws.done.fill(0);
-            ws.generation = 1;
-        }
-        let stamp_now = ws.generation;
-        let goal_p = g.mesh.positions[goal].as_vec3();
-        let radius = row
-            .clone()
-            .map(|e| graph.midpoint[e].distance(goal_p))
-            .fold(0.0f32, f32::max);
-        let h = |x: usize| 0.9 * (graph.midpoint[x].distance(goal_p) - radius).max(0.0);
+        let stamp_now = ws.next_generation();
+        let h = graph.heuristic_to(goal);
         ws.heap.clear();
         ws.dist[source as usize] = 0.0;
         ws.parent[source as usize] = NONE;

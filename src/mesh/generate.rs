@@ -10,7 +10,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec3;
 
-use super::TriMesh;
+use super::{FaceList, TriMesh};
 
 /// Sphere of `radius` about the origin: an icosahedron whose faces are split
 /// into four `subdivisions` times, vertices projected onto the sphere.
@@ -284,4 +284,24 @@ pub fn rounded_box(half: f64, radius: f64, flat_cells: u32, fillet_cells: u32) -
         positions,
         triangles,
     }
+}
+
+/// The unit cube [0, 1]³ as six outward-oriented quads (vertex `i` at
+/// `(i & 1, i >> 1 & 1, i >> 2 & 1)`).
+pub fn unit_cube_quads() -> (Vec<DVec3>, FaceList) {
+    let p = (0..8)
+        .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
+        .collect();
+    let mut faces = FaceList::new();
+    for q in [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ] {
+        faces.push(&q);
+    }
+    (p, faces)
 }
