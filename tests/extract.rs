@@ -100,7 +100,12 @@ fn bunny_keeps_its_holes_and_gains_none() {
 #[test]
 fn messy_inputs_finish_manifold() {
     for name in ["beetle.obj", "teapot.obj", "suzanne.obj"] {
-        check(name);
+        let o = check(name);
+        // Suzanne's default target is 31 vertices for a head with ears:
+        // its remaining odd faces sit between faces folded > 120° apart.
+        if name != "suzanne.obj" {
+            assert!(o.non_quad <= 10.0, "{name}: {:.1} % non-quads", o.non_quad);
+        }
     }
 }
 

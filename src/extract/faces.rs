@@ -157,9 +157,127 @@ pub fn fill_polygon(
     }
 }
 
+/// The best quadrangulation of the polygon `ring` (an even number of
+/// distinct corners): of all ways to split it into quads whose corners are
+/// ring corners in ring order, the one with the smallest total
+/// `quad_cost`, where `None` forbids a quad. Returns `None` when no
+/// quadrangulation avoids forbidden quads. Interval dynamic programming
+/// over the ring: the sub-polygon `i..=j` is closed by the chord (i, j)
+/// and split by the quad (i, a, b, j); O(m⁴) for m corners, meant for the
+/// short rings of odd-face pairing (m ≤ ~20), where the greedy
+/// [`fill_polygon`] can pick a first quad that leaves no valid rest.
+pub fn best_quadrangulation(
+    ring: &[u32],
+    quad_cost: &mut dyn FnMut([u32; 4]) -> Option<f64>,
+) -> Option<Vec<[u32; 4]>> {
+    let m = ring.len();
+    if m < 4 || m % 2 != 0 {
+        return None;
+    }
+    // cost[i][j]: best split of corners i..=j (j − i odd) closed by (i, j);
+    // choice[i][j]: the quad's inner corners (a, b).
+    let mut cost = vec![vec![f64::INFINITY; m]; m];
+    let mut choice = vec![vec![(0usize, 0usize); m]; m];
+    for i in 0..m - 1 {
+        cost[i][i + 1] = 0.0;
+    }
+    for len in (3..m).step_by(2) {
+        for i in 0..m - len {
+            let j = i + len;
+            for a in (i + 1..j).step_by(2) {
+                if cost[i][a].is_infinite() {
+                    continue;
+                }
+                for b in (a + 1..j).step_by(2) {
+                    let rest = cost[i][a] + cost[a][b] + cost[b][j];
+                    if rest.is_infinite() || rest >= cost[i][j] {
+                        continue;
+                    }
+                    let Some(q) = quad_cost([ring[i], ring[a], ring[b], ring[j]]) else {
+                        continue;
+                    };
+                    if rest + q < cost[i][j] {
+                        cost[i][j] = rest + q;
+                        choice[i][j] = (a, b);
+                    }
+                }
+            }
+        }
+    }
+    if cost[0][m - 1].is_infinite() {
+        return None;
+    }
+    let mut quads = Vec::with_capacity((m - 2) / 2);
+    let mut stack = vec![(0, m - 1)];
+    while let Some((i, j)) = stack.pop() {
+        if j == i + 1 {
+            continue;
+        }
+        let (a, b) = choice[i][j];
+        quads.push([ring[i], ring[a], ring[b], ring[j]]);
+        stack.extend([(i, a), (a, b), (b, j)]);
+    }
+    Some(quads)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn best_quadrangulation_avoids_a_forbidden_greedy_choice() {
+        // A 3×1 strip of unit squares as an 8-gon: the only quadrangulation
+        // into convex quads is the three squares; forbidding the middle one
+        // leaves none.
+        let pos: Vec<DVec3> = [
+            (0, 0),
+            (1, 0),
+            (2, 0),
+            (3, 0),
+            (3, 1),
+            (2, 1),
+            (1, 1),
+            (0, 1),
+        ]
+        .iter()
+        .map(|&(x, y)| DVec3::new(x as f64, y as f64, 0.0))
+        .collect();
+        let ring: Vec<u32> = (0..8).collect();
+        let convex = |q: [u32; 4]| -> bool {
+            (0..4).all(|k| {
+                let (a, b, c) = (
+                    pos[q[k] as usize],
+                    pos[q[(k + 1) % 4] as usize],
+                    pos[q[(k + 2) % 4] as usize],
+                );
+                (b - a).cross(c - b).z > 1e-9
+            })
+        };
+        let quads = best_quadrangulation(&ring, &mut |q| convex(q).then(|| quad_score(&pos, q)))
+            .expect("the strip has a quadrangulation");
+        let mut got: Vec<Vec<u32>> = quads
+            .iter()
+            .map(|q| {
+                let mut v = q.to_vec();
+                v.sort();
+                v
+            })
+            .collect();
+        got.sort();
+        assert_eq!(
+            got,
+            vec![vec![0, 1, 6, 7], vec![1, 2, 5, 6], vec![2, 3, 4, 5]]
+        );
+        let mid = [1u32, 2, 5, 6];
+        let none = best_quadrangulation(&ring, &mut |q| {
+            let mut s = q;
+            s.sort();
+            (convex(q) && s != mid).then(|| quad_score(&pos, q))
+        });
+        assert!(none.is_none());
+        // Odd rings have no quadrangulation.
+        assert!(best_quadrangulation(&[0, 1, 2, 3, 4], &mut |_| Some(0.0)).is_none());
+    }
 
     #[test]
     fn hexagon_becomes_two_rectangles() {
