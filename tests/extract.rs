@@ -65,16 +65,14 @@ fn check(name: &str) -> Outcome {
         o.genus,
         o.max_degree
     );
-    // Vertex count within 10 % of the target (meshes big enough to hold it).
-    if o.target >= 100 {
-        let miss = (o.vertices as f64 - o.target as f64).abs() / o.target as f64;
-        assert!(
-            miss <= 0.10,
-            "{name}: {} vs target {}",
-            o.vertices,
-            o.target
-        );
-    }
+    // Vertex count within 10 % of the target.
+    let miss = (o.vertices as f64 - o.target as f64).abs() / o.target as f64;
+    assert!(
+        miss <= 0.10,
+        "{name}: {} vs target {}",
+        o.vertices,
+        o.target
+    );
     assert!(o.max_degree <= 8, "{name}: face of degree {}", o.max_degree);
     o
 }
@@ -102,10 +100,8 @@ fn messy_inputs_finish_manifold() {
     for name in ["beetle.obj", "teapot.obj", "suzanne.obj"] {
         let o = check(name);
         // Suzanne's default target is 31 vertices for a head with ears:
-        // its remaining odd faces sit between faces folded > 120° apart.
-        if name != "suzanne.obj" {
-            assert!(o.non_quad <= 10.0, "{name}: {:.1} % non-quads", o.non_quad);
-        }
+        // the first seed leaves 12.9 % odd faces, a restart meets the gate.
+        assert!(o.non_quad <= 10.0, "{name}: {:.1} % non-quads", o.non_quad);
     }
 }
 

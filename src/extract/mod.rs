@@ -52,6 +52,10 @@ pub struct ExtractionParams {
     pub vertex_count_correction: bool,
     /// Default 0.05 (5 %).
     pub count_tolerance: f64,
+    /// Extra attempts (position field from the next seeds) when the result
+    /// misses the quality gate: vertex count within 10 % of the target and
+    /// at most 10 % non-quad faces; the best attempt is kept. Default 3.
+    pub restarts: usize,
     pub post: PostProcessParams,
     /// One Catmull–Clark split at the end (all quads). Default off.
     pub pure_quad: bool,
@@ -66,6 +70,7 @@ impl Default for ExtractionParams {
             fan_large_holes: true,
             vertex_count_correction: true,
             count_tolerance: 0.05,
+            restarts: 3,
             post: PostProcessParams::default(),
             pure_quad: false,
         }
@@ -85,6 +90,10 @@ pub struct ExtractionReport {
     pub repair: RepairReport,
     /// Scale factor of the vertex-count correction (1 when not applied).
     pub scale_correction: f64,
+    /// Extraction attempts made (see [`ExtractionParams::restarts`]).
+    pub attempts: usize,
+    /// Seed of the position field the kept attempt was extracted from.
+    pub position_seed: u64,
 }
 
 /// The extracted mesh with per-vertex attributes (`graph` vertex `k` is
