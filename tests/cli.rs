@@ -81,3 +81,21 @@ fn remesh_writes_quads_control_mesh_limit_surface_and_stats() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn info_into_a_closed_pipe_is_not_a_panic() {
+    // `quadrille info x.obj | head -1`: the reader goes away before the
+    // report is written.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .arg("info")
+        .arg(shared("stanford-bunny.obj"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

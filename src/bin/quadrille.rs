@@ -60,6 +60,16 @@ fn main() -> ExitCode {
     }
 }
 
+/// Writes a report to standard output; a reader that closed the pipe
+/// early (`quadrille info x.obj | head`) is not an error.
+fn print_stdout(text: &str) -> Result<(), String> {
+    use std::io::Write;
+    match writeln!(std::io::stdout().lock(), "{text}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(format!("stdout: {e}")),
+        _ => Ok(()),
+    }
+}
+
 fn import(path: &Path) -> Result<quadrille::io::Imported, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
     quadrille::io::import(&bytes, &path.display().to_string()).map_err(|e| e.to_string())
@@ -74,8 +84,7 @@ fn run(cli: Cli) -> Result<(), String> {
             } else {
                 serde_json::to_string_pretty(&imported.report)
             };
-            println!("{}", json.map_err(|e| e.to_string())?);
-            Ok(())
+            print_stdout(&json.map_err(|e| e.to_string())?)
         }
         Command::Convert { input, output } => {
             let imported = import(&input)?;
@@ -339,11 +348,7 @@ fn metrics_of(mesh: &Path, reference: &Path) -> Result<(), String> {
             })
         }
     };
-    println!(
-        "{}",
-        serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?
-    );
-    Ok(())
+    print_stdout(&serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?)
 }
 
 #[derive(clap::Args)]
