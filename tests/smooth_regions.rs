@@ -188,8 +188,6 @@ fn alignment_quality(name: &str, mode: quadrille::pipeline::AlignmentMode) -> (u
 
 #[test]
 fn smooth_region_alignment_follows_principal_directions_better_on_cad_parts() {
-    // Singularity counts are printed, not asserted: smooth regions give a
-    // few more than feature vertices today (see the issue note).
     use quadrille::pipeline::AlignmentMode;
     for name in ["fandisk.obj", "rocker-arm.obj"] {
         for mode in [AlignmentMode::None, AlignmentMode::Both] {
@@ -203,5 +201,9 @@ fn smooth_region_alignment_follows_principal_directions_better_on_cad_parts() {
         );
         assert!(faces > 0, "{name}: no region selected");
         assert!(m_reg < m_feat, "{name}: misalignment {m_reg}° vs {m_feat}°");
+        assert!(
+            s_reg <= s_feat,
+            "{name}: {s_reg} singularities with smooth regions vs {s_feat} with feature vertices"
+        );
     }
 }
