@@ -36,6 +36,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::mesh::{FaceAdjacency, TriMesh, VertexAdjacency};
 use crate::sizing::{self, SizingContext, SizingParams};
+use crate::progress::{Cancelled, Progress};
 
 pub use areas::barycentric_cell_areas;
 pub use averaging::{AveragingMethod, AveragingParams, average_curvature};
@@ -104,17 +105,37 @@ pub fn analyze(
     params: &AnalysisParams,
     sizing_params: &SizingParams,
 ) -> SurfaceAnalysis {
+    crate::progress::silently("analysis", |progress| {
+        analyze_with_progress(mesh, params, sizing_params, progress)
+    })
+    .expect("a silent sink never cancels")
+}
+
+/// [`analyze`], reporting progress (inside the curvature estimation, the
+/// longest part, and between the steps) and stopping when the sink cancels.
+pub fn analyze_with_progress(
+    mesh: &TriMesh,
+    params: &AnalysisParams,
+    sizing_params: &SizingParams,
+    progress: &mut Progress<'_>,
+) -> Result<SurfaceAnalysis, Cancelled> {
+    progress.report(0.0, "adjacency and normals")?;
     let adjacency = VertexAdjacency::new(mesh);
     let face_adjacency = FaceAdjacency::new(mesh);
     let face_normals = face_normals(mesh);
     let vertex_normals = vertex_normals(mesh, params.normal_weighting);
     let cell_areas = barycentric_cell_areas(mesh);
-    let curvature = principal_curvatures(
+    progress.report(0.05, "principal curvatures")?;
+    let curvature = curvature::principal_curvatures_with_progress(
         &mesh.positions,
         &vertex_normals,
         &adjacency,
         &params.curvature,
-    );
+        progress,
+        0.05,
+        0.7,
+    )?;
+    progress.report(0.7, "curvature averaging and sizing field")?;
     let selected = select_curvature(&curvature, params.selection);
     let averaged = average_curvature(&selected, &adjacency, &params.averaging);
     let context = SizingContext::for_mesh(mesh, &averaged, sizing_params);
@@ -133,7 +154,9 @@ pub fn analyze(
             .map(|(a, b)| [a, b])
             .collect()
     });
+    progress.report(0.8, "feature vertices")?;
     let features = feature_vertices(&curvature, &adjacency, &params.features);
+    progress.report(0.85, "filtered normals")?;
     let fp = &params.filtered_normals;
     let filtered = match fp.mode {
         FilteredNormalsMode::Off => face_normals.clone(),
@@ -156,7 +179,7 @@ pub fn analyze(
             )
         }
     };
-    SurfaceAnalysis {
+    Ok(SurfaceAnalysis {
         adjacency,
         face_adjacency,
         face_normals,
@@ -172,5 +195,5 @@ pub fn analyze(
         },
         features,
         filtered_normals: filtered,
-    }
+    })
 }

@@ -122,6 +122,23 @@ impl Viewer {
         Ok(())
     }
 
+    /// Swaps the drawn surface (e.g. the input for the limit surface) and
+    /// keeps the camera and every line and point layer; the scalar is
+    /// dropped (the page sets the one that belongs to the new surface).
+    pub fn replace_surface(
+        &mut self,
+        positions: &[f32],
+        triangles: &[u32],
+        normals: &[f32],
+    ) -> Result<(), JsError> {
+        let surface = Surface::new(positions, triangles, normals).map_err(js)?;
+        let colors = vec![PLAIN; surface.positions.len()];
+        self.gpu.set_surface(Some((&surface, &colors)));
+        self.surface = Some(surface);
+        self.scalar = None;
+        Ok(())
+    }
+
     /// Colours the surface by a per-vertex scalar through `colormap`
     /// ("viridis" or "violet-green") over [`min`, `max`] (NaN: the values' range).
     pub fn set_scalar(
