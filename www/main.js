@@ -137,7 +137,8 @@ const STYLES = {
   'position field': { key: 'l', color: '#6a3d9a', size: 3, hidden: true },
   'position singularities': { key: 'k', color: '#1b9e4b', size: 8, hidden: true },
   'control cage': { key: 'w', color: '#3b6fd8', hidden: true },
-  'limit surface': { key: 'u', color: '#9970ab', color2: '#5aae61' },
+  'quad mesh faces': { key: 'a', color: '#d5dbe6', color2: '#f28e2b' },
+  'limit surface': { key: 'u', color: '#9970ab', color2: '#5aae61', hidden: true },
 };
 // Meshes with more segments than this open with the layer hidden.
 const DENSE = 30000;
@@ -159,7 +160,8 @@ function setLayerVisible(name, visible) {
   const layer = LAYERS.find((l) => l.name === name);
   if (!layer) return;
   layer.visible = visible;
-  if (name === 'limit surface') {
+  if (layer.kind === 'surface') {
+    if (visible) for (const l of LAYERS) if (l.kind === 'surface' && l !== layer) l.visible = false;
     showSurface();
     return;
   }
@@ -170,7 +172,7 @@ function setLayerVisible(name, visible) {
 
 function setScalar(name) {
   scalarName = name in scalars ? name : null;
-  if (viewer) {
+  if (viewer && drawnSurface === 'input') {
     try {
       if (scalarName) {
         const s = scalars[scalarName];
@@ -216,7 +218,14 @@ function updateLayersPanel() {
         option.selected = (scalarName || 'none') === name;
         select.append(option);
       }
-      select.addEventListener('change', () => setScalar(select.value));
+      select.addEventListener('change', () => {
+        setScalar(select.value);
+        // The scalars belong to the input: show it.
+        if (drawnSurface !== 'input') {
+          for (const l of LAYERS) if (l.kind === 'surface') l.visible = false;
+          showSurface();
+        }
+      });
       li.append(select);
     }
     if (layer.key) {
@@ -240,7 +249,8 @@ function updateLegend() {
   el.querySelector('.legend-bar').style.background = `linear-gradient(to right, ${legend.stops.join(', ')})`;
   el.querySelector('.min').textContent = formatNumber(legend.min);
   el.querySelector('.max').textContent = formatNumber(legend.max);
-  el.querySelector('.mid').textContent = formatNumber((legend.min + legend.max) / 2);
+  el.querySelector('.mid').textContent = legend.colormap === 'face-degree' ? '4 · 5' : formatNumber((legend.min + legend.max) / 2);
+  if (legend.colormap === 'face-degree') el.querySelector('.max').textContent = '6+';
 }
 
 const formatNumber = (x) => Number(x.toPrecision(3)).toString();
@@ -251,25 +261,31 @@ const dpr = () => window.devicePixelRatio || 1;
 // ---------------------------------------------------------------- results
 
 let meshInfo = null; // { name, vertices } of the mesh on screen
-let inputSurface = null; // the import's arrays, kept to swap back from the limit surface
-let limitSurface = null; // { positions, triangles, normals, scalar } from the fit stage
+let inputSurface = null; // the import's arrays, kept to swap back
+// Result surfaces by layer name ('quad mesh faces', 'limit surface'):
+// { positions, triangles, normals, scalar } from the worker.
+let extraSurfaces = {};
+let drawnSurface = 'input';
 
-// The drawn surface is the input's, or the limit surface (coloured by its
-// signed error) while that layer is on.
+// The drawn surface is the input's (with the chosen scalar), or one result
+// surface with its own colouring (faces by degree, limit surface by its
+// signed error) while that layer is on; at most one is on.
 function showSurface() {
   if (!viewer || !inputSurface) return;
-  const limitOn = limitSurface && LAYERS.find((l) => l.name === 'limit surface')?.visible;
-  const s = limitOn ? limitSurface : inputSurface;
+  const on = LAYERS.find((l) => l.kind === 'surface' && l.visible && extraSurfaces[l.name]);
+  const name = on ? on.name : 'input';
+  const s = on ? extraSurfaces[name] : inputSurface;
   try {
     viewer.replace_surface(s.positions, s.triangles, s.normals);
-    if (limitOn) {
+    drawnSurface = name;
+    if (on) {
       const e = s.scalar;
       viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
     } else {
       setScalar(scalarName);
     }
   } catch (error) {
-    showError(`could not show the ${limitOn ? 'limit' : 'input'} surface: ${error.message}`);
+    showError(`could not show the ${name} surface: ${error.message}`);
   }
   updateLayersPanel();
   requestRender();
@@ -284,7 +300,8 @@ function showMesh(name, mesh) {
   if (!viewer) return;
   try {
     inputSurface = mesh;
-    limitSurface = null;
+    extraSurfaces = {};
+    drawnSurface = 'input';
     viewer.set_mesh(mesh.positions, mesh.triangles, mesh.normals);
     viewer.set_edges('polygon edges', mesh.polygonEdges, layerColor('polygon edges'));
     viewer.set_edges('boundary', mesh.boundaryEdges, layerColor('boundary'));
@@ -328,12 +345,16 @@ function onStage(job, result) {
   if (result.metrics) showMetrics(result.metrics, null);
   if (result.limitSurface) showMetrics(null, result.limitSurface);
   if (result.surface) {
-    limitSurface = result.surface;
-    const was = LAYERS.find((l) => l.name === 'limit surface');
-    LAYERS = LAYERS.filter((l) => l.name !== 'limit surface');
-    LAYERS.push({ name: 'limit surface', label: 'Limit surface (signed error)', kind: 'surface', ...STYLES['limit surface'], visible: was ? was.visible : false });
-    available.add('limit surface');
-    if (was && was.visible) showSurface();
+    const name = result.surface.name;
+    extraSurfaces[name] = result.surface;
+    const was = LAYERS.find((l) => l.name === name);
+    // The quad mesh's faces are shown when they arrive (the input's surface
+    // would hide its edges, which cut below a curved input).
+    const visible = was ? was.visible : !STYLES[name]?.hidden && !LAYERS.some((l) => l.kind === 'surface' && l.visible);
+    LAYERS = LAYERS.filter((l) => l.name !== name);
+    LAYERS.push({ name, label: name[0].toUpperCase() + name.slice(1), kind: 'surface', ...STYLES[name], visible });
+    available.add(name);
+    if (visible || drawnSurface === name) showSurface();
   }
   if (result.scalars && !scalarName) setScalar(Object.keys(result.scalars)[0]);
   // The result is what matters once it exists: the input's edges and the field recede.

@@ -239,6 +239,44 @@ fn poly_mesh_layers(
     Ok(())
 }
 
+/// A polygon mesh as a drawable surface with its faces coloured by degree:
+/// every face gets its own corners (flat normal, one colour), fan-triangulated.
+fn face_degree_surface(name: &str, mesh: &PolyMesh) -> Result<Object, JsError> {
+    let faces = mesh.to_face_list();
+    let (mut positions, mut normals, mut triangles, mut degree) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for f in faces.iter() {
+        let corners: Vec<DVec3> = f.iter().map(|&v| mesh.positions[v as usize]).collect();
+        let mut n = DVec3::ZERO;
+        for k in 0..corners.len() {
+            n += corners[k].cross(corners[(k + 1) % corners.len()]);
+        }
+        let n = n.normalize_or_zero().as_vec3();
+        let base = (positions.len() / 3) as u32;
+        for c in &corners {
+            push(&mut positions, c.as_vec3());
+            push(&mut normals, n);
+            degree.push(f.len() as f32);
+        }
+        for k in 1..f.len().saturating_sub(1) as u32 {
+            triangles.extend_from_slice(&[base, base + k, base + k + 1]);
+        }
+    }
+    let scalar = Object::new();
+    set(&scalar, "name", "face degree")?;
+    set(&scalar, "values", Float32Array::from(&degree[..]))?;
+    set(&scalar, "min", 3.0)?;
+    set(&scalar, "max", 6.0)?;
+    set(&scalar, "colormap", "face-degree")?;
+    let surface = Object::new();
+    set(&surface, "name", name)?;
+    set(&surface, "positions", Float32Array::from(&positions[..]))?;
+    set(&surface, "triangles", Uint32Array::from(&triangles[..]))?;
+    set(&surface, "normals", Float32Array::from(&normals[..]))?;
+    set(&surface, "scalar", scalar)?;
+    Ok(surface)
+}
+
 /// The page-facing result of one pipeline stage.
 fn stage_result(
     stage: Stage,
@@ -316,6 +354,7 @@ fn stage_result(
                 return Ok(JsValue::UNDEFINED);
             };
             poly_mesh_layers(&r, "quad mesh", pp.mesh(), true)?;
+            set(&r.obj, "surface", face_degree_surface("quad mesh faces", pp.mesh())?)?;
             if let Some(m) = metrics {
                 set(&r.obj, "metrics", to_js(m)?)?;
             }

@@ -165,6 +165,10 @@ test('every stage runs and shows its layers: curvature with a legend, cross fiel
     assert(typeof run.stages[stage] === 'number', `lastRun has ${stage} ms: ${JSON.stringify(run.stages)}`);
   }
   assert(run.counts.orientation_singularities > 0, `spot (genus 0) has singularities: ${JSON.stringify(run.counts)}`);
+  // The quad mesh's faces (coloured by degree) are drawn once they exist; A goes back to the input.
+  assert((await page.textContent('#legend')).includes('face degree'), 'the quad mesh faces are shown by degree');
+  await page.keyboard.press('a');
+  await settle(page);
   assert(!(await page.isHidden('#legend')), 'a legend is shown for the scalar');
   assert((await page.textContent('#legend')).includes('curvature'), 'the legend names the scalar');
   assert(run.counts.quad_mesh_faces > 0, `a quad mesh came out: ${JSON.stringify(run.counts)}`);
