@@ -137,6 +137,7 @@ const STYLES = {
   'position field': { key: 'l', color: '#6a3d9a', size: 3, hidden: true },
   'position singularities': { key: 'k', color: '#1b9e4b', size: 8, hidden: true },
   'control cage': { key: 'w', color: '#3b6fd8', hidden: true },
+  'smooth regions': { key: 'r', color: '#1f78b4', color2: '#33a02c', hidden: true },
   'quad mesh faces': { key: 'a', color: '#d5dbe6', color2: '#f28e2b' },
   'limit surface': { key: 'u', color: '#9970ab', color2: '#5aae61', hidden: true },
 };
@@ -251,6 +252,11 @@ function updateLegend() {
   el.querySelector('.max').textContent = formatNumber(legend.max);
   el.querySelector('.mid').textContent = legend.colormap === 'face-degree' ? '4 · 5' : formatNumber((legend.min + legend.max) / 2);
   if (legend.colormap === 'face-degree') el.querySelector('.max').textContent = '6+';
+  if (legend.colormap === 'categories') {
+    el.querySelector('.min').textContent = 'grey: discarded';
+    el.querySelector('.mid').textContent = '';
+    el.querySelector('.max').textContent = 'colour: one per region';
+  }
 }
 
 const formatNumber = (x) => Number(x.toPrecision(3)).toString();
@@ -565,8 +571,18 @@ function pickAt(clientX, clientY) {
     const p = hit.point;
     viewer.set_points('picked', new Float32Array(p), layerColor('picked'), 11 * dpr());
     const value = viewer.scalar_at(hit.vertex);
-    info.textContent = `vertex ${hit.vertex} · triangle ${hit.triangle} · (${[...p].map((x) => x.toFixed(3)).join(', ')})`
-      + (value !== undefined ? ` · value ${formatNumber(value)}` : '');
+    const regions = drawnSurface === 'smooth regions' ? extraSurfaces['smooth regions'] : null;
+    let text = `vertex ${hit.vertex} · triangle ${hit.triangle} · (${[...p].map((x) => x.toFixed(3)).join(', ')})`;
+    if (regions) {
+      // The smooth-region surface has one triangle per input face.
+      const r = regions.faceRegion[hit.triangle];
+      text += r < 0 ? ' · no smooth region'
+        : ` · smooth region ${r}: significance ${formatNumber(regions.regionSignificance[r])}°${regions.regionFiltered[r] ? '' : ' (discarded)'}`;
+      window.quadrille.lastPickRegion = r < 0 ? null : { region: r, significance: regions.regionSignificance[r], filtered: !!regions.regionFiltered[r] };
+    } else if (value !== undefined) {
+      text += ` · value ${formatNumber(value)}`;
+    }
+    info.textContent = text;
     info.hidden = false;
     window.quadrille.lastPick = { vertex: hit.vertex, triangle: hit.triangle, point: [...p] };
   }

@@ -277,6 +277,57 @@ fn face_degree_surface(name: &str, mesh: &PolyMesh) -> Result<Object, JsError> {
     Ok(surface)
 }
 
+/// The smooth regions (Campen et al. 2016) as a surface with one colour per
+/// filtered region and the discarded ones grey: every input triangle gets
+/// its own corners, so triangle `t` of this surface is input face `t`, and
+/// `faceRegion[t]` (−1: none) and `regionSignificance[region]` (degrees)
+/// serve the pick readout.
+fn smooth_region_surface(
+    mesh: &TriMesh,
+    regions: &crate::analysis::smooth_regions::SmoothRegions,
+) -> Result<Object, JsError> {
+    let n = mesh.face_count();
+    let (mut positions, mut normals, mut values) = (
+        Vec::with_capacity(n * 9),
+        Vec::with_capacity(n * 9),
+        Vec::with_capacity(n * 3),
+    );
+    let mut face_region = Vec::with_capacity(n);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let normal = mesh.face_normal_unnormalized(f).normalize_or_zero().as_vec3();
+        let region = regions.region_of_face.get(f).copied().flatten();
+        let category = match region {
+            Some(r) if regions.filtered[r as usize] => 1.0 + (r % 12) as f32,
+            _ => 0.0,
+        };
+        face_region.push(region.map_or(-1, |r| r as i32));
+        for &v in t {
+            push(&mut positions, mesh.positions[v as usize].as_vec3());
+            push(&mut normals, normal);
+            values.push(category);
+        }
+    }
+    let triangles: Vec<u32> = (0..(n * 3) as u32).collect();
+    let significance: Vec<f32> = regions.significance.iter().map(|&s| s as f32).collect();
+    let scalar = Object::new();
+    set(&scalar, "name", "smooth regions (grey: discarded)")?;
+    set(&scalar, "values", Float32Array::from(&values[..]))?;
+    set(&scalar, "min", 0.0)?;
+    set(&scalar, "max", 12.0)?;
+    set(&scalar, "colormap", "categories")?;
+    let surface = Object::new();
+    set(&surface, "name", "smooth regions")?;
+    set(&surface, "positions", Float32Array::from(&positions[..]))?;
+    set(&surface, "triangles", Uint32Array::from(&triangles[..]))?;
+    set(&surface, "normals", Float32Array::from(&normals[..]))?;
+    set(&surface, "scalar", scalar)?;
+    set(&surface, "faceRegion", js_sys::Int32Array::from(&face_region[..]))?;
+    set(&surface, "regionSignificance", Float32Array::from(&significance[..]))?;
+    let filtered: Vec<u8> = regions.filtered.iter().map(|&b| b as u8).collect();
+    set(&surface, "regionFiltered", Uint8Array::from(&filtered[..]))?;
+    Ok(surface)
+}
+
 /// The page-facing result of one pipeline stage.
 fn stage_result(
     stage: Stage,
@@ -334,6 +385,14 @@ fn stage_result(
             }
             r.lines("cross field", &segments, &CROSS_COLOR)?;
             singularity_points(&r, "orientation singularities", &o.singularities)?;
+            if let Some(regions) = &o.smooth_regions {
+                set(&r.obj, "surface", smooth_region_surface(mesh, regions)?)?;
+                r.count("smooth regions", regions.region_count())?;
+                r.count(
+                    "filtered smooth regions",
+                    regions.filtered.iter().filter(|&&f| f).count(),
+                )?;
+            }
         }
         Stage::Position => {
             let Some(pos) = &p.position else {

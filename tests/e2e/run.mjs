@@ -402,6 +402,25 @@ test('shortcut keys are unique and ? lists them', async (env) => {
   assert(await page.isHidden('#shortcuts'), 'Esc closes it');
 });
 
+test('smooth regions: one colour per region, discarded ones grey, significance in the pick readout', async (env) => {
+  const link = `sample=fandisk&p=${encodeURIComponent(JSON.stringify({ 'alignment.mode': 'smooth-regions' }))}`;
+  const { page, errors } = await open(env, link);
+  await waitForRun(page, 'fandisk.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  assert(run.parameters.alignment.mode === 'smooth-regions', `mode from the link: ${run.parameters.alignment.mode}`);
+  assert(await page.isEnabled('#layer-smooth-regions'), 'the smooth regions layer is available');
+  await page.keyboard.press('r');
+  await settle(page);
+  assert((await page.textContent('#legend')).includes('smooth regions'), 'the legend names the regions');
+  const box = await page.locator('#canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  await page.waitForFunction(() => window.quadrille.lastPick, null, { timeout: 10000 });
+  const info = await page.textContent('#pick-info');
+  assert(/significance [0-9.]+°|no smooth region/.test(info), `pick readout: ${info}`);
+  assert(await canvasInk(page, `smooth-regions-${env.backend}.png`) > 0.03, 'the regions are drawn');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();
