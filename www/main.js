@@ -13,7 +13,7 @@ const $ = (id) => document.getElementById(id);
 const canvas = $('canvas');
 const params = new URLSearchParams(location.search);
 
-window.quadrille = { lastImport: null, lastError: null, lastRun: null, backend: null, frames: 0 };
+window.quadrille = { lastImport: null, lastError: null, lastRun: null, backend: null, frames: 0, progressGapsMs: {} };
 
 // ---------------------------------------------------------------- status
 
@@ -456,9 +456,16 @@ function onWorkerMessage(m) {
   if (!current || m.job !== current.job) return;
   const job = current;
   switch (m.type) {
-    case 'progress':
+    case 'progress': {
       showProgress(`${job.name}: ${m.stage} — ${m.text}`, m.fraction, m.stage);
+      // The longest wait between two progress messages, per stage (for the notes).
+      const now = performance.now();
+      const gaps = window.quadrille.progressGapsMs;
+      if (job.lastProgress && job.lastStage === m.stage) gaps[m.stage] = Math.max(gaps[m.stage] || 0, Math.round(now - job.lastProgress));
+      job.lastProgress = now;
+      job.lastStage = m.stage;
       break;
+    }
     case 'stage':
       try {
         onStage(job, m);
@@ -492,6 +499,7 @@ function finishJob(message, isError = false) {
 function run(name, bytes, sample = null) {
   if (current) cancel({ quiet: true });
   lastInput = { name, bytes: bytes.slice(0), sample };
+  window.quadrille.progressGapsMs = {};
   workerHasInput = false;
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
   current = { job: nextJob++, name, started: performance.now(), stages: {}, flag, deadline: 0 };

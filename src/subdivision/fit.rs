@@ -105,6 +105,9 @@ pub struct FitSummary {
     pub after: LimitError,
 }
 
+/// Control vertices moved between two progress reports.
+const PROGRESS_CHUNK: usize = 8192;
+
 /// Fits a Catmull–Clark control mesh to `reference`, starting from
 /// `quad_dominant` (any polygon mesh in the reference's coordinates).
 /// Reports progress under the current stage name; returns [`Cancelled`]
@@ -158,18 +161,27 @@ pub fn fit_control_mesh(
     };
     let max_iterations = params.max_iterations;
     let mut offsets: Vec<(DVec3, bool)> = Vec::new();
+    let mut chunk_offsets: Vec<(DVec3, bool)> = Vec::new();
     for it in 0..max_iterations {
-        progress.report(
-            0.05 + 0.85 * it as f32 / max_iterations.max(1) as f32,
-            &format!("fitting iteration {}", it + 1),
-        )?;
+        let at = |done: f32| 0.05 + 0.85 * (it as f32 + done) / max_iterations.max(1) as f32;
+        let message = format!("fitting iteration {}", it + 1);
+        progress.report(at(0.0), &message)?;
         let limit = limit_positions(&control, rule);
         let normals = limit_normals(&control);
-        crate::parallel::map_into(&movable, &mut offsets, |&v| {
-            let (l, n) = (limit[v as usize], normals[v as usize]);
-            let bound = params.ray_length * edge_length[v as usize];
-            offset_to_surface(&index, l, n, bound)
-        });
+        // In chunks, so progress (and cancelling) gets a word in on big
+        // meshes in a single-threaded worker.
+        offsets.clear();
+        for (c, chunk) in movable.chunks(PROGRESS_CHUNK).enumerate() {
+            if c > 0 {
+                progress.report(at((c * PROGRESS_CHUNK) as f32 / movable.len() as f32), &message)?;
+            }
+            crate::parallel::map_into(chunk, &mut chunk_offsets, |&v| {
+                let (l, n) = (limit[v as usize], normals[v as usize]);
+                let bound = params.ray_length * edge_length[v as usize];
+                offset_to_surface(&index, l, n, bound)
+            });
+            offsets.extend_from_slice(&chunk_offsets);
+        }
         let mut largest = 0.0f64;
         for (&v, &(offset, missed)) in movable.iter().zip(&offsets) {
             control.positions[v as usize] += offset;
