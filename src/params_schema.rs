@@ -73,7 +73,11 @@ const fn flag(path: &'static str, help: &'static str) -> ParamDoc {
     p(path, Kind::Bool, help)
 }
 
-const fn choice(path: &'static str, options: &'static [&'static str], help: &'static str) -> ParamDoc {
+const fn choice(
+    path: &'static str,
+    options: &'static [&'static str],
+    help: &'static str,
+) -> ParamDoc {
     ParamDoc {
         options,
         ..p(path, Kind::Choice, help)
@@ -225,10 +229,15 @@ mod tests {
                 assert!(entry["nullable"].as_bool().unwrap(), "{path}: null default");
                 continue;
             }
-            if let (Some(min), Some(max), Some(x)) =
-                (entry["min"].as_f64(), entry["max"].as_f64(), default.as_f64())
-            {
-                assert!(min <= x && x <= max, "{path}: default {x} outside [{min}, {max}]");
+            if let (Some(min), Some(max), Some(x)) = (
+                entry["min"].as_f64(),
+                entry["max"].as_f64(),
+                default.as_f64(),
+            ) {
+                assert!(
+                    min <= x && x <= max,
+                    "{path}: default {x} outside [{min}, {max}]"
+                );
             }
             // Every listed option deserialises into the parameters.
             for option in entry["options"].as_array().into_iter().flatten() {

@@ -5,7 +5,7 @@
 
 use glam::{DVec3, Vec3};
 use quadrille::io::Imported;
-use quadrille::mesh::{FaceList, TriMesh, generate};
+use quadrille::mesh::{generate, FaceList, TriMesh};
 use quadrille::pipeline::{Params, Pipeline, Stage};
 
 fn shared(name: &str) -> Imported {
@@ -166,7 +166,10 @@ fn the_fit_stage_runs_last_when_enabled_and_alone_after_a_fit_parameter_change()
     let fit = &p.fit.as_ref().unwrap().result;
     // The control mesh is the post-processed mesh split once (all quads).
     let post = p.postprocess.as_ref().unwrap().mesh();
-    assert_eq!(fit.control.face_count(), post.to_face_list().iter().map(|f| f.len()).sum::<usize>());
+    assert_eq!(
+        fit.control.face_count(),
+        post.to_face_list().iter().map(|f| f.len()).sum::<usize>()
+    );
     assert_eq!(fit.after.per_vertex_signed.len(), fit.limit.vertex_count());
     // A sphere of radius 1 (normalised to diameter 1): the limit surface
     // lies close to it after fitting.

@@ -458,12 +458,6 @@ function onWorkerMessage(m) {
   switch (m.type) {
     case 'progress': {
       showProgress(`${job.name}: ${m.stage} — ${m.text}`, m.fraction, m.stage);
-      // The longest wait between two progress messages, per stage (for the notes).
-      const now = performance.now();
-      const gaps = window.quadrille.progressGapsMs;
-      if (job.lastProgress && job.lastStage === m.stage) gaps[m.stage] = Math.max(gaps[m.stage] || 0, Math.round(now - job.lastProgress));
-      job.lastProgress = now;
-      job.lastStage = m.stage;
       break;
     }
     case 'stage':
@@ -475,6 +469,8 @@ function onWorkerMessage(m) {
       break;
     case 'done':
       window.quadrille.lastRun = m.summary;
+      // The longest wait between two progress reports per stage, measured in the worker.
+      window.quadrille.progressGapsMs = m.progressGapsMs;
       workerHasInput = true;
       if (m.summary.metrics) showMetrics(m.summary.metrics, m.summary.limit_surface);
       finishJob(`${job.name}: ${Object.entries(job.stages).map(([s, ms]) => `${s} ${ms.toFixed(0)} ms`).join(', ')}.`);

@@ -54,8 +54,15 @@ async function drive({ job, cancelFlag }, prepare) {
     await ready;
     session ??= new Session();
     const from = prepare(session);
-    // Returns whether to go on; stages ask it in their loops.
+    // Returns whether to go on; stages ask it in their loops. The longest
+    // wait between two calls within a stage is measured here, in the
+    // worker (the page's clock would add its own busy time).
+    const gaps = {};
+    let last = null;
     const progress = (stage, fraction, text) => {
+      const now = performance.now();
+      if (last && last.stage === stage) gaps[stage] = Math.max(gaps[stage] || 0, Math.round(now - last.time));
+      last = { stage, time: now };
       self.postMessage({ type: 'progress', job, stage, fraction, text });
       return !isCancelled();
     };
@@ -70,7 +77,7 @@ async function drive({ job, cancelFlag }, prepare) {
       self.postMessage({ type: 'cancelled', job });
       return;
     }
-    self.postMessage({ type: 'done', job, summary: session.summary(), from });
+    self.postMessage({ type: 'done', job, summary: session.summary(), from, progressGapsMs: gaps });
   } catch (error) {
     fail(job, error);
   } finally {

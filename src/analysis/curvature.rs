@@ -91,7 +91,11 @@ impl PrincipalCurvature {
     /// 2006, thesis 3.3); 1 (isotropic) where both curvatures are zero.
     pub fn anisotropy(&self) -> f64 {
         let max = self.max_abs();
-        if max > 0.0 { self.min_abs() / max } else { 1.0 }
+        if max > 0.0 {
+            self.min_abs() / max
+        } else {
+            1.0
+        }
     }
 
     /// Direction of the larger |κ| (across a ridge).
@@ -158,7 +162,9 @@ pub fn principal_curvatures(
     params: &CurvatureParams,
 ) -> Vec<PrincipalCurvature> {
     crate::progress::silently("curvature", |progress| {
-        principal_curvatures_with_progress(positions, normals, adjacency, params, progress, 0.0, 1.0)
+        principal_curvatures_with_progress(
+            positions, normals, adjacency, params, progress, 0.0, 1.0,
+        )
     })
     .unwrap_or_default()
 }
@@ -435,8 +441,8 @@ fn discrete_sums(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::normals::{NormalWeighting, vertex_normals};
-    use crate::mesh::{TriMesh, generate};
+    use crate::analysis::normals::{vertex_normals, NormalWeighting};
+    use crate::mesh::{generate, TriMesh};
 
     fn estimate(mesh: &TriMesh, params: &CurvatureParams) -> Vec<PrincipalCurvature> {
         let normals = vertex_normals(mesh, NormalWeighting::Angle);

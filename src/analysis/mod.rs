@@ -35,18 +35,18 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::{FaceAdjacency, TriMesh, VertexAdjacency};
-use crate::sizing::{self, SizingContext, SizingParams};
 use crate::progress::{Cancelled, Progress};
+use crate::sizing::{self, SizingContext, SizingParams};
 
 pub use areas::barycentric_cell_areas;
-pub use averaging::{AveragingMethod, AveragingParams, average_curvature};
+pub use averaging::{average_curvature, AveragingMethod, AveragingParams};
 pub use curvature::{
-    CurvatureEstimator, CurvatureParams, PrincipalCurvature, principal_curvatures,
+    principal_curvatures, CurvatureEstimator, CurvatureParams, PrincipalCurvature,
 };
-pub use features::{FeatureParams, FeatureVertices, feature_vertices, orientation_constraints};
-pub use filtered_normals::{FilteredNormalsMode, FilteredNormalsParams, Sigma, filtered_normals};
-pub use normals::{NormalWeighting, face_normals, vertex_normals};
-pub use selection::{CurvatureSelection, directional_curvature, select_curvature};
+pub use features::{feature_vertices, orientation_constraints, FeatureParams, FeatureVertices};
+pub use filtered_normals::{filtered_normals, FilteredNormalsMode, FilteredNormalsParams, Sigma};
+pub use normals::{face_normals, vertex_normals, NormalWeighting};
+pub use selection::{directional_curvature, select_curvature, CurvatureSelection};
 
 /// Parameters of the surface analysis. Every field has a documented default
 /// (DESIGN.md's table); `#[serde(default)]` fills missing fields.
@@ -135,9 +135,10 @@ pub fn analyze_with_progress(
         0.05,
         0.7,
     )?;
-    progress.report(0.7, "curvature averaging and sizing field")?;
+    progress.report(0.7, "curvature averaging")?;
     let selected = select_curvature(&curvature, params.selection);
     let averaged = average_curvature(&selected, &adjacency, &params.averaging);
+    progress.report(0.75, "sizing field")?;
     let context = SizingContext::for_mesh(mesh, &averaged, sizing_params);
     let edge_length = sizing::sizing_field(&averaged, &context, sizing_params);
     let directional = (params.selection == CurvatureSelection::Directional).then(|| {
@@ -160,23 +161,29 @@ pub fn analyze_with_progress(
     let fp = &params.filtered_normals;
     let filtered = match fp.mode {
         FilteredNormalsMode::Off => face_normals.clone(),
-        FilteredNormalsMode::Global => filtered_normals(
+        FilteredNormalsMode::Global => filtered_normals::filtered_normals_with_progress(
             mesh,
             &face_adjacency,
             &face_normals,
             Sigma::Uniform(fp.sigma_factor * context.global_edge_length),
             fp.truncation,
-        ),
+            progress,
+            0.85,
+            1.0,
+        )?,
         FilteredNormalsMode::SizingAware => {
             let sigma =
                 filtered_normals::face_sigma_from_sizing(mesh, &edge_length, fp.sigma_factor);
-            filtered_normals(
+            filtered_normals::filtered_normals_with_progress(
                 mesh,
                 &face_adjacency,
                 &face_normals,
                 Sigma::PerFace(&sigma),
                 fp.truncation,
-            )
+                progress,
+                0.85,
+                1.0,
+            )?
         }
     };
     Ok(SurfaceAnalysis {

@@ -132,7 +132,7 @@ struct RemeshArgs {
 }
 
 fn remesh(args: RemeshArgs) -> Result<(), String> {
-    use quadrille::pipeline::{Params, Pipeline, target_vertex_count};
+    use quadrille::pipeline::{target_vertex_count, Params, Pipeline};
     let name = args.output.display().to_string();
     if quadrille::io::Format::from_extension(&name).is_none_or(|f| {
         !matches!(

@@ -21,7 +21,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::{BoundaryRule, LimitError, limit_normals, limit_positions, subdivide};
+use super::{limit_normals, limit_positions, subdivide, BoundaryRule, LimitError};
 use crate::mesh::{PolyMesh, TriMesh};
 use crate::progress::{Cancelled, Progress};
 use crate::spatial::SurfaceIndex;
@@ -145,7 +145,17 @@ pub fn fit_control_mesh(
 
     let before = if params.measure_before {
         progress.report(0.02, "measuring the unfitted limit surface")?;
-        LimitError::measure(&control, reference, &index, params.error_levels, rule).0
+        LimitError::measure_with_progress(
+            &control,
+            reference,
+            &index,
+            params.error_levels,
+            rule,
+            progress,
+            0.02,
+            0.05,
+        )?
+        .0
     } else {
         LimitError::default()
     };
@@ -173,7 +183,10 @@ pub fn fit_control_mesh(
         offsets.clear();
         for (c, chunk) in movable.chunks(PROGRESS_CHUNK).enumerate() {
             if c > 0 {
-                progress.report(at((c * PROGRESS_CHUNK) as f32 / movable.len() as f32), &message)?;
+                progress.report(
+                    at((c * PROGRESS_CHUNK) as f32 / movable.len() as f32),
+                    &message,
+                )?;
             }
             crate::parallel::map_into(chunk, &mut chunk_offsets, |&v| {
                 let (l, n) = (limit[v as usize], normals[v as usize]);
@@ -205,8 +218,16 @@ pub fn fit_control_mesh(
         }
     }
     progress.report(0.92, "measuring the fitted limit surface")?;
-    let (after, limit) =
-        LimitError::measure(&control, reference, &index, params.error_levels, rule);
+    let (after, limit) = LimitError::measure_with_progress(
+        &control,
+        reference,
+        &index,
+        params.error_levels,
+        rule,
+        progress,
+        0.92,
+        1.0,
+    )?;
     summary.before = before.clone();
     summary.after = after.clone();
     progress.report(1.0, "control mesh fitted")?;
@@ -247,7 +268,11 @@ fn mean_edge_lengths(mesh: &PolyMesh) -> Vec<f64> {
                 sum += p.distance(mesh.positions[mesh.tip(h) as usize]);
                 n += 1;
             }
-            if n == 0 { 0.0 } else { sum / n as f64 }
+            if n == 0 {
+                0.0
+            } else {
+                sum / n as f64
+            }
         })
         .collect()
 }

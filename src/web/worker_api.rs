@@ -33,7 +33,7 @@
 //!    lines?: { name: { segments, colors } }, points?: { name: { positions, colors } }, counts? }`
 
 use glam::{DVec3, Vec3};
-use js_sys::{Float32Array, Function, Object, Reflect, Uint8Array, Uint32Array};
+use js_sys::{Float32Array, Function, Object, Reflect, Uint32Array, Uint8Array};
 use wasm_bindgen::prelude::*;
 
 use super::mesh_arrays::MeshArrays;
@@ -294,7 +294,10 @@ fn smooth_region_surface(
     );
     let mut face_region = Vec::with_capacity(n);
     for (f, t) in mesh.triangles.iter().enumerate() {
-        let normal = mesh.face_normal_unnormalized(f).normalize_or_zero().as_vec3();
+        let normal = mesh
+            .face_normal_unnormalized(f)
+            .normalize_or_zero()
+            .as_vec3();
         let region = regions.region_of_face.get(f).copied().flatten();
         let category = match region {
             Some(r) if regions.filtered[r as usize] => 1.0 + (r % 12) as f32,
@@ -321,8 +324,16 @@ fn smooth_region_surface(
     set(&surface, "triangles", Uint32Array::from(&triangles[..]))?;
     set(&surface, "normals", Float32Array::from(&normals[..]))?;
     set(&surface, "scalar", scalar)?;
-    set(&surface, "faceRegion", js_sys::Int32Array::from(&face_region[..]))?;
-    set(&surface, "regionSignificance", Float32Array::from(&significance[..]))?;
+    set(
+        &surface,
+        "faceRegion",
+        js_sys::Int32Array::from(&face_region[..]),
+    )?;
+    set(
+        &surface,
+        "regionSignificance",
+        Float32Array::from(&significance[..]),
+    )?;
     let filtered: Vec<u8> = regions.filtered.iter().map(|&b| b as u8).collect();
     set(&surface, "regionFiltered", Uint8Array::from(&filtered[..]))?;
     Ok(surface)
@@ -413,7 +424,11 @@ fn stage_result(
                 return Ok(JsValue::UNDEFINED);
             };
             poly_mesh_layers(&r, "quad mesh", pp.mesh(), true)?;
-            set(&r.obj, "surface", face_degree_surface("quad mesh faces", pp.mesh())?)?;
+            set(
+                &r.obj,
+                "surface",
+                face_degree_surface("quad mesh faces", pp.mesh())?,
+            )?;
             if let Some(m) = metrics {
                 set(&r.obj, "metrics", to_js(m)?)?;
             }
@@ -431,7 +446,12 @@ fn stage_result(
                 triangles: faces.triangulate(&f.limit.positions),
             };
             let arrays = MeshArrays::new(&tri, &faces);
-            let values: Vec<f32> = f.after.per_vertex_signed.iter().map(|&v| v as f32).collect();
+            let values: Vec<f32> = f
+                .after
+                .per_vertex_signed
+                .iter()
+                .map(|&v| v as f32)
+                .collect();
             // Diverging map: a symmetric range around zero (98th percentile
             // of |error|), so white means "on the input".
             let abs: Vec<f32> = values.iter().map(|v| v.abs()).collect();
@@ -444,8 +464,16 @@ fn stage_result(
             set(&scalar, "colormap", "violet-green")?;
             let surface = Object::new();
             set(&surface, "name", "limit surface")?;
-            set(&surface, "positions", Float32Array::from(&arrays.positions[..]))?;
-            set(&surface, "triangles", Uint32Array::from(&arrays.triangles[..]))?;
+            set(
+                &surface,
+                "positions",
+                Float32Array::from(&arrays.positions[..]),
+            )?;
+            set(
+                &surface,
+                "triangles",
+                Uint32Array::from(&arrays.triangles[..]),
+            )?;
             set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
             set(&surface, "scalar", scalar)?;
             set(&r.obj, "surface", surface)?;
@@ -513,14 +541,18 @@ impl Session {
             .pipeline
             .as_ref()
             .ok_or_else(|| js_err("nothing was imported"))?;
-        let pure_quad = p.postprocess.as_ref().filter(|_| kind == "pure-quad").map(|s| {
-            let m = s.mesh();
-            if m.to_face_list().iter().all(|f| f.len() == 4) {
-                m.clone()
-            } else {
-                crate::subdivision::subdivide(m, self.params.fit.boundary)
-            }
-        });
+        let pure_quad = p
+            .postprocess
+            .as_ref()
+            .filter(|_| kind == "pure-quad")
+            .map(|s| {
+                let m = s.mesh();
+                if m.to_face_list().iter().all(|f| f.len() == 4) {
+                    m.clone()
+                } else {
+                    crate::subdivision::subdivide(m, self.params.fit.boundary)
+                }
+            });
         let mesh: &PolyMesh = match kind {
             "quad-dominant" => p.postprocess.as_ref().map(|s| s.mesh()),
             "pure-quad" => pure_quad.as_ref(),
