@@ -421,6 +421,27 @@ test('smooth regions: one colour per region, discarded ones grey, significance i
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('cancelling a parameter re-run keeps the cached stages when the worker stops in time', async (env) => {
+  const { page } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  assert(await page.evaluate(() => self.crossOriginIsolated), 'the server makes the page cross-origin isolated (shared cancel flag)');
+  // A fit that never converges: long enough to cancel in the middle.
+  await setParamInput(page, 'fit.tolerance', 0);
+  await setParamInput(page, 'fit.max_iterations', 100);
+  await page.waitForFunction(() => document.querySelector('#progress .progress-text').textContent.includes('fit'), null, { timeout: 60000 });
+  await page.click('#cancel');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
+  const status = await page.textContent('#status');
+  await setParamInput(page, 'fit.max_iterations', 4);
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.fit.max_iterations === 4, null, { timeout: 60000 });
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  // Stopped at a progress report: the worker and its cache live on, so only
+  // the fit runs; terminated as the last resort: everything runs again.
+  const expected = status.includes('restarted') ? 'import,analysis,hierarchy,orientation,position,extraction,postprocess,fit' : 'fit';
+  assert(run.stagesRun.join() === expected, `after "${status}" the re-run ran ${run.stagesRun}`);
+  assert(run.complete && run.limit_surface.iterations <= 4, `the fit ran with the new parameter: ${JSON.stringify(run.limit_surface?.iterations)}`);
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();
