@@ -38,6 +38,11 @@ function showProgress(text, fraction, stage = null) {
     if (li) {
       li.querySelector('.bar > div').style.width = `${Math.round(fraction * 100)}%`;
       li.classList.toggle('done', fraction >= 1);
+      // Earlier stages are finished or were kept from the previous run.
+      for (let prev = li.previousElementSibling; prev; prev = prev.previousElementSibling) {
+        prev.classList.add('done');
+        prev.querySelector('.bar > div').style.width = '100%';
+      }
     }
   }
 }
@@ -1019,6 +1024,8 @@ const schemaReady = request({ type: 'schema' }).then((s) => {
 // link's parameters; its mesh is shown once the viewer is up.
 Promise.all([viewerReady, schemaReady]).then(() => {
   const sample = params.get('sample');
-  if (params.get('p') && !sample) setStatus('This link carries parameters only (the mesh was the user’s own file): open your file to run them. Running the default sample meanwhile.');
+  if (params.get('p') && !sample) {
+    $('share-note').textContent = 'This link carries parameters only (the mesh was someone\u2019s own file, which never leaves their page): open your file to run it with them.';
+  }
   loadSample(SAMPLES.includes(sample) ? sample : DEFAULT_SAMPLE);
 });

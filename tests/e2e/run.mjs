@@ -388,6 +388,13 @@ test('the share link reproduces the run: same sample, parameters and counts', as
   assert(JSON.stringify(again.counts) === JSON.stringify(original.counts),
     `same counts: ${JSON.stringify(again.counts)} vs ${JSON.stringify(original.counts)}`);
   assert(await fresh.evaluate(() => document.getElementById('param-field.seed').value) === '3', 'the panel shows the linked value');
+  // A dropped file is not in the link: only the parameters, and the page says so.
+  await dropFile(fresh, '#view', 'my-part.obj', readFileSync(join(meshes, 'fandisk.obj')));
+  await waitForRun(fresh, 'my-part.obj');
+  await fresh.click('#share');
+  const own = await fresh.inputValue('#share-url');
+  assert(!own.includes('sample=') && own.includes('field.seed'), `a dropped file's link has only the parameters: ${own}`);
+  assert((await fresh.textContent('#share-note')).includes('only the parameters'), 'the page says the file is not in the link');
 });
 
 test('shortcut keys are unique and ? lists them', async (env) => {
