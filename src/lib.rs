@@ -39,6 +39,7 @@ pub mod layout;
 pub mod mesh;
 pub mod metrics;
 pub mod parallel;
+pub mod params_schema;
 pub mod pipeline;
 pub mod progress;
 pub mod sizing;

@@ -17,7 +17,10 @@
 //!    position field and extraction run once more with the edge lengths
 //!    scaled by √(achieved / target) (a measured correction);
 //! 6. [`Stage::PostProcess`] — T-vertices, feature-aligned quads, flat
-//!    triangles, smoothing, optional pure-quad split.
+//!    triangles, smoothing, optional pure-quad split;
+//! 7. [`Stage::Fit`] (only when [`Pipeline::fit_enabled`]) — the
+//!    Catmull–Clark control mesh fitted to the input and its limit surface
+//!    with the signed error per sample ([`crate::subdivision`], Kloiber §3.8).
 //!
 //! Time is read through a clock the caller passes in (`std::time::Instant`
 //! does not exist in the browser).
@@ -25,19 +28,20 @@
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::smooth_regions::{SmoothRegionParams, SmoothRegions, smooth_regions};
+use crate::analysis::smooth_regions::{smooth_regions, SmoothRegionParams, SmoothRegions};
 use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
 use crate::extract::{self, ExtractInput, Extracted, ExtractionParams, PostProcessed};
 use crate::field::{
-    self, FieldParams, Hierarchy, LevelSizing, OrientationConstraints, Singularity, mesh_links,
-    orientation_singularities, position_singularities, restrict_by_area, solve_orientation,
-    solve_position,
+    self, mesh_links, orientation_singularities, position_singularities, restrict_by_area,
+    solve_orientation, solve_position, FieldParams, Hierarchy, LevelSizing, OrientationConstraints,
+    Singularity,
 };
 use crate::io::Imported;
 use crate::mesh::{PolyMesh, VertexAdjacency};
 use crate::progress::{Cancelled, Progress};
 use crate::sizing::{self, SizingParams};
 use crate::spatial::SurfaceIndex;
+use crate::subdivision::{self, FitParams, FitResult};
 
 /// Every parameter of the pipeline. `#[serde(default)]` everywhere: a JSON
 /// file with only the values to change is a valid parameter file.
@@ -49,6 +53,8 @@ pub struct Params {
     pub field: FieldParams,
     pub alignment: AlignmentParams,
     pub extraction: ExtractionParams,
+    /// The control-mesh fitting of [`Stage::Fit`].
+    pub fit: FitParams,
 }
 
 /// Which principal-direction alignment constrains the fields.
@@ -143,9 +149,12 @@ pub enum Stage {
     Extraction,
     #[serde(rename = "postprocess")]
     PostProcess,
+    Fit,
 }
 
 impl Stage {
+    /// The remeshing stages, which [`Pipeline::run`] always runs;
+    /// [`Stage::Fit`] follows them when [`Pipeline::fit_enabled`].
     pub const ALL: [Stage; 6] = [
         Stage::Analysis,
         Stage::Hierarchy,
@@ -163,6 +172,7 @@ impl Stage {
             Stage::Position => "position",
             Stage::Extraction => "extraction",
             Stage::PostProcess => "postprocess",
+            Stage::Fit => "fit",
         }
     }
 }
@@ -188,6 +198,8 @@ impl Params {
             Some(Stage::Extraction)
         } else if self.extraction != other.extraction {
             Some(Stage::PostProcess)
+        } else if self.fit != other.fit {
+            Some(Stage::Fit)
         } else {
             None
         }
@@ -269,6 +281,13 @@ impl PostProcessStage {
     }
 }
 
+/// The fitted Catmull–Clark control mesh, its limit mesh (sampled at
+/// `fit.error_levels`) and the limit surface's error before and after.
+#[derive(Debug, Clone)]
+pub struct FitStage {
+    pub result: FitResult,
+}
+
 /// One mesh's run: its input, parameters, and the cached output of every
 /// stage that is up to date.
 pub struct Pipeline {
@@ -280,6 +299,10 @@ pub struct Pipeline {
     pub position: Option<PositionStage>,
     pub extraction: Option<ExtractionStage>,
     pub postprocess: Option<PostProcessStage>,
+    pub fit: Option<FitStage>,
+    /// Whether [`Pipeline::run`] runs [`Stage::Fit`] after the remeshing
+    /// stages. Default off (it costs about as much as the rest together).
+    pub fit_enabled: bool,
     /// The input's BVH (built on first use by extraction, kept for the
     /// input's lifetime).
     pub surface: Option<std::sync::Arc<SurfaceIndex>>,
@@ -298,6 +321,8 @@ impl Pipeline {
             position: None,
             extraction: None,
             postprocess: None,
+            fit: None,
+            fit_enabled: false,
             surface: None,
             timings: Vec::new(),
         }
@@ -334,6 +359,7 @@ impl Pipeline {
         if stage <= Stage::PostProcess {
             self.postprocess = None;
         }
+        self.fit = None;
     }
 
     /// Runs every stage that is not up to date. `sink` receives progress and
@@ -345,7 +371,8 @@ impl Pipeline {
         done: &mut dyn FnMut(Stage, &Pipeline),
         clock: &dyn Fn() -> f64,
     ) -> Result<(), Cancelled> {
-        for stage in Stage::ALL {
+        let fit = self.fit_enabled.then_some(Stage::Fit);
+        for stage in Stage::ALL.into_iter().chain(fit) {
             if self.has(stage) {
                 continue;
             }
@@ -353,7 +380,7 @@ impl Pipeline {
             let mut progress = Progress::new(sink, stage.name());
             progress.report(0.0, "starting")?;
             match stage {
-                Stage::Analysis => self.analysis = Some(self.run_analysis()),
+                Stage::Analysis => self.analysis = Some(self.run_analysis(&mut progress)?),
                 Stage::Hierarchy => self.hierarchy = Some(self.run_hierarchy(&mut progress)?),
                 Stage::Orientation => self.orientation = Some(self.run_orientation(&mut progress)?),
                 Stage::Position => {
@@ -362,6 +389,7 @@ impl Pipeline {
                 }
                 Stage::Extraction => self.run_extraction(&mut progress)?,
                 Stage::PostProcess => self.postprocess = Some(self.run_postprocess(&mut progress)?),
+                Stage::Fit => self.fit = Some(self.run_fit(&mut progress)?),
             }
             progress.report(1.0, "done")?;
             let ms = clock() - start;
@@ -380,18 +408,24 @@ impl Pipeline {
             Stage::Position => self.position.is_some(),
             Stage::Extraction => self.extraction.is_some(),
             Stage::PostProcess => self.postprocess.is_some(),
+            Stage::Fit => self.fit.is_some(),
         }
     }
 
-    fn run_analysis(&self) -> AnalysisStage {
+    fn run_analysis(&self, progress: &mut Progress<'_>) -> Result<AnalysisStage, Cancelled> {
         let mesh = &self.input.mesh;
-        let mut surface = analysis::analyze(mesh, &self.params.analysis, &self.params.sizing);
+        let mut surface = analysis::analyze_with_progress(
+            mesh,
+            &self.params.analysis,
+            &self.params.sizing,
+            progress,
+        )?;
         let target = target_vertex_count(mesh.vertex_count(), &self.params.sizing);
         let sizing_calibration = calibrate_to_vertex_count(&mut surface, target);
-        AnalysisStage {
+        Ok(AnalysisStage {
             surface,
             sizing_calibration,
-        }
+        })
     }
 
     fn run_hierarchy(&self, progress: &mut Progress<'_>) -> Result<HierarchyStage, Cancelled> {
@@ -666,6 +700,20 @@ impl Pipeline {
         let result =
             extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?;
         Ok(PostProcessStage { result })
+    }
+
+    /// The control mesh fitted to the input, starting from the
+    /// post-processed mesh (whose one Catmull–Clark split is the pure-quad
+    /// start).
+    fn run_fit(&mut self, progress: &mut Progress<'_>) -> Result<FitStage, Cancelled> {
+        let mesh = self
+            .postprocess
+            .as_ref()
+            .expect("post-processing runs first")
+            .mesh();
+        let result =
+            subdivision::fit_control_mesh(mesh, &self.input.mesh, &self.params.fit, progress)?;
+        Ok(FitStage { result })
     }
 }
 

@@ -5,7 +5,7 @@
 
 use glam::{DVec3, Vec3};
 use quadrille::io::Imported;
-use quadrille::mesh::{FaceList, TriMesh, generate};
+use quadrille::mesh::{generate, FaceList, TriMesh};
 use quadrille::pipeline::{Params, Pipeline, Stage};
 
 fn shared(name: &str) -> Imported {
@@ -154,6 +154,33 @@ fn filtered_normals_remove_singularities_caused_by_small_bumps() {
         count(&raw),
         count(&filtered)
     );
+}
+
+#[test]
+fn the_fit_stage_runs_last_when_enabled_and_alone_after_a_fit_parameter_change() {
+    let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 3)), Params::default());
+    p.fit_enabled = true;
+    let mut all = Stage::ALL.to_vec();
+    all.push(Stage::Fit);
+    assert_eq!(run(&mut p), all);
+    let fit = &p.fit.as_ref().unwrap().result;
+    // The control mesh is the post-processed mesh split once (all quads).
+    let post = p.postprocess.as_ref().unwrap().mesh();
+    assert_eq!(
+        fit.control.face_count(),
+        post.to_face_list().iter().map(|f| f.len()).sum::<usize>()
+    );
+    assert_eq!(fit.after.per_vertex_signed.len(), fit.limit.vertex_count());
+    // A sphere of radius 1 (normalised to diameter 1): the limit surface
+    // lies close to it after fitting.
+    assert!(fit.after.stats.max < 0.01, "{:?}", fit.after.stats);
+    let mut params = p.params.clone();
+    params.fit.max_iterations = 3;
+    assert_eq!(p.set_params(params.clone()), Some(Stage::Fit));
+    assert_eq!(run(&mut p), vec![Stage::Fit]);
+    params.extraction.post.smoothing_iterations = 1;
+    p.set_params(params);
+    assert_eq!(run(&mut p), vec![Stage::PostProcess, Stage::Fit]);
 }
 
 #[test]

@@ -13,7 +13,7 @@ const $ = (id) => document.getElementById(id);
 const canvas = $('canvas');
 const params = new URLSearchParams(location.search);
 
-window.quadrille = { lastImport: null, lastError: null, lastRun: null, backend: null, frames: 0 };
+window.quadrille = { lastImport: null, lastError: null, lastRun: null, backend: null, frames: 0, progressGapsMs: {} };
 
 // ---------------------------------------------------------------- status
 
@@ -28,10 +28,40 @@ function showError(message) {
 }
 
 const progressEl = $('progress');
-function showProgress(text, fraction) {
+const STAGES = ['import', 'analysis', 'hierarchy', 'orientation', 'position', 'extraction', 'postprocess', 'fit'];
+function showProgress(text, fraction, stage = null) {
   progressEl.hidden = false;
   progressEl.querySelector('.progress-text').textContent = text;
   progressEl.querySelector('.progress-fill').style.width = `${Math.round(fraction * 100)}%`;
+  if (stage) {
+    const li = $(`progress-${stage}`);
+    if (li) {
+      li.querySelector('.bar > div').style.width = `${Math.round(fraction * 100)}%`;
+      li.classList.toggle('done', fraction >= 1);
+      // Earlier stages are finished or were kept from the previous run.
+      for (let prev = li.previousElementSibling; prev; prev = prev.previousElementSibling) {
+        prev.classList.add('done');
+        prev.querySelector('.bar > div').style.width = '100%';
+      }
+    }
+  }
+}
+// One small bar per stage; stages that will not run (cached) start full.
+function resetStageBars(from = 'import') {
+  const start = STAGES.indexOf(from);
+  $('progress-stages').replaceChildren(...STAGES.map((stage, i) => {
+    const li = document.createElement('li');
+    li.id = `progress-${stage}`;
+    li.textContent = stage;
+    const bar = document.createElement('div');
+    bar.className = 'bar';
+    const fill = document.createElement('div');
+    fill.style.width = i < start ? '100%' : '0%';
+    bar.append(fill);
+    li.append(bar);
+    li.classList.toggle('done', i < start);
+    return li;
+  }));
 }
 const hideProgress = () => { progressEl.hidden = true; };
 
@@ -110,7 +140,11 @@ const STYLES = {
   'feature vertices': { key: 'v', color: '#e68a00', size: 6, hidden: true },
   'orientation singularities': { key: 'g', color: '#1f6fdd', color2: '#d8342c', size: 10 },
   'position field': { key: 'l', color: '#6a3d9a', size: 3, hidden: true },
-  'position singularities': { key: 'g', color: '#1b9e4b', size: 8, hidden: true },
+  'position singularities': { key: 'k', color: '#1b9e4b', size: 8, hidden: true },
+  'control cage': { key: 'w', color: '#3b6fd8', hidden: true },
+  'smooth regions': { key: 'r', color: '#1f78b4', color2: '#33a02c', hidden: true },
+  'quad mesh faces': { key: 'a', color: '#d5dbe6', color2: '#f28e2b' },
+  'limit surface': { key: 'u', color: '#9970ab', color2: '#5aae61', hidden: true },
 };
 // Meshes with more segments than this open with the layer hidden.
 const DENSE = 30000;
@@ -132,6 +166,11 @@ function setLayerVisible(name, visible) {
   const layer = LAYERS.find((l) => l.name === name);
   if (!layer) return;
   layer.visible = visible;
+  if (layer.kind === 'surface') {
+    if (visible) for (const l of LAYERS) if (l.kind === 'surface' && l !== layer) l.visible = false;
+    showSurface();
+    return;
+  }
   if (viewer) viewer.set_layer_visible(name, visible);
   updateLayersPanel();
   requestRender();
@@ -139,7 +178,7 @@ function setLayerVisible(name, visible) {
 
 function setScalar(name) {
   scalarName = name in scalars ? name : null;
-  if (viewer) {
+  if (viewer && drawnSurface === 'input') {
     try {
       if (scalarName) {
         const s = scalars[scalarName];
@@ -185,7 +224,14 @@ function updateLayersPanel() {
         option.selected = (scalarName || 'none') === name;
         select.append(option);
       }
-      select.addEventListener('change', () => setScalar(select.value));
+      select.addEventListener('change', () => {
+        setScalar(select.value);
+        // The scalars belong to the input: show it.
+        if (drawnSurface !== 'input') {
+          for (const l of LAYERS) if (l.kind === 'surface') l.visible = false;
+          showSurface();
+        }
+      });
       li.append(select);
     }
     if (layer.key) {
@@ -209,6 +255,13 @@ function updateLegend() {
   el.querySelector('.legend-bar').style.background = `linear-gradient(to right, ${legend.stops.join(', ')})`;
   el.querySelector('.min').textContent = formatNumber(legend.min);
   el.querySelector('.max').textContent = formatNumber(legend.max);
+  el.querySelector('.mid').textContent = legend.colormap === 'face-degree' ? '4 · 5' : formatNumber((legend.min + legend.max) / 2);
+  if (legend.colormap === 'face-degree') el.querySelector('.max').textContent = '6+';
+  if (legend.colormap === 'categories') {
+    el.querySelector('.min').textContent = 'grey: discarded';
+    el.querySelector('.mid').textContent = '';
+    el.querySelector('.max').textContent = 'colour: one per region';
+  }
 }
 
 const formatNumber = (x) => Number(x.toPrecision(3)).toString();
@@ -219,6 +272,35 @@ const dpr = () => window.devicePixelRatio || 1;
 // ---------------------------------------------------------------- results
 
 let meshInfo = null; // { name, vertices } of the mesh on screen
+let inputSurface = null; // the import's arrays, kept to swap back
+// Result surfaces by layer name ('quad mesh faces', 'limit surface'):
+// { positions, triangles, normals, scalar } from the worker.
+let extraSurfaces = {};
+let drawnSurface = 'input';
+
+// The drawn surface is the input's (with the chosen scalar), or one result
+// surface with its own colouring (faces by degree, limit surface by its
+// signed error) while that layer is on; at most one is on.
+function showSurface() {
+  if (!viewer || !inputSurface) return;
+  const on = LAYERS.find((l) => l.kind === 'surface' && l.visible && extraSurfaces[l.name]);
+  const name = on ? on.name : 'input';
+  const s = on ? extraSurfaces[name] : inputSurface;
+  try {
+    viewer.replace_surface(s.positions, s.triangles, s.normals);
+    drawnSurface = name;
+    if (on) {
+      const e = s.scalar;
+      viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
+    } else {
+      setScalar(scalarName);
+    }
+  } catch (error) {
+    showError(`could not show the ${name} surface: ${error.message}`);
+  }
+  updateLayersPanel();
+  requestRender();
+}
 
 function showMesh(name, mesh) {
   available.clear();
@@ -228,6 +310,9 @@ function showMesh(name, mesh) {
   $('pick-info').hidden = true;
   if (!viewer) return;
   try {
+    inputSurface = mesh;
+    extraSurfaces = {};
+    drawnSurface = 'input';
     viewer.set_mesh(mesh.positions, mesh.triangles, mesh.normals);
     viewer.set_edges('polygon edges', mesh.polygonEdges, layerColor('polygon edges'));
     viewer.set_edges('boundary', mesh.boundaryEdges, layerColor('boundary'));
@@ -267,6 +352,20 @@ function onStage(job, result) {
   for (const [name, p] of Object.entries(result.points || {})) {
     viewer.set_points(name, p.positions, p.colors, (STYLES[name]?.size || 6) * dpr());
     addLayer(name, 'points', p.positions.length / 3);
+  }
+  if (result.metrics) showMetrics(result.metrics, null);
+  if (result.limitSurface) showMetrics(null, result.limitSurface);
+  if (result.surface) {
+    const name = result.surface.name;
+    extraSurfaces[name] = result.surface;
+    const was = LAYERS.find((l) => l.name === name);
+    // The quad mesh's faces are shown when they arrive (the input's surface
+    // would hide its edges, which cut below a curved input).
+    const visible = was ? was.visible : !STYLES[name]?.hidden && !LAYERS.some((l) => l.kind === 'surface' && l.visible);
+    LAYERS = LAYERS.filter((l) => l.name !== name);
+    LAYERS.push({ name, label: name[0].toUpperCase() + name.slice(1), kind: 'surface', ...STYLES[name], visible });
+    available.add(name);
+    if (visible || drawnSurface === name) showSurface();
   }
   if (result.scalars && !scalarName) setScalar(Object.keys(result.scalars)[0]);
   // The result is what matters once it exists: the input's edges and the field recede.
@@ -316,6 +415,8 @@ const fmt = (v) => `(${v.map((x) => Number(x.toPrecision(4))).join(', ')})`;
 // ---------------------------------------------------------------- worker
 
 let worker = null;
+let workerHasInput = false; // whether the worker's session holds the current input (parameter changes re-use it)
+let lastInput = null; // { name, bytes (a copy), sample } of the input on screen
 let nextJob = 1;
 let current = null; // { job, name, started, stages, flag, deadline }
 
@@ -332,17 +433,38 @@ function startWorker() {
 
 function replaceWorker() {
   worker.terminate();
+  workerHasInput = false;
+  for (const { reject } of pending.values()) reject(new Error('the worker was restarted'));
+  pending.clear();
   startWorker();
 }
 
+// Requests answered with { type: 'reply', id }: exports and the schema.
+const pending = new Map(); // id → { resolve, reject }
+let nextRequest = 1;
+function request(message) {
+  return new Promise((resolve, reject) => {
+    const id = nextRequest++;
+    pending.set(id, { resolve, reject });
+    worker.postMessage({ ...message, id });
+  });
+}
+
 function onWorkerMessage(m) {
+  if (m.type === 'reply') {
+    const p = pending.get(m.id);
+    pending.delete(m.id);
+    if (p) (m.error !== undefined ? p.reject(new Error(m.error)) : p.resolve(m.value));
+    return;
+  }
   if (m.type === 'error' && m.fatal) replaceWorker();
   if (!current || m.job !== current.job) return;
   const job = current;
   switch (m.type) {
-    case 'progress':
-      showProgress(`${job.name}: ${m.stage} — ${m.text}`, m.fraction);
+    case 'progress': {
+      showProgress(`${job.name}: ${m.stage} — ${m.text}`, m.fraction, m.stage);
       break;
+    }
     case 'stage':
       try {
         onStage(job, m);
@@ -352,6 +474,10 @@ function onWorkerMessage(m) {
       break;
     case 'done':
       window.quadrille.lastRun = m.summary;
+      // The longest wait between two progress reports per stage, measured in the worker.
+      window.quadrille.progressGapsMs = m.progressGapsMs;
+      workerHasInput = true;
+      if (m.summary.metrics) showMetrics(m.summary.metrics, m.summary.limit_surface);
       finishJob(`${job.name}: ${Object.entries(job.stages).map(([s, ms]) => `${s} ${ms.toFixed(0)} ms`).join(', ')}.`);
       break;
     case 'cancelled':
@@ -371,13 +497,34 @@ function finishJob(message, isError = false) {
   else setStatus(message);
 }
 
-function run(name, bytes) {
+function run(name, bytes, sample = null) {
   if (current) cancel({ quiet: true });
+  lastInput = { name, bytes: bytes.slice(0), sample };
+  window.quadrille.progressGapsMs = {};
+  workerHasInput = false;
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
   current = { job: nextJob++, name, started: performance.now(), stages: {}, flag, deadline: 0 };
+  resetStageBars();
   showProgress(`${name}: reading ${(bytes.byteLength / 1024).toFixed(0)} KiB…`, 0);
   setStatus(`Reading ${name}…`);
-  worker.postMessage({ type: 'run', job: current.job, name, bytes, cancelFlag: flag }, [bytes]);
+  worker.postMessage({ type: 'run', job: current.job, name, bytes, params: JSON.stringify(paramValues), cancelFlag: flag }, [bytes]);
+}
+
+// New parameters: the worker keeps the input and every stage before the
+// first one they change; without it (a restarted worker) the input runs again.
+function rerun() {
+  if (!lastInput) return;
+  if (!workerHasInput) {
+    run(lastInput.name, lastInput.bytes.slice(0), lastInput.sample);
+    return;
+  }
+  if (current) cancel({ quiet: true });
+  const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
+  current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0 };
+  resetStageBars('analysis');
+  showProgress(`${lastInput.name}: new parameters…`, 0);
+  setStatus(`Parameters changed: running ${lastInput.name} again from the first stage they affect…`);
+  worker.postMessage({ type: 'params', job: current.job, params: JSON.stringify(paramValues), cancelFlag: flag });
 }
 
 // Cancel: ask the worker (it checks between stages, and the shared flag in
@@ -405,7 +552,7 @@ async function loadSample(name) {
   try {
     const response = await fetch(`samples/${name}.obj`);
     if (!response.ok) throw new Error(`sample ${name} is not available (${response.status})`);
-    run(`${name}.obj`, await response.arrayBuffer());
+    run(`${name}.obj`, await response.arrayBuffer(), name);
   } catch (error) {
     showError(error.message);
   }
@@ -433,8 +580,18 @@ function pickAt(clientX, clientY) {
     const p = hit.point;
     viewer.set_points('picked', new Float32Array(p), layerColor('picked'), 11 * dpr());
     const value = viewer.scalar_at(hit.vertex);
-    info.textContent = `vertex ${hit.vertex} · triangle ${hit.triangle} · (${[...p].map((x) => x.toFixed(3)).join(', ')})`
-      + (value !== undefined ? ` · value ${formatNumber(value)}` : '');
+    const regions = drawnSurface === 'smooth regions' ? extraSurfaces['smooth regions'] : null;
+    let text = `vertex ${hit.vertex} · triangle ${hit.triangle} · (${[...p].map((x) => x.toFixed(3)).join(', ')})`;
+    if (regions) {
+      // The smooth-region surface has one triangle per input face.
+      const r = regions.faceRegion[hit.triangle];
+      text += r < 0 ? ' · no smooth region'
+        : ` · smooth region ${r}: significance ${formatNumber(regions.regionSignificance[r])}°${regions.regionFiltered[r] ? '' : ' (discarded)'}`;
+      window.quadrille.lastPickRegion = r < 0 ? null : { region: r, significance: regions.regionSignificance[r], filtered: !!regions.regionFiltered[r] };
+    } else if (value !== undefined) {
+      text += ` · value ${formatNumber(value)}`;
+    }
+    info.textContent = text;
     info.hidden = false;
     window.quadrille.lastPick = { vertex: hit.vertex, triangle: hit.triangle, point: [...p] };
   }
@@ -533,6 +690,279 @@ window.quadrille.panicForTesting = () => {
   worker.postMessage({ type: 'panic-for-testing', job: current.job });
 };
 
+
+// ---------------------------------------------------------------- parameters
+
+// The panel is generated from the schema the wasm module exports
+// (src/params_schema.rs: path, one-line help, kind, range, default), so
+// every parameter of the pipeline is here with its default.
+let schema = []; // [{ path, help, kind, min, max, options, nullable, default }]
+let paramValues = {}; // the full parameter object sent to the worker
+let paramsTimer = 0;
+
+const getPath = (obj, path) => path.split('.').reduce((o, k) => (o == null ? undefined : o[k]), obj);
+function setPath(obj, path, value) {
+  const keys = path.split('.');
+  let o = obj;
+  for (const k of keys.slice(0, -1)) o = o[k] ??= {};
+  o[keys[keys.length - 1]] = value;
+}
+const same = (a, b) => JSON.stringify(a) === JSON.stringify(b);
+const defaultParams = () => {
+  const p = {};
+  for (const e of schema) setPath(p, e.path, structuredClone(e.default));
+  return p;
+};
+// { path: value } of the parameters that differ from their defaults.
+const changedParams = () => Object.fromEntries(schema
+  .filter((e) => !same(getPath(paramValues, e.path), e.default))
+  .map((e) => [e.path, getPath(paramValues, e.path)]));
+
+function paramInput(e) {
+  const value = getPath(paramValues, e.path);
+  let input;
+  if (e.kind === 'bool') {
+    input = document.createElement('input');
+    input.type = 'checkbox';
+    input.checked = !!value;
+  } else if (e.kind === 'choice') {
+    input = document.createElement('select');
+    for (const o of e.options) {
+      const option = document.createElement('option');
+      option.value = option.textContent = o;
+      option.selected = o === value;
+      input.append(option);
+    }
+  } else if (e.kind === 'json') {
+    input = document.createElement('input');
+    input.type = 'text';
+    input.value = JSON.stringify(value);
+  } else {
+    input = document.createElement('input');
+    input.type = 'number';
+    if (e.min !== undefined) input.min = e.min;
+    if (e.max !== undefined) input.max = e.max;
+    input.step = e.kind === 'integer' ? '1' : 'any';
+    input.value = value ?? '';
+    if (e.nullable) input.placeholder = 'auto';
+  }
+  input.id = `param-${e.path}`;
+  input.dataset.path = e.path;
+  input.addEventListener('change', () => {
+    const v = readInput(e, input);
+    if (v === undefined) {
+      showError(`${e.path}: not a valid value`);
+      input.value = e.kind === 'json' ? JSON.stringify(getPath(paramValues, e.path)) : getPath(paramValues, e.path) ?? '';
+      return;
+    }
+    setPath(paramValues, e.path, v);
+    input.closest('.param').classList.toggle('changed', !same(v, e.default));
+    clearTimeout(paramsTimer);
+    paramsTimer = setTimeout(rerun, 250);
+  });
+  return input;
+}
+
+// The value of an input, or undefined when it is not valid.
+function readInput(e, input) {
+  if (e.kind === 'bool') return input.checked;
+  if (e.kind === 'choice') return input.value;
+  if (e.kind === 'json') {
+    try { return JSON.parse(input.value); } catch { return undefined; }
+  }
+  if (input.value.trim() === '') return e.nullable ? null : undefined;
+  const x = Number(input.value);
+  if (!Number.isFinite(x) || (e.kind === 'integer' && !Number.isInteger(x))) return undefined;
+  if ((e.min !== undefined && x < e.min) || (e.max !== undefined && x > e.max)) return undefined;
+  return x;
+}
+
+function buildParamsPanel() {
+  const groups = new Map();
+  for (const e of schema) {
+    const group = e.path.split('.')[0];
+    if (!groups.has(group)) groups.set(group, []);
+    groups.get(group).push(e);
+  }
+  $('params').replaceChildren(...[...groups].map(([group, entries]) => {
+    const details = document.createElement('details');
+    details.className = 'group';
+    const summary = document.createElement('summary');
+    summary.textContent = `${group} (${entries.length})`;
+    details.append(summary);
+    for (const e of entries) {
+      const row = document.createElement('div');
+      row.className = 'param';
+      row.classList.toggle('changed', !same(getPath(paramValues, e.path), e.default));
+      const input = paramInput(e);
+      const label = document.createElement('label');
+      label.htmlFor = input.id;
+      label.textContent = e.path.split('.').slice(1).join('.');
+      const help = document.createElement('div');
+      help.className = 'help';
+      const range = e.min !== undefined ? ` Range ${e.min}–${e.max}.` : '';
+      help.textContent = `${e.help}${range} `;
+      const def = document.createElement('span');
+      def.className = 'default';
+      def.textContent = `Default: ${e.default === null ? 'auto' : JSON.stringify(e.default)}.`;
+      help.append(def);
+      row.append(label, input, help);
+      details.append(row);
+    }
+    return details;
+  }));
+}
+
+// Parameters from the address (`p=` JSON of { path: value }), over the defaults.
+function paramsFromUrl() {
+  paramValues = defaultParams();
+  const text = params.get('p');
+  if (!text) return;
+  try {
+    const changed = JSON.parse(text);
+    for (const [path, value] of Object.entries(changed)) {
+      if (schema.some((e) => e.path === path)) setPath(paramValues, path, value);
+    }
+  } catch (error) {
+    showError(`the link's parameters are not readable: ${error.message}`);
+  }
+}
+
+function resetParams() {
+  paramValues = defaultParams();
+  buildParamsPanel();
+  rerun();
+}
+
+// ---------------------------------------------------------------- metrics
+
+let shownMetrics = { metrics: null, limit: null };
+function showMetrics(metrics, limit) {
+  if (metrics) shownMetrics.metrics = metrics;
+  if (limit) shownMetrics.limit = limit;
+  const m = shownMetrics.metrics;
+  if (!m) return;
+  const n = (x, d = 3) => (typeof x === 'number' ? Number(x.toPrecision(d)).toString() : String(x ?? '—'));
+  const t = m.topology;
+  const rows = [
+    ['vertices / faces / edges', `${t.vertices} / ${t.faces} / ${t.edges}`],
+    ['input vertices', t.input_vertices],
+    ['vertex reduction', `${n(t.vertex_reduction_percent)} %`],
+    ['extraordinary vertices', `${n(t.extraordinary_vertex_percent)} %`],
+    ['non-quad faces', `${n(t.non_quad_percent)} %`],
+    ['face degrees', t.face_degrees.map(([d, c]) => `${c}×${d}`).join(', ')],
+    ['boundary edges / loops', `${t.boundary_edges} / ${t.boundary_loops}`],
+    ['non-manifold edges / vertices', `${t.nonmanifold_edges} / ${t.nonmanifold_vertices}`],
+    ['components · Euler · genus', `${t.components} · ${t.euler_characteristic} · ${t.genus ?? '—'}`],
+    ['quads', m.quads.quads],
+    ['planarity (diagonal midpoints)', n(m.quads.planarity)],
+    ['corner angle |α − 90°|', `${n(m.quads.corner_angle_deviation_degrees)}°`],
+    ['mean corner angle', `${n(m.quads.mean_corner_angle_degrees)}°`],
+    ['opposite-edge ratio', n(m.quads.opposite_edge_ratio)],
+    ['quad quality (0 best)', n(m.quads.quad_quality)],
+    ['Hausdorff distance', n(m.distance.hausdorff)],
+    ['output → input mean / max', `${n(m.distance.output_to_input_mean)} / ${n(m.distance.output_to_input_max)}`],
+    ['input → output mean / max', `${n(m.distance.input_to_output_mean)} / ${n(m.distance.input_to_output_max)}`],
+    ['face centroids mean / max', `${n(m.distance.face_centroid_mean)} / ${n(m.distance.face_centroid_max)}`],
+    ['edge length mean ± sd', `${n(m.edges.mean)} ± ${n(m.edges.std_dev)}`],
+    ['edge length min / max', `${n(m.edges.min)} / ${n(m.edges.max)}`],
+  ];
+  const l = shownMetrics.limit;
+  if (l) {
+    rows.push(
+      ['control mesh vertices / faces', `${l.control_vertices} / ${l.control_faces}`],
+      ['fit iterations (converged)', `${l.iterations} (${l.converged ? 'yes' : 'no'})`],
+      ['limit Hausdorff before → after', `${n(l.before.hausdorff)} → ${n(l.after.hausdorff)}`],
+      ['limit mean error before → after', `${n(l.before.stats.mean)} → ${n(l.after.stats.mean)}`],
+    );
+  }
+  rows.push(['lengths in', 'units of the input\u2019s largest bounding-box axis']);
+  $('metrics').replaceChildren(...rows.map(([k, v]) => {
+    const tr = document.createElement('tr');
+    for (const text of [k, v]) {
+      const td = document.createElement('td');
+      td.textContent = String(text);
+      tr.append(td);
+    }
+    return tr;
+  }));
+  $('metrics-panel').hidden = false;
+}
+
+// ---------------------------------------------------------------- export, share
+
+const baseName = () => (lastInput?.name || 'quadrille').replace(/\.[^.]*$/, '');
+async function exportMesh(kind, format) {
+  const bytes = await request({ type: 'export', kind, format });
+  return bytes;
+}
+async function downloadMesh(kind, format) {
+  try {
+    const bytes = await exportMesh(kind, format);
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(new Blob([bytes], { type: format === 'obj' ? 'text/plain' : 'application/octet-stream' }));
+    a.download = `${baseName()}-${kind}.${format}`;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+  } catch (error) {
+    showError(`export failed: ${error.message}`);
+  }
+}
+
+// The address that reproduces this run: the sample and the changed parameters.
+function shareUrl() {
+  const url = new URL(location.href);
+  url.search = '';
+  const backend = params.get('backend');
+  if (backend) url.searchParams.set('backend', backend);
+  if (lastInput?.sample) url.searchParams.set('sample', lastInput.sample);
+  const changed = changedParams();
+  if (Object.keys(changed).length) url.searchParams.set('p', JSON.stringify(changed));
+  return url.toString();
+}
+async function share() {
+  const url = shareUrl();
+  const el = $('share-url');
+  el.value = url;
+  el.hidden = false;
+  el.select();
+  history.replaceState(null, '', url);
+  $('share-note').textContent = lastInput && !lastInput.sample
+    ? 'Your own file is not in the link (it never leaves this page): the link carries only the parameters.'
+    : 'Link copied to the address bar.';
+  try { await navigator.clipboard.writeText(url); $('share-note').textContent += ' Copied.'; } catch { /* no clipboard permission */ }
+}
+
+// ---------------------------------------------------------------- shortcuts help
+
+const OTHER_KEYS = [['F', 'fit view'], ['P', 'PNG screenshot'], ['O', 'open a file'], ['Esc', 'cancel / close'], ['?', 'this list']];
+function toggleShortcuts(show) {
+  const el = $('shortcuts');
+  el.hidden = show === undefined ? !el.hidden : !show;
+  if (el.hidden) return;
+  const rows = [...LAYERS.filter((l) => l.key).map((l) => [l.key.toUpperCase(), l.label]), ...OTHER_KEYS];
+  $('shortcut-table').replaceChildren(...rows.map(([k, v]) => {
+    const tr = document.createElement('tr');
+    const a = document.createElement('td');
+    const kbd = document.createElement('kbd');
+    kbd.textContent = k;
+    a.append(kbd);
+    const b = document.createElement('td');
+    b.textContent = v;
+    tr.append(a, b);
+    return tr;
+  }));
+}
+
+window.quadrille.exportMesh = exportMesh;
+window.quadrille.shareUrl = shareUrl;
+window.quadrille.setParam = (path, value) => {
+  setPath(paramValues, path, value);
+  buildParamsPanel();
+  rerun();
+};
+window.quadrille.params = () => structuredClone(paramValues);
+
 // ---------------------------------------------------------------- wiring
 
 const buttons = $('sample-buttons');
@@ -550,6 +980,10 @@ $('file').addEventListener('change', (e) => {
 $('cancel').addEventListener('click', () => cancel());
 $('fit').addEventListener('click', fitView);
 $('screenshot').addEventListener('click', saveScreenshot);
+for (const b of document.querySelectorAll('#exports button')) b.addEventListener('click', () => downloadMesh(b.dataset.kind, b.dataset.format));
+$('share').addEventListener('click', share);
+$('params-reset').addEventListener('click', resetParams);
+$('shortcuts-close').addEventListener('click', () => toggleShortcuts(false));
 
 // Dropping anywhere on the page opens the file.
 let dragDepth = 0;
@@ -572,7 +1006,8 @@ document.addEventListener('keydown', (e) => {
   else if (key === 'f') fitView();
   else if (key === 'p') saveScreenshot();
   else if (key === 'o') $('file').click();
-  else if (key === 'escape') cancel();
+  else if (key === '?') toggleShortcuts();
+  else if (key === 'escape') { if (!$('shortcuts').hidden) toggleShortcuts(false); else cancel(); }
   else return;
   e.preventDefault();
 });
@@ -580,8 +1015,17 @@ document.addEventListener('keydown', (e) => {
 updateLayersPanel();
 startWorker();
 const viewerReady = init().then(startViewer).catch((error) => showError(`could not start: ${error.message}`));
-// The default sample is processed at start; its mesh is shown once the viewer is up.
-viewerReady.then(() => {
+const schemaReady = request({ type: 'schema' }).then((s) => {
+  schema = s;
+  paramsFromUrl();
+  buildParamsPanel();
+}).catch((error) => showError(`could not read the parameters: ${error.message}`));
+// The default sample (or the link's) is processed at start, with the
+// link's parameters; its mesh is shown once the viewer is up.
+Promise.all([viewerReady, schemaReady]).then(() => {
   const sample = params.get('sample');
+  if (params.get('p') && !sample) {
+    $('share-note').textContent = 'This link carries parameters only (the mesh was someone\u2019s own file, which never leaves their page): open your file to run it with them.';
+  }
   loadSample(SAMPLES.includes(sample) ? sample : DEFAULT_SAMPLE);
 });

@@ -1,15 +1,19 @@
 // The pipeline's worker: all mesh work happens here, never on the page's
 // thread. One Session (Rust) lives here between messages.
 //
-// Messages in:   { type: 'run', job, name, bytes: ArrayBuffer, cancelFlag?: SharedArrayBuffer }
+// Messages in:   { type: 'run', job, name, bytes: ArrayBuffer, params: JSON text, cancelFlag?: SharedArrayBuffer }
+//                { type: 'params', job, params: JSON text, cancelFlag? }   re-runs from the first changed stage
+//                { type: 'export', id, kind, format }
+//                { type: 'schema', id }
 //                { type: 'cancel', job }
 //                { type: 'panic-for-testing', job }
 // Messages out:  { type: 'progress', job, stage, fraction, text }
 //                { type: 'stage', job, stage, ms, ...result }   typed arrays transferred
-//                  (result: report, mesh, scalars, lines, points, counts; see src/web/worker_api.rs)
-//                { type: 'done', job, summary }
+//                  (result: report, mesh, scalars, lines, points, counts, metrics, surface; see src/web/worker_api.rs)
+//                { type: 'done', job, summary, from }          from: first stage run again (parameter changes)
 //                { type: 'cancelled', job }
 //                { type: 'error', job, message, fatal }        fatal: the worker must be replaced
+//                { type: 'reply', id, value?, error? }         answers to export and schema
 //
 // Cancellation is checked between stages, when this script is back in its
 // event loop; when the page is cross-origin isolated it also passes a shared
@@ -40,7 +44,8 @@ function takePanicSafely() {
   try { return takePanicMessage(); } catch { return null; }
 }
 
-async function run({ job, name, bytes, cancelFlag }) {
+// Runs `prepare(session)` then every remaining step of the session.
+async function drive({ job, cancelFlag }, prepare) {
   if (current) current.cancelled = true;
   const me = { job, cancelled: false, flag: cancelFlag ? new Int32Array(cancelFlag) : null };
   current = me;
@@ -48,9 +53,16 @@ async function run({ job, name, bytes, cancelFlag }) {
   try {
     await ready;
     session ??= new Session();
-    session.start(new Uint8Array(bytes), name);
-    // Returns whether to go on; stages ask it in their loops.
+    const from = prepare(session);
+    // Returns whether to go on; stages ask it in their loops. The longest
+    // wait between two calls within a stage is measured here, in the
+    // worker (the page's clock would add its own busy time).
+    const gaps = {};
+    let last = null;
     const progress = (stage, fraction, text) => {
+      const now = performance.now();
+      if (last && last.stage === stage) gaps[stage] = Math.max(gaps[stage] || 0, Math.round(now - last.time));
+      last = { stage, time: now };
       self.postMessage({ type: 'progress', job, stage, fraction, text });
       return !isCancelled();
     };
@@ -65,7 +77,7 @@ async function run({ job, name, bytes, cancelFlag }) {
       self.postMessage({ type: 'cancelled', job });
       return;
     }
-    self.postMessage({ type: 'done', job, summary: session.summary() });
+    self.postMessage({ type: 'done', job, summary: session.summary(), from, progressGapsMs: gaps });
   } catch (error) {
     fail(job, error);
   } finally {
@@ -73,10 +85,33 @@ async function run({ job, name, bytes, cancelFlag }) {
   }
 }
 
+async function reply(id, f) {
+  try {
+    await ready;
+    const value = f();
+    self.postMessage({ type: 'reply', id, value }, transferables(value));
+  } catch (error) {
+    self.postMessage({ type: 'reply', id, error: String((error && error.message) || error) });
+  }
+}
+
 self.onmessage = async (event) => {
   const message = event.data;
   if (message.type === 'run') {
-    run(message);
+    drive(message, (s) => {
+      s.setParams(message.params || '{}');
+      s.start(new Uint8Array(message.bytes), message.name);
+      return 'import';
+    });
+  } else if (message.type === 'params') {
+    drive(message, (s) => s.setParams(message.params) ?? null);
+  } else if (message.type === 'export') {
+    reply(message.id, () => {
+      if (!session) throw new Error('nothing was imported');
+      return session.export(message.kind, message.format);
+    });
+  } else if (message.type === 'schema') {
+    reply(message.id, () => Session.parameterSchema());
   } else if (message.type === 'cancel') {
     if (current && current.job === message.job) current.cancelled = true;
   } else if (message.type === 'panic-for-testing') {

@@ -91,7 +91,11 @@ impl PrincipalCurvature {
     /// 2006, thesis 3.3); 1 (isotropic) where both curvatures are zero.
     pub fn anisotropy(&self) -> f64 {
         let max = self.max_abs();
-        if max > 0.0 { self.min_abs() / max } else { 1.0 }
+        if max > 0.0 {
+            self.min_abs() / max
+        } else {
+            1.0
+        }
     }
 
     /// Direction of the larger |κ| (across a ridge).
@@ -157,6 +161,25 @@ pub fn principal_curvatures(
     adjacency: &VertexAdjacency,
     params: &CurvatureParams,
 ) -> Vec<PrincipalCurvature> {
+    crate::progress::silently("curvature", |progress| {
+        principal_curvatures_with_progress(
+            positions, normals, adjacency, params, progress, 0.0, 1.0,
+        )
+    })
+    .unwrap_or_default()
+}
+
+/// [`principal_curvatures`], reporting the fraction done mapped to
+/// `[from, to]` every 1024 vertices; stops when the sink cancels.
+pub fn principal_curvatures_with_progress(
+    positions: &[DVec3],
+    normals: &[DVec3],
+    adjacency: &VertexAdjacency,
+    params: &CurvatureParams,
+    progress: &mut crate::progress::Progress<'_>,
+    from: f32,
+    to: f32,
+) -> Result<Vec<PrincipalCurvature>, crate::progress::Cancelled> {
     let count = positions.len().min(adjacency.vertex_count());
     let rings = params.rings.clamp(1, 5);
     let mut collector = RingCollector::new(count);
@@ -165,6 +188,10 @@ pub fn principal_curvatures(
     let normal_of = |i: usize| normals.get(i).copied().unwrap_or(DVec3::Z);
     let mut out = Vec::with_capacity(positions.len());
     for v in 0..positions.len() {
+        if v % 1024 == 0 && v > 0 {
+            let done = v as f32 / positions.len() as f32;
+            progress.report(from + (to - from) * done, "principal curvatures")?;
+        }
         let normal = normal_of(v);
         if v >= count {
             out.push(PrincipalCurvature::flat(normal));
@@ -179,7 +206,7 @@ pub fn principal_curvatures(
         };
         out.push(estimate.unwrap_or_else(|| PrincipalCurvature::flat(normal)));
     }
-    out
+    Ok(out)
 }
 
 /// Reused buffers for the per-vertex fits.
@@ -414,8 +441,8 @@ fn discrete_sums(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::normals::{NormalWeighting, vertex_normals};
-    use crate::mesh::{TriMesh, generate};
+    use crate::analysis::normals::{vertex_normals, NormalWeighting};
+    use crate::mesh::{generate, TriMesh};
 
     fn estimate(mesh: &TriMesh, params: &CurvatureParams) -> Vec<PrincipalCurvature> {
         let normals = vertex_normals(mesh, NormalWeighting::Angle);

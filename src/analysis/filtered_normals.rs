@@ -120,6 +120,34 @@ pub fn filtered_normals(
     sigma: Sigma<'_>,
     truncation: f64,
 ) -> Vec<DVec3> {
+    crate::progress::silently("filtered normals", |progress| {
+        filtered_normals_with_progress(
+            mesh,
+            adjacency,
+            face_normals,
+            sigma,
+            truncation,
+            progress,
+            0.0,
+            1.0,
+        )
+    })
+    .unwrap_or_default()
+}
+
+/// [`filtered_normals`], reporting the fraction done mapped to
+/// `[from, to]` every 2048 faces; stops when the sink cancels.
+#[allow(clippy::too_many_arguments)]
+pub fn filtered_normals_with_progress(
+    mesh: &TriMesh,
+    adjacency: &FaceAdjacency,
+    face_normals: &[DVec3],
+    sigma: Sigma<'_>,
+    truncation: f64,
+    progress: &mut crate::progress::Progress<'_>,
+    from: f32,
+    to: f32,
+) -> Result<Vec<DVec3>, crate::progress::Cancelled> {
     let faces = mesh.face_count().min(face_normals.len());
     let centroids: Vec<DVec3> = (0..faces)
         .map(|f| {
@@ -151,6 +179,10 @@ pub fn filtered_normals(
     let mut heap = BinaryHeap::new();
     let mut out = Vec::with_capacity(faces);
     for f in 0..faces {
+        if f % 2048 == 0 && f > 0 {
+            let done = f as f32 / faces as f32;
+            progress.report(from + (to - from) * done, "filtered normals")?;
+        }
         let s = match sigma {
             Sigma::Uniform(s) => s,
             Sigma::PerFace(per_face) => per_face.get(f).copied().unwrap_or(0.0),
@@ -190,5 +222,5 @@ pub fn filtered_normals(
         }
         out.push(sum.try_normalize().unwrap_or(face_normals[f]));
     }
-    out
+    Ok(out)
 }

@@ -35,17 +35,18 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::{FaceAdjacency, TriMesh, VertexAdjacency};
+use crate::progress::{Cancelled, Progress};
 use crate::sizing::{self, SizingContext, SizingParams};
 
 pub use areas::barycentric_cell_areas;
-pub use averaging::{AveragingMethod, AveragingParams, average_curvature};
+pub use averaging::{average_curvature, AveragingMethod, AveragingParams};
 pub use curvature::{
-    CurvatureEstimator, CurvatureParams, PrincipalCurvature, principal_curvatures,
+    principal_curvatures, CurvatureEstimator, CurvatureParams, PrincipalCurvature,
 };
-pub use features::{FeatureParams, FeatureVertices, feature_vertices, orientation_constraints};
-pub use filtered_normals::{FilteredNormalsMode, FilteredNormalsParams, Sigma, filtered_normals};
-pub use normals::{NormalWeighting, face_normals, vertex_normals};
-pub use selection::{CurvatureSelection, directional_curvature, select_curvature};
+pub use features::{feature_vertices, orientation_constraints, FeatureParams, FeatureVertices};
+pub use filtered_normals::{filtered_normals, FilteredNormalsMode, FilteredNormalsParams, Sigma};
+pub use normals::{face_normals, vertex_normals, NormalWeighting};
+pub use selection::{directional_curvature, select_curvature, CurvatureSelection};
 
 /// Parameters of the surface analysis. Every field has a documented default
 /// (DESIGN.md's table); `#[serde(default)]` fills missing fields.
@@ -104,19 +105,40 @@ pub fn analyze(
     params: &AnalysisParams,
     sizing_params: &SizingParams,
 ) -> SurfaceAnalysis {
+    crate::progress::silently("analysis", |progress| {
+        analyze_with_progress(mesh, params, sizing_params, progress)
+    })
+    .expect("a silent sink never cancels")
+}
+
+/// [`analyze`], reporting progress (inside the curvature estimation, the
+/// longest part, and between the steps) and stopping when the sink cancels.
+pub fn analyze_with_progress(
+    mesh: &TriMesh,
+    params: &AnalysisParams,
+    sizing_params: &SizingParams,
+    progress: &mut Progress<'_>,
+) -> Result<SurfaceAnalysis, Cancelled> {
+    progress.report(0.0, "adjacency and normals")?;
     let adjacency = VertexAdjacency::new(mesh);
     let face_adjacency = FaceAdjacency::new(mesh);
     let face_normals = face_normals(mesh);
     let vertex_normals = vertex_normals(mesh, params.normal_weighting);
     let cell_areas = barycentric_cell_areas(mesh);
-    let curvature = principal_curvatures(
+    progress.report(0.05, "principal curvatures")?;
+    let curvature = curvature::principal_curvatures_with_progress(
         &mesh.positions,
         &vertex_normals,
         &adjacency,
         &params.curvature,
-    );
+        progress,
+        0.05,
+        0.7,
+    )?;
+    progress.report(0.7, "curvature averaging")?;
     let selected = select_curvature(&curvature, params.selection);
     let averaged = average_curvature(&selected, &adjacency, &params.averaging);
+    progress.report(0.75, "sizing field")?;
     let context = SizingContext::for_mesh(mesh, &averaged, sizing_params);
     let edge_length = sizing::sizing_field(&averaged, &context, sizing_params);
     let directional = (params.selection == CurvatureSelection::Directional).then(|| {
@@ -133,30 +155,38 @@ pub fn analyze(
             .map(|(a, b)| [a, b])
             .collect()
     });
+    progress.report(0.8, "feature vertices")?;
     let features = feature_vertices(&curvature, &adjacency, &params.features);
+    progress.report(0.85, "filtered normals")?;
     let fp = &params.filtered_normals;
     let filtered = match fp.mode {
         FilteredNormalsMode::Off => face_normals.clone(),
-        FilteredNormalsMode::Global => filtered_normals(
+        FilteredNormalsMode::Global => filtered_normals::filtered_normals_with_progress(
             mesh,
             &face_adjacency,
             &face_normals,
             Sigma::Uniform(fp.sigma_factor * context.global_edge_length),
             fp.truncation,
-        ),
+            progress,
+            0.85,
+            1.0,
+        )?,
         FilteredNormalsMode::SizingAware => {
             let sigma =
                 filtered_normals::face_sigma_from_sizing(mesh, &edge_length, fp.sigma_factor);
-            filtered_normals(
+            filtered_normals::filtered_normals_with_progress(
                 mesh,
                 &face_adjacency,
                 &face_normals,
                 Sigma::PerFace(&sigma),
                 fp.truncation,
-            )
+                progress,
+                0.85,
+                1.0,
+            )?
         }
     };
-    SurfaceAnalysis {
+    Ok(SurfaceAnalysis {
         adjacency,
         face_adjacency,
         face_normals,
@@ -172,5 +202,5 @@ pub fn analyze(
         },
         features,
         filtered_normals: filtered,
-    }
+    })
 }

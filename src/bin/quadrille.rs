@@ -141,7 +141,7 @@ struct RemeshArgs {
 }
 
 fn remesh(args: RemeshArgs) -> Result<(), String> {
-    use quadrille::pipeline::{Params, Pipeline, target_vertex_count};
+    use quadrille::pipeline::{target_vertex_count, Params, Pipeline};
     let name = args.output.display().to_string();
     if quadrille::io::Format::from_extension(&name).is_none_or(|f| {
         !matches!(
@@ -181,6 +181,9 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     let input_vertices = imported.mesh.vertex_count();
     let target = target_vertex_count(input_vertices, &params.sizing);
     let mut pipeline = Pipeline::new(imported, params);
+    // The control mesh (and, for the stats, its limit error before and
+    // after fitting) is the pipeline's last stage.
+    pipeline.fit_enabled = args.control.is_some() || args.limit.is_some() || args.stats.is_some();
     let clock = move || start.elapsed().as_secs_f64() * 1e3;
     let verbose = args.verbose;
     let mut last = String::new();
@@ -214,16 +217,10 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         .map_err(|e| e.to_string())?;
     std::fs::write(&args.output, bytes).map_err(|e| format!("{name}: {e}"))?;
 
-    // The subdivision control mesh (and, for the stats, its limit error
-    // before and after fitting).
-    let fitted = if args.control.is_some() || args.limit.is_some() || args.stats.is_some() {
-        use quadrille::subdivision::{self, FitParams};
-        let t0 = std::time::Instant::now();
-        let fit_params = FitParams::default();
-        let mut progress = quadrille::progress::Progress::new(&mut sink, "fit");
-        let result =
-            subdivision::fit_control_mesh(mesh, &pipeline.input.mesh, &fit_params, &mut progress)
-                .map_err(|e| e.to_string())?;
+    let fitted = pipeline.fit.as_ref().map(|f| &f.result);
+    if let Some(result) = fitted {
+        use quadrille::subdivision;
+        let fit_params = pipeline.params.fit;
         let write = |path: &Path, m: &quadrille::mesh::PolyMesh| -> Result<(), String> {
             let name = path.display().to_string();
             let world: Vec<_> = m.positions.iter().map(|&p| frame.to_world(p)).collect();
@@ -248,10 +245,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
                 )?;
             }
         }
-        Some((result.summary, t0.elapsed().as_secs_f64() * 1e3))
-    } else {
-        None
-    };
+    }
     if let Some(stats) = &args.stats {
         let t0 = std::time::Instant::now();
         let surface = surface.ok_or("the input has no triangles")?;
@@ -263,9 +257,6 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             timings.insert(stage.name().into(), serde_json::json!(ms));
         }
         timings.insert("metrics".into(), serde_json::json!(metrics_ms));
-        if let Some((_, ms)) = &fitted {
-            timings.insert("fit".into(), serde_json::json!(ms));
-        }
         let extraction = pipeline.extraction.as_ref().map(|e| &e.extracted.report);
         let json = serde_json::json!({
             "input": args.input.display().to_string(),
@@ -279,7 +270,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             "extraction": extraction,
             "postprocess": post.result.report,
             "postprocess_repair": post.result.repair,
-            "limit_surface": fitted.as_ref().map(|(summary, _)| summary),
+            "limit_surface": fitted.map(|r| &r.summary),
             "timings_ms": timings,
         });
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;

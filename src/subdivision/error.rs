@@ -17,8 +17,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{BoundaryRule, limit_mesh};
+use super::{limit_mesh, BoundaryRule};
 use crate::mesh::{PolyMesh, TriMesh};
+use crate::progress::{Cancelled, Progress};
 use crate::spatial::{DistanceStats, SurfaceIndex};
 
 /// Distances between a control mesh's limit surface and the reference.
@@ -51,23 +52,59 @@ impl LimitError {
         levels: u32,
         rule: BoundaryRule,
     ) -> (LimitError, PolyMesh) {
+        crate::progress::silently("limit error", |progress| {
+            Self::measure_with_progress(control, reference, index, levels, rule, progress, 0.0, 1.0)
+        })
+        .expect("a silent sink never cancels")
+    }
+
+    /// [`LimitError::measure`], reporting the fraction done mapped to
+    /// `[from, to]` between chunks of distance queries; stops when the
+    /// sink cancels.
+    #[allow(clippy::too_many_arguments)]
+    pub fn measure_with_progress(
+        control: &PolyMesh,
+        reference: &TriMesh,
+        index: &SurfaceIndex,
+        levels: u32,
+        rule: BoundaryRule,
+        progress: &mut Progress<'_>,
+        from: f32,
+        to: f32,
+    ) -> Result<(LimitError, PolyMesh), Cancelled> {
+        let mut at = |done: f32, message: &str| progress.report(from + (to - from) * done, message);
         let limit = limit_mesh(control, levels, rule);
-        let mut per_vertex_signed = Vec::new();
-        crate::parallel::map_into(&limit.positions, &mut per_vertex_signed, |&p| {
-            index.signed_distance(p)
-        });
+        at(0.1, "limit error: distances of the limit surface")?;
+        let mut per_vertex_signed = Vec::with_capacity(limit.positions.len());
+        let mut chunk_out = Vec::new();
+        let n = limit.positions.len().max(1);
+        for (c, chunk) in limit.positions.chunks(CHUNK).enumerate() {
+            at(
+                0.1 + 0.5 * (c * CHUNK) as f32 / n as f32,
+                "limit error: distances of the limit surface",
+            )?;
+            crate::parallel::map_into(chunk, &mut chunk_out, |&p| index.signed_distance(p));
+            per_vertex_signed.extend_from_slice(&chunk_out);
+        }
         let stats = DistanceStats::of(per_vertex_signed.iter().copied());
         let triangles = limit.to_face_list().triangulate(&limit.positions);
         let limit_tris = TriMesh {
             positions: limit.positions.clone(),
             triangles,
         };
+        at(0.6, "limit error: indexing the limit surface")?;
         let reference_to_limit = match SurfaceIndex::new(&limit_tris) {
             Some(limit_index) => {
-                let mut d = Vec::new();
-                crate::parallel::map_into(&reference.positions, &mut d, |&p| {
-                    limit_index.distance(p)
-                });
+                let mut d = Vec::with_capacity(reference.positions.len());
+                let n = reference.positions.len().max(1);
+                for (c, chunk) in reference.positions.chunks(CHUNK).enumerate() {
+                    at(
+                        0.7 + 0.3 * (c * CHUNK) as f32 / n as f32,
+                        "limit error: distances to the limit surface",
+                    )?;
+                    crate::parallel::map_into(chunk, &mut chunk_out, |&p| limit_index.distance(p));
+                    d.extend_from_slice(&chunk_out);
+                }
                 DistanceStats::of(d)
             }
             None => DistanceStats::default(),
@@ -79,6 +116,9 @@ impl LimitError {
             reference_to_limit,
             levels,
         };
-        (error, limit)
+        Ok((error, limit))
     }
 }
+
+/// Distance queries between two progress reports.
+const CHUNK: usize = 4096;

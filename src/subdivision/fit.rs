@@ -21,7 +21,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::{BoundaryRule, LimitError, limit_normals, limit_positions, subdivide};
+use super::{limit_normals, limit_positions, subdivide, BoundaryRule, LimitError};
 use crate::mesh::{PolyMesh, TriMesh};
 use crate::progress::{Cancelled, Progress};
 use crate::spatial::SurfaceIndex;
@@ -105,6 +105,9 @@ pub struct FitSummary {
     pub after: LimitError,
 }
 
+/// Control vertices moved between two progress reports.
+const PROGRESS_CHUNK: usize = 8192;
+
 /// Fits a Catmull–Clark control mesh to `reference`, starting from
 /// `quad_dominant` (any polygon mesh in the reference's coordinates).
 /// Reports progress under the current stage name; returns [`Cancelled`]
@@ -142,7 +145,17 @@ pub fn fit_control_mesh(
 
     let before = if params.measure_before {
         progress.report(0.02, "measuring the unfitted limit surface")?;
-        LimitError::measure(&control, reference, &index, params.error_levels, rule).0
+        LimitError::measure_with_progress(
+            &control,
+            reference,
+            &index,
+            params.error_levels,
+            rule,
+            progress,
+            0.02,
+            0.05,
+        )?
+        .0
     } else {
         LimitError::default()
     };
@@ -158,18 +171,30 @@ pub fn fit_control_mesh(
     };
     let max_iterations = params.max_iterations;
     let mut offsets: Vec<(DVec3, bool)> = Vec::new();
+    let mut chunk_offsets: Vec<(DVec3, bool)> = Vec::new();
     for it in 0..max_iterations {
-        progress.report(
-            0.05 + 0.85 * it as f32 / max_iterations.max(1) as f32,
-            &format!("fitting iteration {}", it + 1),
-        )?;
+        let at = |done: f32| 0.05 + 0.85 * (it as f32 + done) / max_iterations.max(1) as f32;
+        let message = format!("fitting iteration {}", it + 1);
+        progress.report(at(0.0), &message)?;
         let limit = limit_positions(&control, rule);
         let normals = limit_normals(&control);
-        crate::parallel::map_into(&movable, &mut offsets, |&v| {
-            let (l, n) = (limit[v as usize], normals[v as usize]);
-            let bound = params.ray_length * edge_length[v as usize];
-            offset_to_surface(&index, l, n, bound)
-        });
+        // In chunks, so progress (and cancelling) gets a word in on big
+        // meshes in a single-threaded worker.
+        offsets.clear();
+        for (c, chunk) in movable.chunks(PROGRESS_CHUNK).enumerate() {
+            if c > 0 {
+                progress.report(
+                    at((c * PROGRESS_CHUNK) as f32 / movable.len() as f32),
+                    &message,
+                )?;
+            }
+            crate::parallel::map_into(chunk, &mut chunk_offsets, |&v| {
+                let (l, n) = (limit[v as usize], normals[v as usize]);
+                let bound = params.ray_length * edge_length[v as usize];
+                offset_to_surface(&index, l, n, bound)
+            });
+            offsets.extend_from_slice(&chunk_offsets);
+        }
         let mut largest = 0.0f64;
         for (&v, &(offset, missed)) in movable.iter().zip(&offsets) {
             control.positions[v as usize] += offset;
@@ -193,8 +218,16 @@ pub fn fit_control_mesh(
         }
     }
     progress.report(0.92, "measuring the fitted limit surface")?;
-    let (after, limit) =
-        LimitError::measure(&control, reference, &index, params.error_levels, rule);
+    let (after, limit) = LimitError::measure_with_progress(
+        &control,
+        reference,
+        &index,
+        params.error_levels,
+        rule,
+        progress,
+        0.92,
+        1.0,
+    )?;
     summary.before = before.clone();
     summary.after = after.clone();
     progress.report(1.0, "control mesh fitted")?;
@@ -235,7 +268,11 @@ fn mean_edge_lengths(mesh: &PolyMesh) -> Vec<f64> {
                 sum += p.distance(mesh.positions[mesh.tip(h) as usize]);
                 n += 1;
             }
-            if n == 0 { 0.0 } else { sum / n as f64 }
+            if n == 0 {
+                0.0
+            } else {
+                sum / n as f64
+            }
         })
         .collect()
 }

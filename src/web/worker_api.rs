@@ -6,8 +6,19 @@
 //! the worker transfers them instead of copying.
 //!
 //! Steps: `import`, then `pipeline` (analysis, hierarchy, orientation,
-//! position, extraction, post-processing; [`crate::pipeline::Pipeline::run`]). The worker goes back to
-//! its event loop between steps, where a `cancel` message is seen.
+//! position, extraction, post-processing, control-mesh fit;
+//! [`crate::pipeline::Pipeline::run`]). The worker goes back to its event
+//! loop between steps, where a `cancel` message is seen.
+//!
+//! Parameters: `setParams(json)` hands the pipeline new parameters
+//! ([`crate::pipeline::Pipeline::set_params`]); only the stages from the
+//! first one they change on run again at the next `step`. `summary()`
+//! lists the stages the latest run ran (`stagesRun`). `parameterSchema()`
+//! describes every parameter ([`crate::params_schema`]).
+//!
+//! Export: `export(kind, format)` writes the quad-dominant, pure-quad,
+//! control or limit mesh as OBJ or PLY with the crate's own writers, in
+//! the file's coordinates.
 //!
 //! Cancellation inside a step. The pipeline's progress sink asks the
 //! worker's `progress` callback whether to go on. Without cross-origin
@@ -22,12 +33,12 @@
 //!    lines?: { name: { segments, colors } }, points?: { name: { positions, colors } }, counts? }`
 
 use glam::{DVec3, Vec3};
-use js_sys::{Float32Array, Function, Object, Reflect, Uint8Array, Uint32Array};
+use js_sys::{Float32Array, Function, Object, Reflect, Uint32Array, Uint8Array};
 use wasm_bindgen::prelude::*;
 
 use super::mesh_arrays::MeshArrays;
 use crate::field::Singularity;
-use crate::mesh::PolyMesh;
+use crate::mesh::{PolyMesh, TriMesh};
 use crate::pipeline::{Params, Pipeline, Stage};
 
 const STEPS: [&str; 2] = ["import", "pipeline"];
@@ -41,9 +52,33 @@ pub struct Session {
     next: usize,
     params: Params,
     pipeline: Option<Pipeline>,
-    /// Milliseconds per finished stage, in order.
+    /// Milliseconds of the latest run of each stage, in pipeline order.
     timings: Vec<(String, f64)>,
+    /// The stages run since the latest `start` or parameter change.
+    stages_run: Vec<String>,
+    /// The metrics of the post-processed mesh (`quadrille remesh --stats`'s
+    /// `metrics`), and the fitting summary (its `limit_surface`).
+    metrics: Option<serde_json::Value>,
+    limit_surface: Option<serde_json::Value>,
     cancelled: bool,
+}
+
+/// Records `ms` for `stage`, replacing an earlier run's time and keeping
+/// the pipeline's order.
+fn record_timing(timings: &mut Vec<(String, f64)>, stage: &str, ms: f64) {
+    let order = |name: &str| {
+        std::iter::once("import")
+            .chain(Stage::ALL.iter().map(|s| s.name()))
+            .chain(std::iter::once(Stage::Fit.name()))
+            .position(|s| s == name)
+            .unwrap_or(usize::MAX)
+    };
+    timings.retain(|(s, _)| s != stage);
+    let at = timings
+        .iter()
+        .position(|(s, _)| order(s) > order(stage))
+        .unwrap_or(timings.len());
+    timings.insert(at, (stage.to_string(), ms));
 }
 
 fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsError> {
@@ -204,8 +239,113 @@ fn poly_mesh_layers(
     Ok(())
 }
 
+/// A polygon mesh as a drawable surface with its faces coloured by degree:
+/// every face gets its own corners (flat normal, one colour), fan-triangulated.
+fn face_degree_surface(name: &str, mesh: &PolyMesh) -> Result<Object, JsError> {
+    let faces = mesh.to_face_list();
+    let (mut positions, mut normals, mut triangles, mut degree) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for f in faces.iter() {
+        let corners: Vec<DVec3> = f.iter().map(|&v| mesh.positions[v as usize]).collect();
+        let mut n = DVec3::ZERO;
+        for k in 0..corners.len() {
+            n += corners[k].cross(corners[(k + 1) % corners.len()]);
+        }
+        let n = n.normalize_or_zero().as_vec3();
+        let base = (positions.len() / 3) as u32;
+        for c in &corners {
+            push(&mut positions, c.as_vec3());
+            push(&mut normals, n);
+            degree.push(f.len() as f32);
+        }
+        for k in 1..f.len().saturating_sub(1) as u32 {
+            triangles.extend_from_slice(&[base, base + k, base + k + 1]);
+        }
+    }
+    let scalar = Object::new();
+    set(&scalar, "name", "face degree")?;
+    set(&scalar, "values", Float32Array::from(&degree[..]))?;
+    set(&scalar, "min", 3.0)?;
+    set(&scalar, "max", 6.0)?;
+    set(&scalar, "colormap", "face-degree")?;
+    let surface = Object::new();
+    set(&surface, "name", name)?;
+    set(&surface, "positions", Float32Array::from(&positions[..]))?;
+    set(&surface, "triangles", Uint32Array::from(&triangles[..]))?;
+    set(&surface, "normals", Float32Array::from(&normals[..]))?;
+    set(&surface, "scalar", scalar)?;
+    Ok(surface)
+}
+
+/// The smooth regions (Campen et al. 2016) as a surface with one colour per
+/// filtered region and the discarded ones grey: every input triangle gets
+/// its own corners, so triangle `t` of this surface is input face `t`, and
+/// `faceRegion[t]` (−1: none) and `regionSignificance[region]` (degrees)
+/// serve the pick readout.
+fn smooth_region_surface(
+    mesh: &TriMesh,
+    regions: &crate::analysis::smooth_regions::SmoothRegions,
+) -> Result<Object, JsError> {
+    let n = mesh.face_count();
+    let (mut positions, mut normals, mut values) = (
+        Vec::with_capacity(n * 9),
+        Vec::with_capacity(n * 9),
+        Vec::with_capacity(n * 3),
+    );
+    let mut face_region = Vec::with_capacity(n);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let normal = mesh
+            .face_normal_unnormalized(f)
+            .normalize_or_zero()
+            .as_vec3();
+        let region = regions.region_of_face.get(f).copied().flatten();
+        let category = match region {
+            Some(r) if regions.filtered[r as usize] => 1.0 + (r % 12) as f32,
+            _ => 0.0,
+        };
+        face_region.push(region.map_or(-1, |r| r as i32));
+        for &v in t {
+            push(&mut positions, mesh.positions[v as usize].as_vec3());
+            push(&mut normals, normal);
+            values.push(category);
+        }
+    }
+    let triangles: Vec<u32> = (0..(n * 3) as u32).collect();
+    let significance: Vec<f32> = regions.significance.iter().map(|&s| s as f32).collect();
+    let scalar = Object::new();
+    set(&scalar, "name", "smooth regions (grey: discarded)")?;
+    set(&scalar, "values", Float32Array::from(&values[..]))?;
+    set(&scalar, "min", 0.0)?;
+    set(&scalar, "max", 12.0)?;
+    set(&scalar, "colormap", "categories")?;
+    let surface = Object::new();
+    set(&surface, "name", "smooth regions")?;
+    set(&surface, "positions", Float32Array::from(&positions[..]))?;
+    set(&surface, "triangles", Uint32Array::from(&triangles[..]))?;
+    set(&surface, "normals", Float32Array::from(&normals[..]))?;
+    set(&surface, "scalar", scalar)?;
+    set(
+        &surface,
+        "faceRegion",
+        js_sys::Int32Array::from(&face_region[..]),
+    )?;
+    set(
+        &surface,
+        "regionSignificance",
+        Float32Array::from(&significance[..]),
+    )?;
+    let filtered: Vec<u8> = regions.filtered.iter().map(|&b| b as u8).collect();
+    set(&surface, "regionFiltered", Uint8Array::from(&filtered[..]))?;
+    Ok(surface)
+}
+
 /// The page-facing result of one pipeline stage.
-fn stage_result(stage: Stage, p: &Pipeline, ms: f64) -> Result<JsValue, JsError> {
+fn stage_result(
+    stage: Stage,
+    p: &Pipeline,
+    ms: f64,
+    metrics: Option<&serde_json::Value>,
+) -> Result<JsValue, JsError> {
     let r = StageResult::new(stage.name(), ms)?;
     let mesh = &p.input.mesh;
     let as_vec3 = |v: DVec3| v.as_vec3();
@@ -256,6 +396,14 @@ fn stage_result(stage: Stage, p: &Pipeline, ms: f64) -> Result<JsValue, JsError>
             }
             r.lines("cross field", &segments, &CROSS_COLOR)?;
             singularity_points(&r, "orientation singularities", &o.singularities)?;
+            if let Some(regions) = &o.smooth_regions {
+                set(&r.obj, "surface", smooth_region_surface(mesh, regions)?)?;
+                r.count("smooth regions", regions.region_count())?;
+                r.count(
+                    "filtered smooth regions",
+                    regions.filtered.iter().filter(|&&f| f).count(),
+                )?;
+            }
         }
         Stage::Position => {
             let Some(pos) = &p.position else {
@@ -276,10 +424,61 @@ fn stage_result(stage: Stage, p: &Pipeline, ms: f64) -> Result<JsValue, JsError>
                 return Ok(JsValue::UNDEFINED);
             };
             poly_mesh_layers(&r, "quad mesh", pp.mesh(), true)?;
+            set(
+                &r.obj,
+                "surface",
+                face_degree_surface("quad mesh faces", pp.mesh())?,
+            )?;
+            if let Some(m) = metrics {
+                set(&r.obj, "metrics", to_js(m)?)?;
+            }
         }
-        // Stages the viewer does not know yet run without layers.
-        #[allow(unreachable_patterns)]
-        _ => {}
+        Stage::Fit => {
+            let Some(f) = &p.fit else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            let f = &f.result;
+            poly_mesh_layers(&r, "control cage", &f.control, false)?;
+            r.count("limit surface vertices", f.limit.vertex_count())?;
+            let faces = f.limit.to_face_list();
+            let tri = TriMesh {
+                positions: f.limit.positions.clone(),
+                triangles: faces.triangulate(&f.limit.positions),
+            };
+            let arrays = MeshArrays::new(&tri, &faces);
+            let values: Vec<f32> = f
+                .after
+                .per_vertex_signed
+                .iter()
+                .map(|&v| v as f32)
+                .collect();
+            // Diverging map: a symmetric range around zero (98th percentile
+            // of |error|), so white means "on the input".
+            let abs: Vec<f32> = values.iter().map(|v| v.abs()).collect();
+            let m = robust_range(&abs).1.max(1e-9);
+            let scalar = Object::new();
+            set(&scalar, "name", "limit surface error")?;
+            set(&scalar, "values", Float32Array::from(&values[..]))?;
+            set(&scalar, "min", -m)?;
+            set(&scalar, "max", m)?;
+            set(&scalar, "colormap", "violet-green")?;
+            let surface = Object::new();
+            set(&surface, "name", "limit surface")?;
+            set(
+                &surface,
+                "positions",
+                Float32Array::from(&arrays.positions[..]),
+            )?;
+            set(
+                &surface,
+                "triangles",
+                Uint32Array::from(&arrays.triangles[..]),
+            )?;
+            set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
+            set(&surface, "scalar", scalar)?;
+            set(&r.obj, "surface", surface)?;
+            set(&r.obj, "limitSurface", to_js(&f.summary)?)?;
+        }
     }
     Ok(r.obj.into())
 }
@@ -299,6 +498,84 @@ impl Session {
             params: std::mem::take(&mut self.params),
             ..Session::default()
         };
+    }
+
+    /// Every parameter: `[{ path, help, kind, min?, max?, options?,
+    /// nullable, default }]` ([`crate::params_schema::schema_json`]).
+    #[wasm_bindgen(js_name = parameterSchema)]
+    pub fn parameter_schema() -> Result<JsValue, JsError> {
+        to_js(&crate::params_schema::schema_json())
+    }
+
+    /// New parameters (JSON of [`Params`]; missing fields take their
+    /// defaults). Returns the first stage that must run again, or
+    /// `undefined` when nothing changed; the next `step` runs from there.
+    #[wasm_bindgen(js_name = setParams)]
+    pub fn set_params(&mut self, json: &str) -> Result<Option<String>, JsError> {
+        let params: Params =
+            serde_json::from_str(json).map_err(|e| js_err(format!("parameters: {e}")))?;
+        let changed = match self.pipeline.as_mut() {
+            Some(p) => p.set_params(params.clone()),
+            None => None,
+        };
+        self.params = params;
+        if let Some(stage) = changed {
+            self.next = self.next.min(1);
+            self.stages_run.clear();
+            self.cancelled = false;
+            if stage <= Stage::PostProcess {
+                self.metrics = None;
+            }
+            self.limit_surface = None;
+        }
+        Ok(changed.map(|s| s.name().to_string()))
+    }
+
+    /// The file bytes of a result mesh: `kind` "quad-dominant" (the
+    /// post-processed mesh), "pure-quad" (its Catmull–Clark split, or
+    /// itself when it is all quads), "control" (the fitted control mesh)
+    /// or "limit" (its limit surface); `format` "obj" or "ply" (binary).
+    /// Coordinates are the input file's.
+    pub fn export(&self, kind: &str, format: &str) -> Result<Vec<u8>, JsError> {
+        let p = self
+            .pipeline
+            .as_ref()
+            .ok_or_else(|| js_err("nothing was imported"))?;
+        let pure_quad = p
+            .postprocess
+            .as_ref()
+            .filter(|_| kind == "pure-quad")
+            .map(|s| {
+                let m = s.mesh();
+                if m.to_face_list().iter().all(|f| f.len() == 4) {
+                    m.clone()
+                } else {
+                    crate::subdivision::subdivide(m, self.params.fit.boundary)
+                }
+            });
+        let mesh: &PolyMesh = match kind {
+            "quad-dominant" => p.postprocess.as_ref().map(|s| s.mesh()),
+            "pure-quad" => pure_quad.as_ref(),
+            "control" => p.fit.as_ref().map(|f| &f.result.control),
+            "limit" => p.fit.as_ref().map(|f| &f.result.limit),
+            _ => return Err(js_err(format!("unknown export {kind}"))),
+        }
+        .ok_or_else(|| js_err(format!("the {kind} mesh is not computed yet")))?;
+        let world: Vec<DVec3> = mesh
+            .positions
+            .iter()
+            .map(|&x| p.input.frame.to_world(x))
+            .collect();
+        let faces = mesh.to_face_list();
+        match format {
+            "obj" => Ok(crate::io::write_obj(&world, &faces).into_bytes()),
+            "ply" => Ok(crate::io::write_ply(
+                &world,
+                &faces,
+                crate::io::PlyEncoding::BinaryLittleEndian,
+            )),
+            _ => Err(js_err(format!("unknown format {format}"))),
+        }
     }
 
     /// The step `step` runs next, or `undefined` when the run is complete.
@@ -369,9 +646,12 @@ impl Session {
             Uint32Array::from(&arrays.boundary_edges[..]),
         )?;
         set(&r.obj, "mesh", mesh)?;
-        self.timings.push(("import".into(), ms));
+        record_timing(&mut self.timings, "import", ms);
+        self.stages_run.push("import".into());
         call(1.0, &format!("{} vertices", imported.mesh.vertex_count()));
-        self.pipeline = Some(Pipeline::new(imported, self.params.clone()));
+        let mut pipeline = Pipeline::new(imported, self.params.clone());
+        pipeline.fit_enabled = true;
+        self.pipeline = Some(pipeline);
         emit.call1(&JsValue::NULL, &r.obj)
             .map(|_| ())
             .map_err(|_| js_err("could not send the import result"))
@@ -401,6 +681,8 @@ impl Session {
         };
         let mut failure: Option<JsError> = None;
         let mut finished: Vec<(String, f64)> = Vec::new();
+        let mut metrics = self.metrics.take();
+        let mut limit_surface = self.limit_surface.take();
         let mut done = |stage: Stage, p: &Pipeline| {
             let ms = p
                 .timings
@@ -411,7 +693,25 @@ impl Session {
             if failure.is_some() {
                 return;
             }
-            match stage_result(stage, p, ms) {
+            // The metrics of `quadrille remesh --stats`, for the page's panel.
+            if stage == Stage::PostProcess {
+                metrics = match (&p.postprocess, &p.surface) {
+                    (Some(pp), Some(index)) => serde_json::to_value(crate::metrics::metrics(
+                        pp.mesh(),
+                        &p.input.mesh,
+                        index,
+                    ))
+                    .ok(),
+                    _ => None,
+                };
+            }
+            if stage == Stage::Fit {
+                limit_surface = p
+                    .fit
+                    .as_ref()
+                    .and_then(|f| serde_json::to_value(&f.result.summary).ok());
+            }
+            match stage_result(stage, p, ms, metrics.as_ref()) {
                 Ok(result) if !result.is_undefined() => {
                     if emit.call1(&JsValue::NULL, &result).is_err() {
                         failure = Some(js_err("could not send a stage result"));
@@ -422,7 +722,12 @@ impl Session {
             }
         };
         let outcome = pipeline.run(&mut sink, &mut done, &js_sys::Date::now);
-        self.timings.extend(finished);
+        for (stage, ms) in finished {
+            record_timing(&mut self.timings, &stage, ms);
+            self.stages_run.push(stage);
+        }
+        self.metrics = metrics;
+        self.limit_surface = limit_surface;
         if let Some(e) = failure {
             return Err(e);
         }
@@ -450,6 +755,10 @@ impl Session {
                 "position_singularities": p.position.as_ref().map(|o| o.singularities.len()),
                 "quad_mesh_vertices": p.postprocess.as_ref().map(|q| q.mesh().vertex_count()),
                 "quad_mesh_faces": p.postprocess.as_ref().map(|q| q.mesh().face_count()),
+                "control_vertices": p.fit.as_ref().map(|f| f.result.control.vertex_count()),
+                "control_faces": p.fit.as_ref().map(|f| f.result.control.face_count()),
+                "limit_vertices": p.fit.as_ref().map(|f| f.result.limit.vertex_count()),
+                "limit_faces": p.fit.as_ref().map(|f| f.result.limit.face_count()),
             })
         });
         to_js(&serde_json::json!({
@@ -458,7 +767,10 @@ impl Session {
             "stages": stages,
             "total_ms": (self.timings.iter().map(|(_, ms)| ms).sum::<f64>() * 10.0).round() / 10.0,
             "complete": self.next == STEPS.len(),
+            "stagesRun": self.stages_run,
             "counts": counts,
+            "metrics": self.metrics,
+            "limit_surface": self.limit_surface,
         }))
     }
 }

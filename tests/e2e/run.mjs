@@ -165,6 +165,10 @@ test('every stage runs and shows its layers: curvature with a legend, cross fiel
     assert(typeof run.stages[stage] === 'number', `lastRun has ${stage} ms: ${JSON.stringify(run.stages)}`);
   }
   assert(run.counts.orientation_singularities > 0, `spot (genus 0) has singularities: ${JSON.stringify(run.counts)}`);
+  // The quad mesh's faces (coloured by degree) are drawn once they exist; A goes back to the input.
+  assert((await page.textContent('#legend')).includes('face degree'), 'the quad mesh faces are shown by degree');
+  await page.keyboard.press('a');
+  await settle(page);
   assert(!(await page.isHidden('#legend')), 'a legend is shown for the scalar');
   assert((await page.textContent('#legend')).includes('curvature'), 'the legend names the scalar');
   assert(run.counts.quad_mesh_faces > 0, `a quad mesh came out: ${JSON.stringify(run.counts)}`);
@@ -257,6 +261,195 @@ test('the page works at phone size', async (env) => {
   await page.screenshot({ path: join(artifacts, `phone-${env.backend}.png`), fullPage: true });
 });
 
+// Counts of an OBJ file's vertex and face lines.
+function objCounts(text) {
+  let v = 0;
+  let f = 0;
+  for (const line of text.split('\n')) {
+    if (line.startsWith('v ')) v++;
+    else if (line.startsWith('f ')) f++;
+  }
+  return { v, f };
+}
+
+// Sets a parameter through its input in the parameter panel, as a user would.
+async function setParamInput(page, path, value) {
+  await page.evaluate(({ path, value }) => {
+    const input = document.getElementById(`param-${path}`);
+    if (!input) throw new Error(`no input for ${path}`);
+    if (input.type === 'checkbox') input.checked = value;
+    else input.value = String(value);
+    input.dispatchEvent(new Event('change', { bubbles: true }));
+  }, { path, value });
+}
+
+test('the parameter panel lists every parameter; a change re-runs only from its stage', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const first = await page.evaluate(() => window.quadrille.lastRun);
+  for (const stage of ['import', 'analysis', 'hierarchy', 'orientation', 'position', 'extraction', 'postprocess', 'fit']) {
+    assert(first.stagesRun.includes(stage), `the first run ran ${stage}: ${first.stagesRun}`);
+  }
+  // Every leaf of the parameters has an input with its default and help.
+  const leaves = await page.evaluate(() => {
+    const out = [];
+    const walk = (o, prefix) => {
+      for (const [k, v] of Object.entries(o)) {
+        const path = prefix ? `${prefix}.${k}` : k;
+        if (v && typeof v === 'object' && !Array.isArray(v)) walk(v, path);
+        else out.push(path);
+      }
+    };
+    walk(window.quadrille.lastRun.parameters, '');
+    return out;
+  });
+  assert(leaves.length > 40, `parameters: ${leaves.length}`);
+  for (const path of leaves) {
+    const text = await page.evaluate((p) => document.getElementById(`param-${p}`)?.closest('.param')?.textContent, path);
+    assert(text && text.includes('Default:'), `${path} has an input with its default: ${text}`);
+  }
+  // A position-field parameter: analysis, hierarchy and orientation are kept.
+  await setParamInput(page, 'field.position_iterations', 7);
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.position_iterations === 7, null, { timeout: 60000 });
+  const second = await page.evaluate(() => window.quadrille.lastRun);
+  assert(second.stagesRun.join() === 'position,extraction,postprocess,fit', `position change ran ${second.stagesRun}`);
+  assert(second.counts.quad_mesh_faces > 0 && second.metrics.topology.faces === second.counts.quad_mesh_faces,
+    `metrics follow the new mesh: ${JSON.stringify(second.counts)}`);
+  // A post-processing parameter: only post-processing and the fit.
+  await setParamInput(page, 'extraction.post.smoothing_iterations', 1);
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.extraction.post.smoothing_iterations === 1, null, { timeout: 60000 });
+  const third = await page.evaluate(() => window.quadrille.lastRun);
+  assert(third.stagesRun.join() === 'postprocess,fit', `post-processing change ran ${third.stagesRun}`);
+  assert(!(await page.isHidden('#metrics-panel')), 'the metrics panel is shown');
+  assert((await page.textContent('#metrics')).includes(String(third.metrics.topology.vertices)), 'the metrics panel shows the vertex count');
+  await page.click('#params-panel > summary');
+  await page.click('#params .group >> nth=2');
+  await settle(page);
+  await page.screenshot({ path: join(artifacts, `params-${env.backend}.png`), fullPage: true });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('exported OBJ files parse and have the counts of lastRun; the limit surface shows its error', async (env) => {
+  const { page, errors } = await open(env, 'sample=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  const expected = {
+    'quad-dominant': [run.counts.quad_mesh_vertices, run.counts.quad_mesh_faces],
+    control: [run.counts.control_vertices, run.counts.control_faces],
+    limit: [run.counts.limit_vertices, run.counts.limit_faces],
+  };
+  for (const [kind, [v, f]] of Object.entries(expected)) {
+    const [download] = await Promise.all([
+      page.waitForEvent('download'),
+      page.click(`#exports button[data-kind="${kind}"][data-format="obj"]`),
+    ]);
+    const text = readFileSync(await download.path(), 'utf8');
+    const c = objCounts(text);
+    assert(c.v === v && c.f === f, `${kind} OBJ has ${c.v} v / ${c.f} f, lastRun ${v} / ${f}`);
+  }
+  // The pure-quad mesh: every face a quad.
+  const pure = Buffer.from(await page.evaluate(async () => [...await window.quadrille.exportMesh('pure-quad', 'obj')])).toString('utf8');
+  const faces = pure.split('\n').filter((l) => l.startsWith('f '));
+  assert(faces.length > 0 && faces.every((l) => l.trim().split(/\s+/).length === 5), 'the pure-quad OBJ has only quads');
+  // PLY: a binary file whose header has the same counts.
+  const ply = Buffer.from(await page.evaluate(async () => [...await window.quadrille.exportMesh('control', 'ply')])).toString('latin1');
+  assert(ply.includes(`element vertex ${run.counts.control_vertices}`) && ply.includes(`element face ${run.counts.control_faces}`),
+    'the control PLY header has the counts');
+  // The limit surface layer: coloured by the signed error, symmetric legend.
+  await page.keyboard.press('u');
+  await settle(page);
+  const legend = await page.textContent('#legend');
+  assert(legend.includes('limit surface error'), `legend: ${legend}`);
+  const [min, max] = await page.evaluate(() => [document.querySelector('#legend .min').textContent, document.querySelector('#legend .max').textContent].map(Number));
+  assert(min < 0 && Math.abs(min + max) < 1e-9, `symmetric error range: ${min} … ${max}`);
+  await page.keyboard.press('w');
+  await settle(page);
+  assert(await canvasInk(page, `limit-${env.backend}.png`) > 0.03, 'the limit surface is drawn');
+  await page.keyboard.press('u');
+  await settle(page);
+  assert((await page.textContent('#legend')).includes('curvature'), 'the input surface is back with its scalar');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('the share link reproduces the run: same sample, parameters and counts', async (env) => {
+  const { page } = await open(env, 'sample=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  await setParamInput(page, 'field.seed', 3);
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.seed === 3, null, { timeout: 60000 });
+  const original = await page.evaluate(() => window.quadrille.lastRun);
+  await page.click('#share');
+  const url = await page.inputValue('#share-url');
+  assert(url.includes('sample=fandisk') && url.includes('field.seed'), `share link ${url}`);
+  const fresh = await env.context.newPage();
+  await fresh.goto(url);
+  await waitForRun(fresh, 'fandisk.obj');
+  const again = await fresh.evaluate(() => window.quadrille.lastRun);
+  assert(again.parameters.field.seed === 3, 'the link carries the parameter');
+  assert(JSON.stringify(again.counts) === JSON.stringify(original.counts),
+    `same counts: ${JSON.stringify(again.counts)} vs ${JSON.stringify(original.counts)}`);
+  assert(await fresh.evaluate(() => document.getElementById('param-field.seed').value) === '3', 'the panel shows the linked value');
+  // A dropped file is not in the link: only the parameters, and the page says so.
+  await dropFile(fresh, '#view', 'my-part.obj', readFileSync(join(meshes, 'fandisk.obj')));
+  await waitForRun(fresh, 'my-part.obj');
+  await fresh.click('#share');
+  const own = await fresh.inputValue('#share-url');
+  assert(!own.includes('sample=') && own.includes('field.seed'), `a dropped file's link has only the parameters: ${own}`);
+  assert((await fresh.textContent('#share-note')).includes('only the parameters'), 'the page says the file is not in the link');
+});
+
+test('shortcut keys are unique and ? lists them', async (env) => {
+  const { page } = await open(env, 'sample=suzanne');
+  await waitForRun(page, 'suzanne.obj');
+  const keys = await page.$$eval('#layers kbd', (ks) => ks.map((k) => k.textContent));
+  assert(new Set(keys).size === keys.length, `duplicate keys: ${keys}`);
+  await page.keyboard.press('?');
+  assert(!(await page.isHidden('#shortcuts')), 'the shortcut list opens');
+  assert((await page.textContent('#shortcuts')).includes('Position singularities'), 'it lists the layers');
+  await page.keyboard.press('Escape');
+  assert(await page.isHidden('#shortcuts'), 'Esc closes it');
+});
+
+test('smooth regions: one colour per region, discarded ones grey, significance in the pick readout', async (env) => {
+  const link = `sample=fandisk&p=${encodeURIComponent(JSON.stringify({ 'alignment.mode': 'smooth-regions' }))}`;
+  const { page, errors } = await open(env, link);
+  await waitForRun(page, 'fandisk.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  assert(run.parameters.alignment.mode === 'smooth-regions', `mode from the link: ${run.parameters.alignment.mode}`);
+  assert(await page.isEnabled('#layer-smooth-regions'), 'the smooth regions layer is available');
+  await page.keyboard.press('r');
+  await settle(page);
+  assert((await page.textContent('#legend')).includes('smooth regions'), 'the legend names the regions');
+  const box = await page.locator('#canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  await page.waitForFunction(() => window.quadrille.lastPick, null, { timeout: 10000 });
+  const info = await page.textContent('#pick-info');
+  assert(/significance [0-9.]+°|no smooth region/.test(info), `pick readout: ${info}`);
+  assert(await canvasInk(page, `smooth-regions-${env.backend}.png`) > 0.03, 'the regions are drawn');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('cancelling a parameter re-run keeps the cached stages when the worker stops in time', async (env) => {
+  const { page } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  assert(await page.evaluate(() => self.crossOriginIsolated), 'the server makes the page cross-origin isolated (shared cancel flag)');
+  // A fit that never converges: long enough to cancel in the middle.
+  await setParamInput(page, 'fit.tolerance', 0);
+  await setParamInput(page, 'fit.max_iterations', 100);
+  await page.waitForFunction(() => document.querySelector('#progress .progress-text').textContent.includes('fit'), null, { timeout: 60000 });
+  await page.click('#cancel');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
+  const status = await page.textContent('#status');
+  await setParamInput(page, 'fit.max_iterations', 4);
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.fit.max_iterations === 4, null, { timeout: 60000 });
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  // Stopped at a progress report: the worker and its cache live on, so only
+  // the fit runs; terminated as the last resort: everything runs again.
+  const expected = status.includes('restarted') ? 'import,analysis,hierarchy,orientation,position,extraction,postprocess,fit' : 'fit';
+  assert(run.stagesRun.join() === expected, `after "${status}" the re-run ran ${run.stagesRun}`);
+  assert(run.complete && run.limit_surface.iterations <= 4, `the fit ran with the new parameter: ${JSON.stringify(run.limit_surface?.iterations)}`);
+});
+
+const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();
 let failed = 0;
@@ -268,6 +461,7 @@ try {
     const context = await launch(config.flags);
     try {
       for (const { name, fn } of tests) {
+        if (only && !only.test(name)) continue;
         const started = Date.now();
         try {
           await fn({ context, url, backend, query: config.query });

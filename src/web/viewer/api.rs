@@ -9,7 +9,7 @@ use wasm_bindgen::prelude::*;
 
 use super::camera::OrbitCamera;
 use super::gpu::{BackendPreference, Gpu, Tier};
-use super::scene::{LineSet, PLAIN, PointSet, Scalar, SceneError, Surface};
+use super::scene::{LineSet, PointSet, Scalar, SceneError, Surface, PLAIN};
 
 fn js(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
@@ -119,6 +119,23 @@ impl Viewer {
         self.surface = Some(surface);
         self.scalar = None;
         self.fit_view();
+        Ok(())
+    }
+
+    /// Swaps the drawn surface (e.g. the input for the limit surface) and
+    /// keeps the camera and every line and point layer; the scalar is
+    /// dropped (the page sets the one that belongs to the new surface).
+    pub fn replace_surface(
+        &mut self,
+        positions: &[f32],
+        triangles: &[u32],
+        normals: &[f32],
+    ) -> Result<(), JsError> {
+        let surface = Surface::new(positions, triangles, normals).map_err(js)?;
+        let colors = vec![PLAIN; surface.positions.len()];
+        self.gpu.set_surface(Some((&surface, &colors)));
+        self.surface = Some(surface);
+        self.scalar = None;
         Ok(())
     }
 

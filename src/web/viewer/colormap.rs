@@ -12,11 +12,22 @@ pub enum Colormap {
     Viridis,
     /// Diverging violet → white → green (ColorBrewer PRGn), centred on the range's middle.
     VioletGreen,
+    /// Face degree over [3, 6]: triangles orange, quads pale grey-blue,
+    /// pentagons violet, six and more red (each degree hits a stop exactly).
+    FaceDegree,
+    /// Categories over [0, 12]: 0 grey (none), 1–12 twelve distinct colours
+    /// (ColorBrewer Paired), for region ids.
+    Categories,
 }
 
 const VIRIDIS: [u32; 10] = [
     0x440154, 0x482878, 0x3e4989, 0x31688e, 0x26828e, 0x1f9e89, 0x35b779, 0x6ece58, 0xb5de2b,
     0xfde725,
+];
+const FACE_DEGREE: [u32; 4] = [0xf28e2b, 0xd5dbe6, 0x8e44ad, 0xc0392b];
+const CATEGORIES: [u32; 13] = [
+    0xbdbdbd, 0xa6cee3, 0x1f78b4, 0xb2df8a, 0x33a02c, 0xfb9a99, 0xe31a1c, 0xfdbf6f, 0xff7f00,
+    0xcab2d6, 0x6a3d9a, 0xffff99, 0xb15928,
 ];
 const VIOLET_GREEN: [u32; 11] = [
     0x40004b, 0x762a83, 0x9970ab, 0xc2a5cf, 0xe7d4e8, 0xf7f7f7, 0xd9f0d3, 0xa6dba0, 0x5aae61,
@@ -29,6 +40,8 @@ impl Colormap {
         match name.to_ascii_lowercase().as_str() {
             "viridis" => Some(Colormap::Viridis),
             "violet-green" | "violetgreen" | "diverging" => Some(Colormap::VioletGreen),
+            "face-degree" => Some(Colormap::FaceDegree),
+            "categories" => Some(Colormap::Categories),
             _ => None,
         }
     }
@@ -37,6 +50,8 @@ impl Colormap {
         match self {
             Colormap::Viridis => "viridis",
             Colormap::VioletGreen => "violet-green",
+            Colormap::FaceDegree => "face-degree",
+            Colormap::Categories => "categories",
         }
     }
 
@@ -44,6 +59,8 @@ impl Colormap {
         match self {
             Colormap::Viridis => &VIRIDIS,
             Colormap::VioletGreen => &VIOLET_GREEN,
+            Colormap::FaceDegree => &FACE_DEGREE,
+            Colormap::Categories => &CATEGORIES,
         }
     }
 
@@ -119,7 +136,12 @@ mod tests {
 
     #[test]
     fn names_round_trip() {
-        for c in [Colormap::Viridis, Colormap::VioletGreen] {
+        for c in [
+            Colormap::Viridis,
+            Colormap::VioletGreen,
+            Colormap::FaceDegree,
+            Colormap::Categories,
+        ] {
             assert_eq!(Colormap::from_name(c.name()), Some(c));
         }
         assert_eq!(Colormap::from_name("jet"), None);
