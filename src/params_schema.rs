@@ -131,6 +131,7 @@ pub fn schema() -> Vec<ParamDoc> {
         choice("alignment.mode", &["none", "feature-vertices", "smooth-regions", "both"], "What aligns the fields to principal directions: feature vertices (thesis), smooth regions (Campen et al. 2016), both or none."),
         nullable(num("alignment.feature_weight", 0.0, 1e6, "Weight of the feature-vertex constraints; empty = fixed (infinite).")),
         num("alignment.smooth_regions.significance_threshold", 0.0, 180.0, "Smooth regions less significant than this angle (degrees) are discarded (paper: 70)."),
+        nullable(num("alignment.region_weight", 0.0, 1e6, "Weight of the a_min constraints inside filtered smooth regions; empty = fixed (infinite, the paper).")),
         num("alignment.position_weight", 0.0, 100.0, "Alignment weight of the position field inside filtered smooth regions."),
         // extraction
         num("extraction.min_cluster_fraction", 0.0, 1.0, "Clusters smaller than this fraction of the average are dropped (thesis: 1/10–1/20)."),
@@ -139,6 +140,7 @@ pub fn schema() -> Vec<ParamDoc> {
         flag("extraction.fan_large_holes", "Close larger holes that are not the input's with a centroid fan."),
         flag("extraction.vertex_count_correction", "Solve position + extraction again with corrected spacing when the vertex count misses the target."),
         num("extraction.count_tolerance", 0.0, 1.0, "Allowed relative miss of the target vertex count."),
+        int("extraction.restarts", 0.0, 20.0, "Extra attempts from the next position-field seeds while the result misses the gate (count within 10 %, at most 10 % non-quads)."),
         flag("extraction.post.t_vertices", "Remove T-vertices."),
         num("extraction.post.t_vertex_plane_degrees", 0.0, 90.0, "T-vertex faces are coplanar within this normal angle."),
         num("extraction.post.t_vertex_line_degrees", 0.0, 90.0, "T-vertex edges are collinear within 180° ± this."),
