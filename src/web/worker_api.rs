@@ -33,7 +33,7 @@
 //!    lines?: { name: { segments, colors } }, points?: { name: { positions, colors } }, counts? }`
 
 use glam::{DVec3, Vec3};
-use js_sys::{Float32Array, Function, Object, Reflect, Uint32Array, Uint8Array};
+use js_sys::{Float32Array, Function, Object, Reflect, Uint8Array, Uint32Array};
 use wasm_bindgen::prelude::*;
 
 use super::mesh_arrays::MeshArrays;
@@ -339,6 +339,13 @@ fn smooth_region_surface(
     Ok(surface)
 }
 
+/// The position field's lattice points and singularities.
+fn position_layers(r: &StageResult, pos: &crate::pipeline::PositionStage) -> Result<(), JsError> {
+    let positions: Vec<f32> = pos.o.iter().flat_map(|p| p.to_array()).collect();
+    r.points("position field", &positions, &POSITION_COLOR)?;
+    singularity_points(r, "position singularities", &pos.singularities)
+}
+
 /// The page-facing result of one pipeline stage.
 fn stage_result(
     stage: Stage,
@@ -409,15 +416,17 @@ fn stage_result(
             let Some(pos) = &p.position else {
                 return Ok(JsValue::UNDEFINED);
             };
-            let positions: Vec<f32> = pos.o.iter().flat_map(|p| p.to_array()).collect();
-            r.points("position field", &positions, &POSITION_COLOR)?;
-            singularity_points(&r, "position singularities", &pos.singularities)?;
+            position_layers(&r, pos)?;
         }
         Stage::Extraction => {
             let Some(e) = &p.extraction else {
                 return Ok(JsValue::UNDEFINED);
             };
             poly_mesh_layers(&r, "extracted mesh", &e.extracted.mesh, false)?;
+            // A restart kept another seed's position field: show that one.
+            if let (true, Some(pos)) = (e.extracted.report.attempts > 1, &p.position) {
+                position_layers(&r, pos)?;
+            }
         }
         Stage::PostProcess => {
             let Some(pp) = &p.postprocess else {
