@@ -17,7 +17,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{BoundaryRule, limit_mesh};
+use super::{BoundaryRule, limit_mesh_with_progress};
 use crate::mesh::{PolyMesh, TriMesh};
 use crate::progress::{Cancelled, Progress};
 use crate::spatial::{DistanceStats, PiecewiseDistance, SurfaceIndex};
@@ -73,8 +73,9 @@ impl LimitError {
         to: f32,
     ) -> Result<(LimitError, PolyMesh), Cancelled> {
         let mut at = |done: f32, message: &str| progress.report(from + (to - from) * done, message);
-        let limit = limit_mesh(control, levels, rule);
-        at(0.1, "limit error: distances of the limit surface")?;
+        let limit = limit_mesh_with_progress(control, levels, rule, &mut |done| {
+            at(0.1 * done, "limit error: subdividing to the limit surface")
+        })?;
         let mut per_vertex_signed = Vec::with_capacity(limit.positions.len());
         let mut chunk_out = Vec::new();
         let n = limit.positions.len().max(1);

@@ -21,7 +21,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::{limit_normals, limit_positions, subdivide, BoundaryRule, LimitError};
+use super::{BoundaryRule, LimitError, limit_normals, limit_positions, subdivide};
 use crate::mesh::{PolyMesh, TriMesh};
 use crate::progress::{Cancelled, Progress};
 use crate::spatial::SurfaceIndex;
@@ -268,11 +268,7 @@ fn mean_edge_lengths(mesh: &PolyMesh) -> Vec<f64> {
                 sum += p.distance(mesh.positions[mesh.tip(h) as usize]);
                 n += 1;
             }
-            if n == 0 {
-                0.0
-            } else {
-                sum / n as f64
-            }
+            if n == 0 { 0.0 } else { sum / n as f64 }
         })
         .collect()
 }

@@ -36,8 +36,9 @@ use std::f64::consts::{PI, TAU};
 use glam::DVec3;
 
 use super::catmull_clark::boundary_neighbours;
-use super::{BoundaryRule, face_normal, face_point, subdivide_levels};
+use super::{BoundaryRule, face_normal, face_point, subdivide};
 use crate::mesh::PolyMesh;
+use crate::progress::Cancelled;
 
 /// The one-ring of an interior vertex in a quad neighbourhood: the centre,
 /// its edge neighbours `e[j]` (in the order of [`PolyMesh::outgoing`]) and
@@ -161,7 +162,24 @@ pub fn limit_normals(mesh: &PolyMesh) -> Vec<DVec3> {
 /// then every vertex moved to its limit position. `levels = 0` puts the
 /// control mesh's own vertices on the limit surface.
 pub fn limit_mesh(control: &PolyMesh, levels: u32, rule: BoundaryRule) -> PolyMesh {
-    let mut m = subdivide_levels(control, levels, rule);
+    limit_mesh_with_progress(control, levels, rule, &mut |_| Ok(()))
+        .expect("a sink that never cancels")
+}
+
+/// [`limit_mesh`], calling `between(done)` before each subdivision step and
+/// before the limit positions (`done` = steps finished / (levels + 1)).
+pub fn limit_mesh_with_progress(
+    control: &PolyMesh,
+    levels: u32,
+    rule: BoundaryRule,
+    between: &mut dyn FnMut(f32) -> Result<(), Cancelled>,
+) -> Result<PolyMesh, Cancelled> {
+    let mut m = control.clone();
+    for l in 0..levels {
+        between(l as f32 / (levels + 1) as f32)?;
+        m = subdivide(&m, rule);
+    }
+    between(levels as f32 / (levels + 1) as f32)?;
     m.positions = limit_positions(&m, rule);
-    m
+    Ok(m)
 }

@@ -29,7 +29,7 @@ use crate::mesh::{FaceList, Frame, MeshError, PolyMesh};
 pub use catmull_clark::{subdivide, subdivide_levels};
 pub use error::LimitError;
 pub use fit::{FitParams, FitResult, FitSummary, fit_control_mesh};
-pub use limit::{limit_mesh, limit_normals, limit_positions};
+pub use limit::{limit_mesh, limit_mesh_with_progress, limit_normals, limit_positions};
 
 /// What happens on a boundary of the control mesh.
 ///
