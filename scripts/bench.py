@@ -15,7 +15,7 @@ target/bench/results.json, docs/RESULTS.md and the README's headline block.
 4. Renders docs/RESULTS.md and the README block between the
    `<!-- results:begin -->` / `<!-- results:end -->` markers.
 
-Usage: scripts/bench.py [--repeats N] [--large-repeats N] [--browser-repeats N]
+Usage: scripts/bench.py [--repeats N] [--large-repeats N] [--largest-repeats N] [--browser-repeats N]
          [--large-browser-repeats N] [--skip-native] [--skip-large]
          [--skip-browser] [--skip-compare] [--render-only]
 Each step writes its JSON under target/bench/; a skipped step keeps the JSON
@@ -95,6 +95,7 @@ def native_runs(mesh, repeats, threads=None):
         env["RAYON_NUM_THREADS"] = str(threads)
     out = os.path.join(BENCH, "native", mesh["name"] + ".obj")
     stats = os.path.join(BENCH, "native", mesh["name"] + ".json")
+    os.makedirs(os.path.dirname(out), exist_ok=True)
     runs = []
     for i in range(repeats):
         rc, _, err, wall, rss = run_measured([BIN, "remesh", mesh["path"], "-o", out, "--stats", stats], env=env)
@@ -129,7 +130,7 @@ def summarize_native(runs):
 def native(args, ms):
     results = {"meshes": {}}
     for m in ms:
-        reps = args.large_repeats if m["large"] else args.repeats
+        reps = args.repeats if not m["large"] else args.largest_repeats if m["name"] == LARGE[-1][0] else args.large_repeats
         entry = {k: m[k] for k in m if k != "path"}
         entry["path"] = os.path.relpath(m["path"], ROOT)
         entry["native"] = summarize_native(native_runs(m, reps))
@@ -212,7 +213,11 @@ def machine():
     rustc = subprocess.run(["rustc", "--version"], capture_output=True, text=True).stdout.strip()
     node = subprocess.run(["node", "--version"], capture_output=True, text=True).stdout.strip()
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
-    return {"cpu": cpu, "cores": os.cpu_count(), "memory_gib": round(mem, 1) if mem else None,
+    try:
+        load = open("/proc/loadavg").read().split()[:3]
+    except OSError:
+        load = None
+    return {"load_average_at_end": load, "cpu": cpu, "cores": os.cpu_count(), "memory_gib": round(mem, 1) if mem else None,
             "os": f"{platform.system()} {platform.release()}", "rustc": rustc, "node": node,
             "python": platform.python_version(), "commit": commit}
 
@@ -236,7 +241,8 @@ def render(results, browser_s, compare):
          f"- {mach.get('rustc')}, node {mach.get('node')}, Python {mach.get('python')}" +
          (f", {browser_s.get('browser')}" if browser_s else ""),
          "- The machine is shared (other builds ran at the same time): times are noisy, so every figure is the median "
-         "of the repeats shown, and ratios compare numbers measured in the same run.", ""]
+         "of the repeats shown, and ratios compare numbers measured in the same run. "
+         f"Load average (1, 5, 15 min) when the native runs ended: {', '.join(mach.get('load_average_at_end') or ['?'])}.", ""]
     meshes = results.get("meshes", {})
     L += ["## Native pipeline, per stage", "",
           "`quadrille remesh IN -o OUT --stats S.json` at the default target (input vertices / 16), each run a fresh "
@@ -365,7 +371,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--meshes", default=os.environ.get("QUADRILLE_MESHES", os.path.join(ROOT, "..", "shared", "meshes")))
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--large-repeats", type=int, default=3)
+    ap.add_argument("--large-repeats", type=int, default=3, help="runs of the ~278k-triangle bunny")
+    ap.add_argument("--largest-repeats", type=int, default=2, help="runs of the ~1.1M-triangle bunny (minutes each)")
     ap.add_argument("--browser-repeats", type=int, default=3)
     ap.add_argument("--large-browser-repeats", type=int, default=1)
     ap.add_argument("--skip-native", action="store_true")
@@ -398,7 +405,7 @@ def main():
     os.makedirs(os.path.dirname(RESULTS_MD), exist_ok=True)
     with open(RESULTS_MD, "w") as f:
         f.write(render(results, browser_s, compare))
-    update_readme(headline(results, browser_s, compare) + "\n\nFull tables, machine and date: [docs/RESULTS.md](docs/RESULTS.md).")
+    update_readme((headline(results, browser_s, compare) + "\n\n").lstrip() + "Full tables, machine and date: [docs/RESULTS.md](docs/RESULTS.md).")
     print(f"bench: wrote {os.path.relpath(RESULTS_MD, ROOT)} and the README's results block", file=sys.stderr)
 
 
