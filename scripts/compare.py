@@ -230,7 +230,9 @@ def run_competitor(args, tool, src, out, target):
 
 
 def compare_mesh(args, name, src, status):
-    rows = {}
+    # The input itself, measured the same way: the boundary and non-manifold
+    # counts every output is read against (holes introduced or closed).
+    rows = {"input": {"metrics": quadrille_json(args, ["metrics", src, "--reference", src], args.timeout)}}
     stem = os.path.join(args.out, name)
     ours, stats = stem + "-quadrille.obj", stem + "-quadrille.json"
     rc, _, err, wall, rss = run_measured([args.bin, "remesh", src, "-o", ours, "--stats", stats],
@@ -275,7 +277,7 @@ def compare_mesh(args, name, src, status):
 # ------------------------------------------------------------ table
 
 def fmt(x, spec):
-    return "–" if x is None else format(x, spec)
+    return "–" if x is None or x != x else format(x, spec)
 
 
 def table_rows(name, target, rows):
@@ -285,33 +287,37 @@ def table_rows(name, target, rows):
             lines.append(f"| {name} | {tool} | {fmt(target, 'd')} | – | – | not run: {r['error'][:120]} |" + " – |" * 12)
             continue
         m = r.get("metrics", {})
+        time_ms = fmt(r.get("time_ms"), ".0f")
         fit = r.get("fit") or {}
         before = fit.get("before", {}) if "error" not in fit else {}
         after = fit.get("after", {}) if "error" not in fit else {}
         lim = (f"{fmt(before.get('stats', {}).get('mean'), '.2e')} → {fmt(after.get('stats', {}).get('mean'), '.2e')}"
-               if after else f"fit failed: {fit.get('error', '')[:60]}")
+               if after else f"fit failed: {fit.get('error', '')[:60]}" if "error" in fit else "–")
         limh = f"{fmt(after.get('hausdorff'), '.2e')}" if after else "–"
         if "metrics" in m:
             M = m["metrics"]
             tp, q, d = M["topology"], M["quads"], M["distance"]
+            if tool == "input":
+                # Its own counts are the reference line; distances to itself are not a result.
+                d = {k: None for k in d}
             lines.append(
-                f"| {name} | {tool} | {target} | {r['time_ms']:.0f} | {fmt(r.get('peak_rss_mib'), '.0f')} | {tp['vertices']} "
+                f"| {name} | {tool} | {target} | {time_ms} | {fmt(r.get('peak_rss_mib'), '.0f')} | {tp['vertices']} "
                 f"| {tp['non_quad_percent']:.1f} | {tp['extraordinary_vertex_percent']:.1f} | {q['quad_quality']:.3f} "
-                f"| {tp['boundary_edges']} | {tp['nonmanifold_edges']}/{tp['nonmanifold_vertices']} "
-                f"| {d['hausdorff']:.2e} | {d['output_to_input_mean']:.2e} | {d['face_centroid_mean']:.2e} | {lim} | {limh} |")
+                f"| {tp['boundary_edges']} ({tp['boundary_loops']}) | {tp['nonmanifold_edges']}/{tp['nonmanifold_vertices']} "
+                f"| {fmt(d['hausdorff'], '.2e')} | {fmt(d['output_to_input_mean'], '.2e')} | {fmt(d['face_centroid_mean'], '.2e')} | {lim} | {limh} |")
         elif "topology" in m:
             tp = m["topology"]
             lines.append(
-                f"| {name} | {tool} | {target} | {r['time_ms']:.0f} | {fmt(r.get('peak_rss_mib'), '.0f')} | {m['vertices']} "
+                f"| {name} | {tool} | {target} | {time_ms} | {fmt(r.get('peak_rss_mib'), '.0f')} | {m['vertices']} "
                 f"| {m['non_quad_percent']:.1f} | – | – | {tp['boundary_edges']} | {tp['nonmanifold_edges']}/{tp['nonmanifold_vertices']} "
                 f"| {m['hausdorff']:.2e} | – | – | {lim} | {limh} |")
         else:
-            lines.append(f"| {name} | {tool} | {target} | {r['time_ms']:.0f} | – | metrics failed: {m.get('error', '')[:80]} |" + " – |" * 10)
+            lines.append(f"| {name} | {tool} | {target} | {time_ms} | – | metrics failed: {m.get('error', '')[:80]} |" + " – |" * 10)
     return lines
 
 
 HEADER = ("| mesh | tool | target V | time ms | peak MiB | V | non-quad % | EV % | quad quality (0 best) "
-          "| boundary edges | non-manifold e/v | Hausdorff | mean dist | centroid dist | limit mean: before → after fit | limit Hausdorff after |\n"
+          "| boundary edges (loops) | non-manifold e/v | Hausdorff | mean dist | centroid dist | limit mean: before → after fit | limit Hausdorff after |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
