@@ -275,7 +275,9 @@ def render(results, browser_s, compare):
     else:
         L += [f"The web app in headless {browser_s.get('browser')} (`tests/e2e/bench.mjs`, flags `{browser_s.get('flags')}`: "
               "no GPU, so the viewer stays off and SwiftShader rendering does not compete with the worker for the cores), "
-              "each run a fresh page; stage times are the worker's own (`window.quadrille.lastRun.stages`). "
+              "each run a fresh page that first runs its default sample (the warm-up: V8 optimises hot wasm functions "
+              "as they run) and is then given the mesh through its file input; stage times are the worker's own "
+              "(`window.quadrille.lastRun.stages`). "
               "The wasm build is single-threaded, so the ratio is against native with one thread "
               "(`RAYON_NUM_THREADS=1`) where measured, else against native on all cores (marked *).", ""]
         L.append("| mesh | runs | " + " | ".join(f"{k} wasm/native" for k in STAGES) + " | wasm pipeline ms | native ms | **wasm/native** |")
