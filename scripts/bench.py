@@ -18,8 +18,9 @@ target/bench/results.json, docs/RESULTS.md and the README's headline block.
 Usage: scripts/bench.py [--repeats N] [--large-repeats N] [--largest-repeats N] [--browser-repeats N]
          [--large-browser-repeats N] [--skip-native] [--skip-large]
          [--skip-browser] [--skip-compare] [--render-only]
-Each step writes its JSON under target/bench/; a skipped step keeps the JSON
-of its last run, so `--render-only` re-renders from what was measured.
+Per mesh, the native, one-thread and browser runs follow each other (similar
+machine load for the ratio). Each step writes its JSON under target/bench/; a
+skipped step keeps the JSON of its last run, so `--render-only` re-renders from what was measured.
 Standard library only.
 """
 import argparse
@@ -61,7 +62,7 @@ def median(xs):
 
 def meshes(args):
     out = []
-    for name in SHARED:
+    for name in args.names.split(","):
         path = os.path.abspath(os.path.join(args.meshes, name + ".obj"))
         if not os.path.exists(path):
             die(f"{path} does not exist (set QUADRILLE_MESHES or --meshes)")
@@ -127,59 +128,67 @@ def summarize_native(runs):
     }
 
 
-def native(args, ms):
-    results = {"meshes": {}}
+def loadavg():
+    try:
+        return open("/proc/loadavg").read().split()[:3]
+    except OSError:
+        return None
+
+
+def measure(args, ms):
+    """Per mesh, back to back so that they see the same machine load:
+    native runs, native one-thread runs, browser runs."""
+    results = load(RESULTS_JSON) if args.skip_native else None
+    results = results or {"meshes": {}}
+    browser_s = load(BROWSER_JSON) if args.skip_browser else None
+    browser_s = browser_s or {"meshes": {}}
+    if not args.skip_browser:
+        for pkg in ["www/pkg/quadrille.js", "www/pkg/quadrille_bg.wasm", "target/release/examples/serve"]:
+            if not os.path.exists(os.path.join(ROOT, pkg)):
+                die(f"{pkg} is missing: run `make web` and `cargo build --release --example serve` (make bench does)")
     for m in ms:
-        reps = args.repeats if not m["large"] else args.largest_repeats if m["name"] == LARGE[-1][0] else args.large_repeats
-        entry = {k: m[k] for k in m if k != "path"}
-        entry["path"] = os.path.relpath(m["path"], ROOT)
-        entry["native"] = summarize_native(native_runs(m, reps))
-        if not m["large"]:
-            entry["native_1_thread"] = summarize_native(native_runs(m, reps, threads=1))
-        results["meshes"][m["name"]] = entry
-        write_json(RESULTS_JSON, results)
+        if not args.skip_native:
+            reps = args.repeats if not m["large"] else args.largest_repeats if m["name"] == LARGE[-1][0] else args.large_repeats
+            entry = {k: m[k] for k in m if k != "path"}
+            entry["path"] = os.path.relpath(m["path"], ROOT)
+            entry["load_average_at_start"] = loadavg()
+            entry["native"] = summarize_native(native_runs(m, reps))
+            if not m["large"]:
+                entry["native_1_thread"] = summarize_native(native_runs(m, reps, threads=1))
+            results["meshes"][m["name"]] = entry
+            write_json(RESULTS_JSON, results)
+        if not args.skip_browser:
+            reps = args.large_browser_repeats if m["large"] else args.browser_repeats
+            if reps >= 1:
+                browser_one(m, reps, browser_s)
+                write_json(BROWSER_JSON, browser_s)
     return results
 
 
 # ------------------------------------------------------------ browser
 
-def browser(args, ms):
-    for pkg in ["www/pkg/quadrille.js", "www/pkg/quadrille_bg.wasm", "target/release/examples/serve"]:
-        if not os.path.exists(os.path.join(ROOT, pkg)):
-            die(f"{pkg} is missing: run `make web` and `cargo build --release --example serve` (make bench does)")
-    small = [m["path"] for m in ms if not m["large"]]
-    large = [m["path"] for m in ms if m["large"]]
-    e2e = os.path.join(ROOT, "tests", "e2e")
-    parts = [(small, args.browser_repeats, BROWSER_JSON + ".small"), (large, args.large_browser_repeats, BROWSER_JSON + ".large")]
-    merged = {"meshes": {}}
-    for paths, reps, out in parts:
-        if not paths or reps < 1:
-            continue
-        r = subprocess.run(["node", "bench.mjs", out, str(reps)] + paths, cwd=e2e)
-        if r.returncode != 0 or not os.path.exists(out):
-            print(f"bench: the browser benchmark failed (exit {r.returncode})", file=sys.stderr)
-            continue
-        part = json.load(open(out))
-        merged.update({k: v for k, v in part.items() if k != "meshes"})
-        merged["meshes"].update(part["meshes"])
-    summary = {k: v for k, v in merged.items() if k not in ("meshes", "repeats")}
-    summary["meshes"] = {}
-    for m in ms:
-        runs = merged["meshes"].get(m["path"])
-        if runs is None:
-            continue
-        ok = [r for r in runs if "error" not in r]
-        if not ok:
-            summary["meshes"][m["name"]] = {"error": runs[0]["error"] if runs else "no runs"}
-            continue
-        summary["meshes"][m["name"]] = {
-            "repeats": len(ok),
-            "stages_ms": {k: median([r["stages"].get(k) for r in ok]) for k in STAGES},
-            "pipeline_ms": median([r["total_ms"] for r in ok]),
-            "achieved_vertices": ok[0]["counts"]["quad_mesh_vertices"] if ok[0].get("counts") else None,
-        }
-    write_json(BROWSER_JSON, summary)
-    return summary
+def browser_one(m, reps, summary):
+    """tests/e2e/bench.mjs on one mesh; its medians into summary."""
+    out = os.path.join(BENCH, "browser-run.json")
+    if os.path.exists(out):
+        os.remove(out)
+    r = subprocess.run(["node", "bench.mjs", out, str(reps), m["path"]], cwd=os.path.join(ROOT, "tests", "e2e"))
+    if r.returncode != 0 or not os.path.exists(out):
+        summary["meshes"][m["name"]] = {"error": f"the browser benchmark exited with {r.returncode}"}
+        return
+    part = json.load(open(out))
+    summary.update({k: v for k, v in part.items() if k not in ("meshes", "repeats")})
+    runs = part["meshes"].get(m["path"], [])
+    ok = [x for x in runs if "error" not in x]
+    if not ok:
+        summary["meshes"][m["name"]] = {"error": runs[0]["error"] if runs else "no runs"}
+        return
+    summary["meshes"][m["name"]] = {
+        "repeats": len(ok),
+        "stages_ms": {k: median([x["stages"].get(k) for x in ok]) for k in STAGES},
+        "pipeline_ms": median([x["total_ms"] for x in ok]),
+        "achieved_vertices": ok[0]["counts"]["quad_mesh_vertices"] if ok[0].get("counts") else None,
+    }
 
 
 # ------------------------------------------------------------ rendering
@@ -213,11 +222,7 @@ def machine():
     rustc = subprocess.run(["rustc", "--version"], capture_output=True, text=True).stdout.strip()
     node = subprocess.run(["node", "--version"], capture_output=True, text=True).stdout.strip()
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
-    try:
-        load = open("/proc/loadavg").read().split()[:3]
-    except OSError:
-        load = None
-    return {"load_average_at_end": load, "cpu": cpu, "cores": os.cpu_count(), "memory_gib": round(mem, 1) if mem else None,
+    return {"load_average_at_end": loadavg(), "cpu": cpu, "cores": os.cpu_count(), "memory_gib": round(mem, 1) if mem else None,
             "os": f"{platform.system()} {platform.release()}", "rustc": rustc, "node": node,
             "python": platform.python_version(), "commit": commit}
 
@@ -249,9 +254,12 @@ def render(results, browser_s, compare):
           "process; stage times from the CLI's `timings_ms` (median over the runs), `pipeline` = import through "
           "post-processing, `fit` = Catmull–Clark control-mesh fitting, `metrics` = the quality metrics; wall = the "
           "whole process; peak memory = the process's peak RSS (wait4 `ru_maxrss`), which includes fitting and metrics. "
-          "Native uses all cores (rayon); the `1 thread` column is the same run with `RAYON_NUM_THREADS=1`.", ""]
-    L.append("| mesh | input V / triangles | runs | " + " | ".join(STAGES) + " | **pipeline** | 1 thread | fit | metrics | wall | peak MiB | output V |")
-    L.append("|---|---|---|" + "---|" * (len(STAGES) + 7))
+          "Native uses all cores (rayon); the `1 thread` column is the same run with `RAYON_NUM_THREADS=1`. "
+          "Per mesh, the native runs, the one-thread runs and the browser runs follow each other, so they see "
+          "similar machine load; `load avg` is the 1-minute load average when that mesh's runs began "
+          "(2 cores: above 2 means other work was waiting for the CPU).", ""]
+    L.append("| mesh | input V / triangles | runs | " + " | ".join(STAGES) + " | **pipeline** | 1 thread | fit | metrics | wall | peak MiB | output V | load avg |")
+    L.append("|---|---|---|" + "---|" * (len(STAGES) + 8))
     for name, e in meshes.items():
         n = e.get("native", {})
         if "error" in n:
@@ -262,7 +270,7 @@ def render(results, browser_s, compare):
         L.append(f"| {name} | {f0(e['vertices'])} / {f0(e['triangles'])} | {n['repeats']} | " +
                  " | ".join(f0(s.get(k)) for k in STAGES) +
                  f" | **{f0(n['pipeline_ms'])}** | {f0(one.get('pipeline_ms'))} | {f0(s.get('fit'))} | {f0(s.get('metrics'))} "
-                 f"| {f0(n['wall_ms'])} | {f0(n['peak_rss_mib'])} | {f0(n['achieved_vertices'])} |")
+                 f"| {f0(n['wall_ms'])} | {f0(n['peak_rss_mib'])} | {f0(n['achieved_vertices'])} | {(e.get('load_average_at_start') or ['?'])[0]} |")
     large = [e for e in meshes.values() if e.get("large")]
     if large:
         L += ["", "Larger meshes: " + "; ".join(f"`{e['name']}` = {e.get('made_by')}" for e in large) +
@@ -372,6 +380,7 @@ def update_readme(text):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--meshes", default=os.environ.get("QUADRILLE_MESHES", os.path.join(ROOT, "..", "shared", "meshes")))
+    ap.add_argument("--names", default=",".join(SHARED), help="which shared meshes (default: all)")
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--large-repeats", type=int, default=3, help="runs of the ~278k-triangle bunny")
     ap.add_argument("--largest-repeats", type=int, default=2, help="runs of the ~1.1M-triangle bunny (minutes each)")
@@ -388,13 +397,11 @@ def main():
         if not os.path.exists(BIN):
             die(f"{BIN} is missing: cargo build --release (make bench does)")
         ms = meshes(args)
+        results = measure(args, ms)
         if not args.skip_native:
-            results = native(args, ms)
             results["meta"] = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
                                "machine": machine()}
             write_json(RESULTS_JSON, results)
-        if not args.skip_browser:
-            browser(args, ms)
         if not args.skip_compare:
             r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "compare.py"), "--bin", BIN,
                                 "--meshes", args.meshes, "--json", COMPARE_JSON], stdout=subprocess.DEVNULL)

@@ -144,6 +144,9 @@ def read_obj_triangles(path):
 
 
 def write_obj(path, v, faces):
+    """Writes the OBJ; returns how many degenerate faces (fewer than three
+    distinct corners) were left out, since no mesh reader accepts them."""
+    dropped = 0
     with open(path, "w") as o:
         for p in v:
             o.write("v %.9g %.9g %.9g\n" % tuple(p))
@@ -151,13 +154,18 @@ def write_obj(path, v, faces):
             face = [int(i) for i in face]
             # Quad arrays mark a triangle by repeating an index.
             face = [x for k, x in enumerate(face) if x != face[k - 1]] or face
+            if len(set(face)) < 3:
+                dropped += 1
+                continue
             o.write("f " + " ".join(str(i + 1) for i in face) + "\n")
+    return dropped
 
 
 def competitor_child(tool, src, out, target):
     """Remeshes src to out with `tool`; prints {"time_ms": ...} as JSON."""
     import contextlib
     log = open(out + ".log", "w")
+    dropped = 0
     with contextlib.redirect_stdout(log):
         if tool == "instant-meshes":
             import pyinstantmeshes
@@ -174,7 +182,7 @@ def competitor_child(tool, src, out, target):
             t0 = time.perf_counter()
             nv, nf = pynanoinstantmeshes.remesh(v, f.astype(np.uint32), target)
             ms = (time.perf_counter() - t0) * 1e3
-            write_obj(out, nv, nf)
+            dropped = write_obj(out, nv, nf)
         elif tool == "quadriflow":
             from pyQuadriFlow import pyQuadriFlow
             v, f = read_obj_triangles(src)
@@ -184,10 +192,10 @@ def competitor_child(tool, src, out, target):
             ms = (time.perf_counter() - t0) * 1e3
             if not m or not m["faces"]:
                 raise RuntimeError("QuadriFlow returned no faces")
-            write_obj(out, m["vertices"], m["faces"])
+            dropped = write_obj(out, m["vertices"], m["faces"])
         else:
             raise SystemExit(f"unknown tool {tool}")
-    print(json.dumps({"time_ms": ms}))
+    print(json.dumps({"time_ms": ms, "degenerate_faces_dropped": dropped}))
 
 
 # ------------------------------------------------------------ measuring
@@ -225,7 +233,8 @@ def run_competitor(args, tool, src, out, target):
         if rc is not None and rc < 0:
             reason = f"crashed (signal {-rc})"
         return {"error": reason, "requested": target}
-    return {"time_ms": json.loads(so.strip().splitlines()[-1])["time_ms"], "process_ms": wall,
+    child = json.loads(so.strip().splitlines()[-1])
+    return {"time_ms": child["time_ms"], "degenerate_faces_dropped": child["degenerate_faces_dropped"], "process_ms": wall,
             "peak_rss_mib": rss / 1024 if rss else None, "requested": target}
 
 
@@ -283,8 +292,10 @@ def fmt(x, spec):
 def table_rows(name, target, rows):
     lines = []
     for tool, r in rows.items():
+        if r.get("degenerate_faces_dropped"):
+            tool = f"{tool} ({r['degenerate_faces_dropped']} degenerate faces left out)"
         if "error" in r:
-            lines.append(f"| {name} | {tool} | {fmt(target, 'd')} | – | – | not run: {r['error'][:120]} |" + " – |" * 12)
+            lines.append(f"| {name} | {tool} | {fmt(target, 'd')} | – | – | not run: {r['error'][:120]} |" + " – |" * 10)
             continue
         m = r.get("metrics", {})
         time_ms = fmt(r.get("time_ms"), ".0f")
