@@ -143,9 +143,22 @@ def read_obj_triangles(path):
     return np.array(v, np.float32), np.array(f, np.int32)
 
 
+def read_obj_polygons(path):
+    v, f = [], []
+    with open(path) as src:
+        for line in src:
+            p = line.split()
+            if p and p[0] == "v":
+                v.append([float(x) for x in p[1:4]])
+            elif p and p[0] == "f":
+                f.append([int(x.split("/")[0]) - 1 for x in p[1:]])
+    return v, f
+
+
 def write_obj(path, v, faces):
-    """Writes the OBJ; returns how many degenerate faces (fewer than three
-    distinct corners) were left out, since no mesh reader accepts them."""
+    """Writes the OBJ; returns how many degenerate faces (a corner repeated
+    other than as the array padding of a triangle, e.g. [a, b, a, c]) were
+    left out: they have no area and Quadrille's reader rejects them."""
     dropped = 0
     with open(path, "w") as o:
         for p in v:
@@ -154,7 +167,7 @@ def write_obj(path, v, faces):
             face = [int(i) for i in face]
             # Quad arrays mark a triangle by repeating an index.
             face = [x for k, x in enumerate(face) if x != face[k - 1]] or face
-            if len(set(face)) < 3:
+            if len(set(face)) < max(3, len(face)):
                 dropped += 1
                 continue
             o.write("f " + " ".join(str(i + 1) for i in face) + "\n")
@@ -175,6 +188,8 @@ def competitor_child(tool, src, out, target):
             pyinstantmeshes.remesh_file(src, out, target_vertex_count=target, extrinsic=True,
                                         pure_quad=False, deterministic=True)
             ms = (time.perf_counter() - t0) * 1e3
+            v, faces = read_obj_polygons(out)
+            dropped = write_obj(out, v, faces)
         elif tool == "nano-instant-meshes":
             import numpy as np
             import pynanoinstantmeshes
@@ -318,10 +333,12 @@ def table_rows(name, target, rows):
                 f"| {fmt(d['hausdorff'], '.2e')} | {fmt(d['output_to_input_mean'], '.2e')} | {fmt(d['face_centroid_mean'], '.2e')} | {lim} | {limh} |")
         elif "topology" in m:
             tp = m["topology"]
+            if tool == "input":
+                m = dict(m, hausdorff=None)
             lines.append(
                 f"| {name} | {tool} | {target} | {time_ms} | {fmt(r.get('peak_rss_mib'), '.0f')} | {m['vertices']} "
                 f"| {m['non_quad_percent']:.1f} | – | – | {tp['boundary_edges']} | {tp['nonmanifold_edges']}/{tp['nonmanifold_vertices']} "
-                f"| {m['hausdorff']:.2e} | – | – | {lim} | {limh} |")
+                f"| {fmt(m['hausdorff'], '.2e')} | – | – | {lim} | {limh} |")
         else:
             lines.append(f"| {name} | {tool} | {target} | {time_ms} | – | metrics failed: {m.get('error', '')[:80]} |" + " – |" * 10)
     return lines
