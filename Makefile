@@ -9,7 +9,7 @@ TOOLS := $(CURDIR)/.tools
 # Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
 WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
-.PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean
+.PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench
 
 run: web
 	cargo run --release --example serve -- www $(PORT)
@@ -49,6 +49,17 @@ browser-tools:
 browser-test: web browser-tools
 	cargo build --release --example serve
 	cd tests/e2e && node run.mjs webgl2 webgpu
+
+## Benchmarks (not part of `make test`; takes a while): native per stage on
+## every shared mesh and on the bunny subdivided to ~278k and ~1.1M
+## triangles, the same in headless Chromium (wasm in the worker), and the
+## comparison with Instant Meshes and QuadriFlow (pip-installed into
+## .tools/bench-venv). Writes target/bench/*.json, docs/RESULTS.md and the
+## README's results block. BENCH_ARGS passes options to scripts/bench.py
+## (e.g. BENCH_ARGS="--repeats 3 --skip-compare").
+bench: web browser-tools
+	cargo build --release --bin quadrille --example subdivide --example serve
+	QUADRILLE_MESHES="$(MESHES)" python3 scripts/bench.py $(BENCH_ARGS)
 
 clean:
 	cargo clean
