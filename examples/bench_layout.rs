@@ -37,15 +37,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
         let mut times = Vec::new();
         let mut lengths = Vec::new();
+        let mut costs = Vec::new();
+        let mut rows = Vec::new();
         for _ in 0..200 {
             let v = (rng.next_u32() as usize) % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
+            let before = engine.settled_nodes();
             let t = Instant::now();
             let l = engine.best_loop(p);
-            times.push(t.elapsed().as_secs_f64() * 1e3);
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            times.push(ms);
+            let settled = engine.settled_nodes() - before;
             if let Some(l) = l {
                 lengths.push(l.length());
+                costs.push(l.cost);
+                rows.push((ms, l.cost, l.closed, settled));
             }
+        }
+        if std::env::var_os("BENCH_VERBOSE").is_some() {
+            rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for r in rows.iter().rev().take(8) {
+                println!(
+                    "  slow: {:.1} ms, cost {:.3}, closed {}, settled {}",
+                    r.0, r.1, r.2, r.3
+                );
+            }
+        }
+        costs.sort_by(f64::total_cmp);
+        let total: f64 = costs.iter().sum();
+        if !costs.is_empty() {
+            println!(
+                "  loop cost (normalised units): mean {:.4}, median {:.4}",
+                total / costs.len() as f64,
+                costs[costs.len() / 2]
+            );
         }
         times.sort_by(f64::total_cmp);
         let pct = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
