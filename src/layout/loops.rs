@@ -94,12 +94,27 @@ impl DualLoop {
     }
 }
 
+/// Per-node search state, one 32-byte record so that a relaxation touches
+/// one cache line per node (the bidirectional search reads the other
+/// colour of `reverse(y)` right after writing `y`).
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(32))]
+struct Slot {
+    dist: f32,
+    parent: u32,
+    /// `2·generation` once reached, `2·generation + 1` once settled.
+    state: u32,
+    /// Source of the path that reached the node (multi-source search).
+    label: u32,
+    /// The second colour of the bidirectional loop search.
+    dist_b: f32,
+    parent_b: u32,
+    state_b: u32,
+}
+
 #[derive(Debug, Clone, Default)]
 struct Workspace {
-    dist: Vec<f32>,
-    parent: Vec<u32>,
-    stamp: Vec<u32>,
-    done: Vec<u32>,
+    slot: Vec<Slot>,
     generation: u32,
     heap: BinaryHeap<Reverse<u64>>,
     /// Per out-edge of the goal vertex: best closing cost and the closing
@@ -110,15 +125,7 @@ struct Workspace {
     cand_path: Vec<u32>,
     /// Nodes settled by all searches so far (a machine-independent effort
     /// measure for benchmarks).
-    settled: u64,
-    /// Source of the path that settled each node (multi-source search).
-    label: Vec<u32>,
-    /// Second colour of the bidirectional loop search (§5.4 footnote 2
-    /// searched from both ends): distance, parent, and a mark that is
-    /// `2·generation` once reached and `2·generation + 1` once settled.
-    dist_b: Vec<f32>,
-    parent_b: Vec<u32>,
-    mark_b: Vec<u32>,
+    effort: u64,
 }
 
 impl Workspace {
@@ -127,9 +134,10 @@ impl Workspace {
     fn next_generation(&mut self) -> u32 {
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 || self.generation >= 1 << 30 {
-            self.stamp.fill(0);
-            self.done.fill(0);
-            self.mark_b.fill(0);
+            for s in &mut self.slot {
+                s.state = 0;
+                s.state_b = 0;
+            }
             self.generation = 1;
         }
         self.generation
@@ -179,14 +187,7 @@ impl LoopEngine {
             boundary_field: None,
             has_boundary,
             ws: Workspace {
-                dist: vec![0.0; nodes],
-                parent: vec![NONE; nodes],
-                label: vec![NONE; nodes],
-                stamp: vec![0; nodes],
-                done: vec![0; nodes],
-                dist_b: vec![0.0; nodes],
-                parent_b: vec![NONE; nodes],
-                mark_b: vec![0; nodes],
+                slot: vec![Slot::default(); nodes],
                 ..Workspace::default()
             },
         }
@@ -196,14 +197,14 @@ impl LoopEngine {
     pub fn memory_bytes(&self) -> usize {
         let n = self.graph.node_count();
         self.graph.memory_bytes()
-            + n * (4 + 4 + 4 + 4 + 4 + 4 + 4 + 4 + 1)
+            + n * (std::mem::size_of::<Slot>() + 1)
             + self.boundary_field.as_ref().map_or(0, |f| f.0.len() * 8)
     }
 
     /// Number of g′-nodes settled by the hover and loop searches since the
     /// engine was built (an effort measure for benchmarks).
     pub fn settled_nodes(&self) -> u64 {
-        self.ws.settled
+        self.ws.effort
     }
 
     /// The vertex of g nearest to a world position (via the closest face).
@@ -555,40 +556,33 @@ impl LoopEngine {
             return None;
         }
         let now = ws.next_generation();
+        let (reached, settled) = (2 * now, 2 * now + 1);
         ws.heap.clear();
         for s in row {
             if disabled[s] {
                 continue;
             }
-            ws.dist[s] = 0.0;
-            ws.parent[s] = NONE;
-            ws.label[s] = s as u32;
-            ws.stamp[s] = now;
+            ws.slot[s].dist = 0.0;
+            ws.slot[s].parent = NONE;
+            ws.slot[s].label = s as u32;
+            ws.slot[s].state = ws.slot[s].state.max(reached);
             ws.heap.push(Reverse(key(0.0, s as u32)));
         }
         let mut best = bound;
         let mut found = None;
-        let (dist, parent, stamp, done, label, heap, settled) = (
-            &mut ws.dist,
-            &mut ws.parent,
-            &mut ws.stamp,
-            &mut ws.done,
-            &mut ws.label,
-            &mut ws.heap,
-            &mut ws.settled,
-        );
+        let (slot, heap, effort) = (&mut ws.slot, &mut ws.heap, &mut ws.effort);
         while let Some(Reverse(k)) = heap.pop() {
             if 2.0 * f32::from_bits((k >> 32) as u32) >= best {
                 break;
             }
             let x = (k & 0xffff_ffff) as usize;
-            if done[x] == now {
+            if slot[x].state == settled {
                 continue;
             }
-            done[x] = now;
-            *settled += 1;
-            let d = dist[x];
-            let lx = label[x];
+            slot[x].state = settled;
+            *effort += 1;
+            let d = slot[x].dist;
+            let lx = slot[x].label;
             graph.for_each_successor(x, |y| {
                 if disabled[y] {
                     return;
@@ -598,11 +592,11 @@ impl LoopEngine {
                     return;
                 }
                 let ry = g.reverse[y];
-                if ry != NONE && stamp[ry as usize] == now {
-                    let closing = g.reverse[label[ry as usize] as usize];
+                if ry != NONE && slot[ry as usize].state >= reached {
+                    let closing = g.reverse[slot[ry as usize].label as usize];
                     if closing != NONE && graph.is_arc(closing as usize, lx as usize) {
                         let c = nd
-                            + dist[ry as usize]
+                            + slot[ry as usize].dist
                             + graph.arc_weight(closing as usize, lx as usize);
                         if c < best {
                             best = c;
@@ -612,11 +606,11 @@ impl LoopEngine {
                 }
                 // A node at half the best loop or more is never settled and
                 // never needed as the other half of a cheaper loop.
-                if 2.0 * nd < best && (stamp[y] != now || nd < dist[y]) {
-                    stamp[y] = now;
-                    dist[y] = nd;
-                    parent[y] = x as u32;
-                    label[y] = lx;
+                if 2.0 * nd < best && (slot[y].state < reached || nd < slot[y].dist) {
+                    slot[y].state = slot[y].state.max(reached);
+                    slot[y].dist = nd;
+                    slot[y].parent = x as u32;
+                    slot[y].label = lx;
                     heap.push(Reverse(key(nd, y as u32)));
                 }
             });
@@ -646,9 +640,9 @@ impl LoopEngine {
         let now = ws.next_generation();
         let (reached, settled) = (2 * now, 2 * now + 1);
         ws.heap.clear();
-        ws.dist[b] = 0.0;
-        ws.parent[b] = NONE;
-        ws.stamp[b] = now;
+        ws.slot[b].dist = 0.0;
+        ws.slot[b].parent = NONE;
+        ws.slot[b].state = ws.slot[b].state.max(reached);
         ws.heap.push(Reverse(key(0.0, b as u32)));
         for e in g.out_edges(v) {
             let x = g.reverse[e];
@@ -656,26 +650,15 @@ impl LoopEngine {
                 continue;
             }
             let w = graph.arc_weight(x as usize, b);
-            ws.dist_b[e] = w;
-            ws.parent_b[e] = NONE;
-            ws.mark_b[e] = reached;
+            ws.slot[e].dist_b = w;
+            ws.slot[e].parent_b = NONE;
+            ws.slot[e].state_b = reached;
             ws.heap.push(Reverse(key(w, e as u32 | B)));
         }
         let mut best = bound;
         // (settled node, relaxed node, colour of both is B).
         let mut meet: Option<(u32, u32, bool)> = None;
-        let Workspace {
-            dist,
-            parent,
-            stamp,
-            done,
-            heap,
-            dist_b,
-            parent_b,
-            mark_b,
-            settled: effort,
-            ..
-        } = ws;
+        let (slot, heap, effort) = (&mut ws.slot, &mut ws.heap, &mut ws.effort);
         while let Some(Reverse(k)) = heap.pop() {
             if 2.0 * f32::from_bits((k >> 32) as u32) >= best {
                 break;
@@ -683,12 +666,12 @@ impl LoopEngine {
             let raw = (k & 0xffff_ffff) as u32;
             let x = (raw & !B) as usize;
             if raw & B == 0 {
-                if done[x] == now {
+                if slot[x].state == settled {
                     continue;
                 }
-                done[x] = now;
+                slot[x].state = settled;
                 *effort += 1;
-                let d = dist[x];
+                let d = slot[x].dist;
                 graph.for_each_successor(x, |y| {
                     if disabled[y] {
                         return;
@@ -698,8 +681,8 @@ impl LoopEngine {
                         return;
                     }
                     let ry = g.reverse[y];
-                    if ry != NONE && mark_b[ry as usize] >= reached {
-                        let c = nd + dist_b[ry as usize];
+                    if ry != NONE && slot[ry as usize].state_b >= reached {
+                        let c = nd + slot[ry as usize].dist_b;
                         if c < best {
                             best = c;
                             meet = Some((x as u32, y as u32, false));
@@ -707,20 +690,20 @@ impl LoopEngine {
                     }
                     // The optimal loop's halves meet where both are below
                     // half its cost: farther nodes need not be kept.
-                    if 2.0 * nd < best && (stamp[y] != now || nd < dist[y]) {
-                        stamp[y] = now;
-                        dist[y] = nd;
-                        parent[y] = x as u32;
+                    if 2.0 * nd < best && (slot[y].state < reached || nd < slot[y].dist) {
+                        slot[y].state = slot[y].state.max(reached);
+                        slot[y].dist = nd;
+                        slot[y].parent = x as u32;
                         heap.push(Reverse(key(nd, y as u32)));
                     }
                 });
             } else {
-                if mark_b[x] == settled {
+                if slot[x].state_b == settled {
                     continue;
                 }
-                mark_b[x] = settled;
+                slot[x].state_b = settled;
                 *effort += 1;
-                let d = dist_b[x];
+                let d = slot[x].dist_b;
                 graph.for_each_successor(x, |y| {
                     if disabled[y] {
                         return;
@@ -730,17 +713,17 @@ impl LoopEngine {
                         return;
                     }
                     let ry = g.reverse[y];
-                    if ry != NONE && stamp[ry as usize] == now {
-                        let c = nd + dist[ry as usize];
+                    if ry != NONE && slot[ry as usize].state >= reached {
+                        let c = nd + slot[ry as usize].dist;
                         if c < best {
                             best = c;
                             meet = Some((x as u32, y as u32, true));
                         }
                     }
-                    if 2.0 * nd < best && (mark_b[y] < reached || nd < dist_b[y]) {
-                        mark_b[y] = reached;
-                        dist_b[y] = nd;
-                        parent_b[y] = x as u32;
+                    if 2.0 * nd < best && (slot[y].state_b < reached || nd < slot[y].dist_b) {
+                        slot[y].state_b = slot[y].state_b.max(reached);
+                        slot[y].dist_b = nd;
+                        slot[y].parent_b = x as u32;
                         heap.push(Reverse(key(nd, y as u32 | B)));
                     }
                 });
@@ -748,12 +731,13 @@ impl LoopEngine {
         }
         let (x, y, in_b) = meet?;
         // A-chain b … a_end and B-chain e … b_end with b_end = reverse(a_end).
-        let chain = |parent: &[u32], last: u32, out: &mut Vec<u32>| {
+        let chain = |b_side: bool, last: u32, out: &mut Vec<u32>| {
             let start = out.len();
             let mut z = last;
-            while z != NONE && out.len() - start <= parent.len() {
+            while z != NONE && out.len() - start <= slot.len() {
                 out.push(z);
-                z = parent[z as usize];
+                let s = &slot[z as usize];
+                z = if b_side { s.parent_b } else { s.parent };
             }
             out[start..].reverse();
         };
@@ -762,13 +746,13 @@ impl LoopEngine {
         let mut tail = std::mem::take(&mut ws.cand_path);
         tail.clear();
         if in_b {
-            chain(parent, g.reverse[y as usize], path);
-            chain(parent_b, x, &mut tail);
+            chain(false, g.reverse[y as usize], path);
+            chain(true, x, &mut tail);
             tail.push(y);
         } else {
-            chain(parent, x, path);
+            chain(false, x, path);
             path.push(y);
-            chain(parent_b, g.reverse[y as usize], &mut tail);
+            chain(true, g.reverse[y as usize], &mut tail);
         }
         // Append reverse(b_{m−1}), …, reverse(b_0): the B-path walked back.
         tail.pop();
@@ -876,12 +860,13 @@ impl LoopEngine {
         if self.disabled.get(source as usize).is_none_or(|&d| d) || row.is_empty() {
             return;
         }
-        let stamp_now = ws.next_generation();
+        let now = ws.next_generation();
+        let (reached, settled) = (2 * now, 2 * now + 1);
         let h = graph.heuristic_to(goal);
         ws.heap.clear();
-        ws.dist[source as usize] = 0.0;
-        ws.parent[source as usize] = NONE;
-        ws.stamp[source as usize] = stamp_now;
+        ws.slot[source as usize].dist = 0.0;
+        ws.slot[source as usize].parent = NONE;
+        ws.slot[source as usize].state = ws.slot[source as usize].state.max(reached);
         ws.heap.push(Reverse(key(h(source as usize), source)));
         let mut remaining = match only {
             Some(o) if row.contains(&(o as usize)) && !self.disabled[o as usize] => 1,
@@ -891,14 +876,14 @@ impl LoopEngine {
         let mut threshold = bound;
         while let Some(Reverse(k)) = ws.heap.pop() {
             let x = (k & 0xffff_ffff) as usize;
-            if ws.done[x] == stamp_now {
+            if ws.slot[x].state == settled {
                 continue;
             }
             if f32::from_bits((k >> 32) as u32) >= threshold {
                 break;
             }
-            ws.done[x] = stamp_now;
-            let d = ws.dist[x];
+            ws.slot[x].state = settled;
+            let d = ws.slot[x].dist;
             if g.target[x] as usize == goal {
                 let mut improved = false;
                 graph.for_each_successor(x, |y| {
@@ -929,17 +914,16 @@ impl LoopEngine {
                 }
             }
             let disabled = &self.disabled;
-            let (dist, parent, stamp, heap) =
-                (&mut ws.dist, &mut ws.parent, &mut ws.stamp, &mut ws.heap);
+            let (slot, heap) = (&mut ws.slot, &mut ws.heap);
             graph.for_each_successor(x, |y| {
                 if disabled[y] {
                     return;
                 }
                 let nd = d + graph.arc_weight(x, y);
-                if stamp[y] != stamp_now || nd < dist[y] {
-                    stamp[y] = stamp_now;
-                    dist[y] = nd;
-                    parent[y] = x as u32;
+                if slot[y].state < reached || nd < slot[y].dist {
+                    slot[y].state = slot[y].state.max(reached);
+                    slot[y].dist = nd;
+                    slot[y].parent = x as u32;
                     heap.push(Reverse(key(nd + h(y), y as u32)));
                 }
             });
@@ -968,13 +952,13 @@ impl LoopEngine {
     fn collect_path(&self, last: u32, out: &mut Vec<u32>) {
         let start = out.len();
         let mut x = last;
-        let stamp_now = self.ws.generation;
+        let reached = 2 * self.ws.generation;
         while x != NONE
-            && self.ws.stamp[x as usize] == stamp_now
-            && out.len() - start <= self.ws.dist.len()
+            && self.ws.slot[x as usize].state >= reached
+            && out.len() - start <= self.ws.slot.len()
         {
             out.push(x);
-            x = self.ws.parent[x as usize];
+            x = self.ws.slot[x as usize].parent;
         }
         out[start..].reverse();
     }
