@@ -2,8 +2,8 @@
 //! graph build time and memory, then the hover query (best loop through one
 //! positional anchor) at 200 random vertices, single threaded:
 //! `cargo run --release --example bench_layout [mesh-file[@faces] …]`
-//! (default: stanford-bunny, stanford-bunny decimated to ~30k faces, and
-//! fandisk from `../shared/meshes/`). `file@N` decimates the mesh to about N
+//! (default: stanford-bunny, stanford-bunny decimated to ~30k faces,
+//! fandisk and rocker-arm from `../shared/meshes/`). `file@N` decimates the mesh to about N
 //! faces by uniform-grid vertex clustering (Rossignac & Borrel 1993: vertices
 //! in one grid cell are merged at their mean; collapsed and duplicate
 //! triangles are dropped) — crude, but enough for a timing proxy.
@@ -105,6 +105,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             format!("{dir}/stanford-bunny.obj"),
             format!("{dir}/stanford-bunny.obj@30000"),
             format!("{dir}/fandisk.obj"),
+            format!("{dir}/rocker-arm.obj"),
         ];
     }
     for spec in specs {
@@ -117,8 +118,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let imported = quadrille::io::import(&bytes, &name)?;
         let mesh = match target {
             Some(n) => {
+                let m = decimate(&imported.mesh, n);
+                // `BENCH_WRITE_DIR=dir` keeps the decimated mesh as OBJ (for
+                // tests/e2e/bench_layout.mjs, the same mesh in wasm).
+                if let Some(dir) = std::env::var_os("BENCH_WRITE_DIR") {
+                    let stem = name.trim_end_matches(".obj");
+                    let out = std::path::Path::new(&dir).join(format!("{stem}-{n}.obj"));
+                    let mut text = String::new();
+                    for p in &m.positions {
+                        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+                    }
+                    for t in &m.triangles {
+                        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+                    }
+                    std::fs::write(&out, text)?;
+                    println!("wrote {}", out.display());
+                }
                 name = format!("{name} (vertex clustering to ~{n} faces)");
-                decimate(&imported.mesh, n)
+                m
             }
             None => imported.mesh,
         };
@@ -191,6 +208,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 );
             }
         }
+        let mut nontrivial: Vec<f64> = rows.iter().filter(|r| r.1 > 0.0).map(|r| r.0).collect();
+        nontrivial.sort_by(f64::total_cmp);
         costs.sort_by(f64::total_cmp);
         settled_all.sort_unstable();
         times.sort_by(f64::total_cmp);
@@ -203,6 +222,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             costs.len(),
             rows.iter().filter(|r| r.2).count()
         );
+        if !nontrivial.is_empty() {
+            let q = |p: f64| nontrivial[((nontrivial.len() - 1) as f64 * p).round() as usize];
+            println!(
+                "  without the {} zero-cost dual curves (anchor within k rings of the boundary): median {:.2} ms, p95 {:.2} ms",
+                times.len() - nontrivial.len(),
+                q(0.5),
+                q(0.95)
+            );
+        }
         if !costs.is_empty() {
             let total: f64 = costs.iter().sum();
             println!(

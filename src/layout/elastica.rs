@@ -207,14 +207,50 @@ impl ElasticaGraph {
     #[inline]
     pub fn arc_weight(&self, a: usize, b: usize) -> f32 {
         let gamma = self.turn(a, b).abs();
-        let (la, lb) = (self.g.length[a], self.g.length[b]);
+        self.weight(
+            gamma,
+            self.g.length[a],
+            self.g.length[b],
+            self.q[a],
+            self.q[b],
+        )
+    }
+
+    /// `w(e′)` from the turning angle γ, the lengths and the `q_n` of both
+    /// nodes.
+    #[inline(always)]
+    fn weight(&self, gamma: f32, la: f32, lb: f32, qa: f32, qb: f32) -> f32 {
         let m = la.min(lb).max(1e-9);
         let g2 = gamma * gamma;
         // γ / (2 tan(γ/2)) = 1 − γ²/12 − γ⁴/720 − …
         let shrink = 1.0 - g2 / 12.0 - g2 * g2 / 720.0;
         let len = m * shrink + 0.5 * (la - lb).abs();
-        let q = 0.5 * (self.q[a] + self.q[b]) * len;
+        let q = 0.5 * (qa + qb) * len;
         len + self.alpha * q + self.beta * g2 / m
+    }
+
+    /// Calls `f(b, w(a → b))` for every successor node `b` of node `a`
+    /// (the same values as [`Self::arc_weight`], with `a`'s data loaded once).
+    #[inline(always)]
+    pub fn for_each_arc(&self, a: usize, mut f: impl FnMut(usize, f32)) {
+        let g = &self.g;
+        let w = g.target[a] as usize;
+        let start = g.offsets[w] as usize;
+        let len = g.offsets[w + 1] as usize - start;
+        if len == 0 {
+            return;
+        }
+        let (angle_in, la, qa) = (g.angle_in[a], g.length[a], self.q[a]);
+        let mut i = self.succ_first[a] as usize - start;
+        for _ in 0..self.succ_count[a] {
+            let b = start + i;
+            let gamma = wrap_angle(g.angle_out[b] - angle_in).abs();
+            f(b, self.weight(gamma, la, g.length[b], qa, self.q[b]));
+            i += 1;
+            if i == len {
+                i = 0;
+            }
+        }
     }
 
     /// Bytes held by g and g′ (excluding the mesh copy).

@@ -123,6 +123,9 @@ struct Workspace {
     path: Vec<u32>,
     /// Scratch for the second half of a bidirectional loop.
     cand_path: Vec<u32>,
+    /// Weights of the closing arcs `reverse(s′) → s` between the out-edges
+    /// of the hover vertex (row-major by `s′`; infinite where no arc).
+    close: Vec<f32>,
     /// Nodes settled by all searches so far (a machine-independent effort
     /// measure for benchmarks).
     effort: u64,
@@ -558,7 +561,7 @@ impl LoopEngine {
         let now = ws.next_generation();
         let (reached, settled) = (2 * now, 2 * now + 1);
         ws.heap.clear();
-        for s in row {
+        for s in row.clone() {
             if disabled[s] {
                 continue;
             }
@@ -568,9 +571,19 @@ impl LoopEngine {
             ws.slot[s].state = ws.slot[s].state.max(reached);
             ws.heap.push(Reverse(key(0.0, s as u32)));
         }
+        let (start, len) = (row.start, row.len());
+        ws.close.clear();
+        ws.close.resize(len * len, f32::INFINITY);
+        for (i, s) in row.enumerate() {
+            let closing = g.reverse[s];
+            if closing != NONE {
+                let close_row = &mut ws.close[i * len..(i + 1) * len];
+                graph.for_each_arc(closing as usize, |t, w| close_row[t - start] = w);
+            }
+        }
         let mut best = bound;
         let mut found = None;
-        let (slot, heap, effort) = (&mut ws.slot, &mut ws.heap, &mut ws.effort);
+        let (slot, heap, effort, close) = (&mut ws.slot, &mut ws.heap, &mut ws.effort, &ws.close);
         while let Some(Reverse(k)) = heap.pop() {
             if 2.0 * f32::from_bits((k >> 32) as u32) >= best {
                 break;
@@ -583,25 +596,23 @@ impl LoopEngine {
             *effort += 1;
             let d = slot[x].dist;
             let lx = slot[x].label;
-            graph.for_each_successor(x, |y| {
+            let close_col = &close[lx as usize - start..];
+            graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
                     return;
                 }
-                let nd = d + graph.arc_weight(x, y);
+                let nd = d + w;
                 if nd >= best {
                     return;
                 }
                 let ry = g.reverse[y];
                 if ry != NONE && slot[ry as usize].state >= reached {
-                    let closing = g.reverse[slot[ry as usize].label as usize];
-                    if closing != NONE && graph.is_arc(closing as usize, lx as usize) {
-                        let c = nd
-                            + slot[ry as usize].dist
-                            + graph.arc_weight(closing as usize, lx as usize);
-                        if c < best {
-                            best = c;
-                            found = Some((c, lx));
-                        }
+                    // The closing arc reverse(label(ry)) → lx.
+                    let r = &slot[ry as usize];
+                    let c = nd + r.dist + close_col[(r.label as usize - start) * len];
+                    if c < best {
+                        best = c;
+                        found = Some((c, lx));
                     }
                 }
                 // A node at half the best loop or more is never settled and
@@ -672,11 +683,11 @@ impl LoopEngine {
                 slot[x].state = settled;
                 *effort += 1;
                 let d = slot[x].dist;
-                graph.for_each_successor(x, |y| {
+                graph.for_each_arc(x, |y, w| {
                     if disabled[y] {
                         return;
                     }
-                    let nd = d + graph.arc_weight(x, y);
+                    let nd = d + w;
                     if nd >= best {
                         return;
                     }
@@ -704,11 +715,11 @@ impl LoopEngine {
                 slot[x].state_b = settled;
                 *effort += 1;
                 let d = slot[x].dist_b;
-                graph.for_each_successor(x, |y| {
+                graph.for_each_arc(x, |y, w| {
                     if disabled[y] {
                         return;
                     }
-                    let nd = d + graph.arc_weight(x, y);
+                    let nd = d + w;
                     if nd >= best {
                         return;
                     }
@@ -804,11 +815,11 @@ impl LoopEngine {
             let d = dist[x];
             let graph = &self.graph;
             let disabled = &self.disabled;
-            graph.for_each_successor(x, |y| {
+            graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
                     return;
                 }
-                let nd = d + graph.arc_weight(x, y);
+                let nd = d + w;
                 if nd < dist[y] {
                     dist[y] = nd;
                     parent[y] = x as u32;
@@ -915,11 +926,11 @@ impl LoopEngine {
             }
             let disabled = &self.disabled;
             let (slot, heap) = (&mut ws.slot, &mut ws.heap);
-            graph.for_each_successor(x, |y| {
+            graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
                     return;
                 }
-                let nd = d + graph.arc_weight(x, y);
+                let nd = d + w;
                 if slot[y].state < reached || nd < slot[y].dist {
                     slot[y].state = slot[y].state.max(reached);
                     slot[y].dist = nd;
