@@ -179,6 +179,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut costs = Vec::new();
         let mut rows = Vec::new();
         let mut settled_all = Vec::new();
+        let mut anchors = Vec::new();
+        let mut results = Vec::new();
         for _ in 0..200 {
             let v = (rng.next_u32() as usize) % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
@@ -194,10 +196,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             times.push(ms);
             settled_all.push(settled);
+            anchors.push(v);
+            results.push(l.as_ref().map(|l| (l.cost, l.closed)));
             if let Some(l) = l {
                 costs.push(l.cost);
                 rows.push((ms, l.cost, l.closed, settled));
             }
+        }
+        // `BENCH_COSTS=dir`: one line per anchor (vertex, cost, closed) for
+        // comparing loop quality between versions.
+        if let Some(dir) = std::env::var_os("BENCH_COSTS") {
+            let stem = name
+                .split(' ')
+                .next()
+                .unwrap_or(&name)
+                .trim_end_matches(".obj");
+            let text: String = anchors
+                .iter()
+                .zip(&results)
+                .map(|(v, r)| match r {
+                    Some((c, closed)) => format!("{v} {c} {closed}\n"),
+                    None => format!("{v} none\n"),
+                })
+                .collect();
+            std::fs::write(
+                std::path::Path::new(&dir).join(format!("{stem}.costs")),
+                text,
+            )?;
         }
         if std::env::var_os("BENCH_VERBOSE").is_some() {
             rows.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -18,9 +18,10 @@
 //!   search: forward from the anchor's out-edge and forward from the
 //!   out-edges whose reverse closes into it, meeting at `y` / `reverse(y)`,
 //!   stopping when twice the smallest open distance reaches the best loop
-//!   (exact: tested against plain Dijkstra). The hover query first picks the
-//!   direction with one labelled search of this kind from all out-edges at
-//!   once, then runs the exact search through it. Likewise the distance *to*
+//!   (exact: tested against plain Dijkstra). The hover query first ranks
+//!   the directions with one labelled search of this kind from all out-edges
+//!   at once (approximate: a node keeps only its cheapest source), then runs
+//!   the exact search through the best few. Likewise the distance *to*
 //!   ∂ is the distance *from* ∂ of the reversed node: one Dijkstra from all
 //!   boundary g-edges per mesh (cached until the covered strips change)
 //!   serves every dual-curve query.
@@ -45,6 +46,11 @@ use crate::mesh::TriMesh;
 use crate::spatial::SurfaceIndex;
 
 const NONE: u32 = u32::MAX;
+
+/// The hover query refines at most this many directions exactly …
+const REFINE_DIRECTIONS: usize = 4;
+/// … among those whose labelled loop is within this factor of the best.
+const REFINE_RATIO: f32 = 1.25;
 
 /// A constraint point φ = (p, d) of §5.4: the loop passes near `position`,
 /// and, when `direction` is non-zero, with its tangent parallel to it.
@@ -126,6 +132,9 @@ struct Workspace {
     /// Weights of the closing arcs `reverse(s′) → s` between the out-edges
     /// of the hover vertex (row-major by `s′`; infinite where no arc).
     close: Vec<f32>,
+    /// Per out-edge of the hover vertex: the cheapest loop the labelled
+    /// search closed through it.
+    label_best: Vec<f32>,
     /// Nodes settled by all searches so far (a machine-independent effort
     /// measure for benchmarks).
     effort: u64,
@@ -527,16 +536,32 @@ impl LoopEngine {
                 }
             }
         }
-        // One labelled bidirectional search from all out-edges of `v` finds
-        // the best closing direction (approximately: each node keeps only its
-        // cheapest source), then an exact bidirectional search through that
-        // direction yields the loop.
-        let Some((approx, b)) = self.best_direction(v, limit) else {
+        // One labelled bidirectional search from all out-edges of `v` ranks
+        // the closing directions (approximately: each node keeps only its
+        // cheapest source), then exact bidirectional searches through the
+        // best few (each bounded by the best loop so far) yield the loop.
+        let Some((approx, _)) = self.best_direction(v, limit) else {
             return best;
         };
-        let bound = approx * (1.0 + 1e-5) + 1e-6;
-        if let Some(c) = self.cycle_through(b, bound.min(limit)) {
-            best = Some((c, Kind::Closed(self.ws.path.clone())));
+        let start = self.graph.g.out_edges(v).start;
+        let mut ranked: Vec<(f32, u32)> = self
+            .ws
+            .label_best
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| **c <= REFINE_RATIO * approx)
+            .map(|(i, &c)| (c, (start + i) as u32))
+            .collect();
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut exact = limit;
+        for &(c_label, b) in ranked.iter().take(REFINE_DIRECTIONS) {
+            let bound = (c_label * (1.0 + 1e-5) + 1e-6).min(exact);
+            if let Some(c) = self.cycle_through(b, bound) {
+                if c < exact {
+                    exact = c;
+                    best = Some((c, Kind::Closed(self.ws.path.clone())));
+                }
+            }
         }
         best
     }
@@ -574,6 +599,8 @@ impl LoopEngine {
         let (start, len) = (row.start, row.len());
         ws.close.clear();
         ws.close.resize(len * len, f32::INFINITY);
+        ws.label_best.clear();
+        ws.label_best.resize(len, f32::INFINITY);
         for (i, s) in row.enumerate() {
             let closing = g.reverse[s];
             if closing != NONE {
@@ -583,7 +610,13 @@ impl LoopEngine {
         }
         let mut best = bound;
         let mut found = None;
-        let (slot, heap, effort, close) = (&mut ws.slot, &mut ws.heap, &mut ws.effort, &ws.close);
+        let (slot, heap, effort, close, label_best) = (
+            &mut ws.slot,
+            &mut ws.heap,
+            &mut ws.effort,
+            &ws.close,
+            &mut ws.label_best,
+        );
         while let Some(Reverse(k)) = heap.pop() {
             if 2.0 * f32::from_bits((k >> 32) as u32) >= best {
                 break;
@@ -610,6 +643,8 @@ impl LoopEngine {
                     // The closing arc reverse(label(ry)) → lx.
                     let r = &slot[ry as usize];
                     let c = nd + r.dist + close_col[(r.label as usize - start) * len];
+                    let lb = &mut label_best[lx as usize - start];
+                    *lb = lb.min(c);
                     if c < best {
                         best = c;
                         found = Some((c, lx));
@@ -1188,6 +1223,45 @@ mod tests {
             }
         }
         compared
+    }
+
+    /// The hover query on closed meshes: a real loop through the anchor
+    /// (a closed walk in g′ of the reported cost, never below the optimum
+    /// over all directions by plain Dijkstra) and, on these smooth surfaces,
+    /// equal to that optimum (on fandisk the direction ranking can miss it:
+    /// see examples/bench_layout.rs).
+    #[test]
+    fn hover_loop_is_the_exhaustive_optimum_on_smooth_surfaces() {
+        let meshes = [icosphere(1.0, 2), torus(2.0, 0.7, 30, 12)];
+        let mut ratios = Vec::new();
+        for mesh in &meshes {
+            let mut e = LoopEngine::new(mesh, &ElasticaParams::default());
+            for v in (0..mesh.vertex_count()).step_by(mesh.vertex_count() / 8) {
+                let optimum = e
+                    .graph
+                    .g
+                    .out_edges(v)
+                    .map(|b| reference_cycle(&e, b))
+                    .fold(f32::INFINITY, f32::min);
+                let l = e.best_loop(e.vertex_position(v)).expect("a loop");
+                assert!(l.closed);
+                assert_eq!(e.graph.g.source[l.nodes[0] as usize] as usize, v);
+                let (walk, ok) = walk_cost(&e, &l.nodes);
+                assert!(ok, "vertex {v}: not a closed walk in g′");
+                let cost = l.cost as f32;
+                assert!((walk - cost).abs() <= 1e-4 * cost.max(1.0));
+                assert!(
+                    cost >= optimum * (1.0 - 1e-4),
+                    "vertex {v}: {cost} < {optimum}"
+                );
+                ratios.push(cost / optimum);
+            }
+        }
+        let worst = ratios.iter().copied().fold(0.0f32, f32::max);
+        assert!(
+            worst < 1.001,
+            "hover loop up to {worst} × the optimum: {ratios:?}"
+        );
     }
 
     #[test]
