@@ -78,8 +78,9 @@ pub struct ElasticaGraph {
     pub succ_first: Vec<u32>,
     /// Number of successors (cyclic within the head's out-row).
     pub succ_count: Vec<u8>,
-    /// Midpoint of every node (normalised units).
-    pub midpoint: Vec<Vec3>,
+    /// Vertex positions in `f32` (normalised units): node midpoints are
+    /// computed from them (12 bytes per vertex instead of per node).
+    pub position: Vec<Vec3>,
     /// Per vertex: the feature/boundary tangent, zero where none.
     pub feature_tangent: Vec<DVec3>,
     pub alpha: f32,
@@ -119,15 +120,13 @@ impl ElasticaGraph {
         };
         let edges = g.edge_count();
         let mut q = Vec::with_capacity(edges);
-        let mut midpoint = Vec::with_capacity(edges);
         for e in 0..edges {
             let (v, w) = (g.source[e] as usize, g.target[e] as usize);
             let qv = q_at(v, g.direction_out(e));
             let qw = q_at(w, g.direction_in(e));
             q.push((0.5 * (qv + qw)) as f32);
-            let m = 0.5 * (mesh.positions[v] + mesh.positions[w]);
-            midpoint.push(m.as_vec3());
         }
+        let position: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
         let max_turn = (params.max_turn_degrees.clamp(1.0, 90.0)).to_radians() as f32;
         let mut succ_first = vec![0u32; edges];
         let mut succ_count = vec![0u8; edges];
@@ -162,12 +161,19 @@ impl ElasticaGraph {
             q,
             succ_first,
             succ_count,
-            midpoint,
+            position,
             feature_tangent,
             alpha: params.alpha as f32,
             beta: params.beta as f32,
             max_turn,
         }
+    }
+
+    /// Midpoint of node `e` (normalised units).
+    #[inline]
+    pub fn midpoint(&self, e: usize) -> Vec3 {
+        let (v, w) = (self.g.source[e] as usize, self.g.target[e] as usize);
+        0.5 * (self.position[v] + self.position[w])
     }
 
     /// Number of g′-nodes.
@@ -255,7 +261,10 @@ impl ElasticaGraph {
 
     /// Bytes held by g and g′ (excluding the mesh copy).
     pub fn memory_bytes(&self) -> usize {
-        self.g.memory_bytes() + self.q.len() * (4 + 4 + 1 + 12) + self.feature_tangent.len() * 24
+        self.g.memory_bytes()
+            + self.q.len() * (4 + 4 + 1)
+            + self.position.len() * 12
+            + self.feature_tangent.len() * 24
     }
 }
 

@@ -165,9 +165,9 @@ impl ElasticaGraph {
         let radius = self
             .g
             .out_edges(goal)
-            .map(|e| self.midpoint[e].distance(goal_p))
+            .map(|e| self.midpoint(e).distance(goal_p))
             .fold(0.0f32, f32::max);
-        move |x: usize| 0.9 * (self.midpoint[x].distance(goal_p) - radius).max(0.0)
+        move |x: usize| 0.9 * (self.midpoint(x).distance(goal_p) - radius).max(0.0)
     }
 }
 
@@ -1060,7 +1060,7 @@ impl LoopEngine {
 
     /// Unit midpoint of a node (normalised units).
     pub fn node_midpoint(&self, e: usize) -> Vec3 {
-        self.graph.midpoint[e]
+        self.graph.midpoint(e)
     }
 }
 
