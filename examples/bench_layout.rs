@@ -1,61 +1,272 @@
 //! Benchmarks the dual-strip-weaving loop engine (Campen & Kobbelt 2014 §5):
 //! graph build time and memory, then the hover query (best loop through one
 //! positional anchor) at 200 random vertices, single threaded:
-//! `cargo run --release --example bench_layout [mesh-file …]`
-//! (default: stanford-bunny and fandisk from `../shared/meshes/`).
+//! `cargo run --release --example bench_layout [mesh-file[@faces] …]`
+//! (default: stanford-bunny, stanford-bunny decimated to ~30k faces,
+//! fandisk and rocker-arm from `../shared/meshes/`). `file@N` decimates the mesh to about N
+//! faces by uniform-grid vertex clustering (Rossignac & Borrel 1993: vertices
+//! in one grid cell are merged at their mean; collapsed and duplicate
+//! triangles are dropped) — crude, but enough for a timing proxy.
+//!
+//! Each query is timed three times and the fastest kept (the machine is
+//! shared; the query is deterministic). `BENCH_VERBOSE=1` lists the slowest
+//! queries with their cost and settled-node count.
 
+use std::collections::HashMap;
 use std::time::Instant;
 
+use glam::DVec3;
 use quadrille::layout::{ElasticaParams, LoopEngine};
+use quadrille::mesh::TriMesh;
 use rand_core::{RngCore, SeedableRng};
 
+/// Vertex clustering on a grid of cell size `h`.
+fn cluster(mesh: &TriMesh, h: f64) -> TriMesh {
+    let Some(b) = mesh.bbox() else {
+        return mesh.clone();
+    };
+    let mut cell_of: HashMap<(i64, i64, i64), u32> = HashMap::new();
+    let mut sum: Vec<(DVec3, f64)> = Vec::new();
+    let mut remap = Vec::with_capacity(mesh.vertex_count());
+    for p in &mesh.positions {
+        let c = ((*p - b.min) / h).floor();
+        let id = *cell_of
+            .entry((c.x as i64, c.y as i64, c.z as i64))
+            .or_insert_with(|| {
+                sum.push((DVec3::ZERO, 0.0));
+                sum.len() as u32 - 1
+            });
+        sum[id as usize].0 += *p;
+        sum[id as usize].1 += 1.0;
+        remap.push(id);
+    }
+    let positions: Vec<DVec3> = sum.iter().map(|(s, n)| *s / *n).collect();
+    let mut seen = std::collections::HashSet::new();
+    let mut triangles = Vec::new();
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| remap[v as usize]);
+        if a == b || b == c || a == c {
+            continue;
+        }
+        let mut key = [a, b, c];
+        key.sort_unstable();
+        if seen.insert(key) {
+            triangles.push([a, b, c]);
+        }
+    }
+    // Drop vertices no triangle uses.
+    let mut used = vec![u32::MAX; positions.len()];
+    let mut kept = Vec::new();
+    for t in &mut triangles {
+        for v in t.iter_mut() {
+            if used[*v as usize] == u32::MAX {
+                used[*v as usize] = kept.len() as u32;
+                kept.push(positions[*v as usize]);
+            }
+            *v = used[*v as usize];
+        }
+    }
+    TriMesh::new(kept, triangles).unwrap_or_else(|_| mesh.clone())
+}
+
+/// Vertex clustering with the cell size bisected to about `faces` faces.
+fn decimate(mesh: &TriMesh, faces: usize) -> TriMesh {
+    if mesh.face_count() <= faces {
+        return mesh.clone();
+    }
+    let diag = mesh.bbox().map_or(1.0, |b| b.diagonal());
+    let (mut lo, mut hi) = (1e-5 * diag, 0.1 * diag);
+    let mut best = mesh.clone();
+    for _ in 0..30 {
+        let h = (lo * hi).sqrt();
+        let m = cluster(mesh, h);
+        if m.face_count() > faces {
+            lo = h;
+        } else {
+            hi = h;
+        }
+        if best.face_count() > faces
+            || m.face_count().abs_diff(faces) < best.face_count().abs_diff(faces)
+        {
+            best = m;
+        }
+        if best.face_count().abs_diff(faces) * 100 < faces {
+            break;
+        }
+    }
+    best
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut paths: Vec<String> = std::env::args().skip(1).collect();
-    if paths.is_empty() {
+    let mut specs: Vec<String> = std::env::args().skip(1).collect();
+    if specs.is_empty() {
         let dir = format!("{}/../shared/meshes", env!("CARGO_MANIFEST_DIR"));
-        paths = vec![
+        specs = vec![
             format!("{dir}/stanford-bunny.obj"),
+            format!("{dir}/stanford-bunny.obj@30000"),
             format!("{dir}/fandisk.obj"),
+            format!("{dir}/rocker-arm.obj"),
         ];
     }
-    for path in paths {
+    for spec in specs {
+        let (path, target) = match spec.rsplit_once('@') {
+            Some((p, n)) => (p.to_string(), Some(n.parse::<usize>()?)),
+            None => (spec.clone(), None),
+        };
         let bytes = std::fs::read(&path)?;
-        let name = path.rsplit('/').next().unwrap_or(&path).to_string();
+        let mut name = path.rsplit('/').next().unwrap_or(&path).to_string();
         let imported = quadrille::io::import(&bytes, &name)?;
-        let mesh = &imported.mesh;
+        let mesh = match target {
+            Some(n) => {
+                let m = decimate(&imported.mesh, n);
+                // `BENCH_WRITE_DIR=dir` keeps the decimated mesh as OBJ (for
+                // tests/e2e/bench_layout.mjs, the same mesh in wasm).
+                if let Some(dir) = std::env::var_os("BENCH_WRITE_DIR") {
+                    let stem = name.trim_end_matches(".obj");
+                    let out = std::path::Path::new(&dir).join(format!("{stem}-{n}.obj"));
+                    let mut text = String::new();
+                    for p in &m.positions {
+                        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+                    }
+                    for t in &m.triangles {
+                        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+                    }
+                    std::fs::write(&out, text)?;
+                    println!("wrote {}", out.display());
+                }
+                name = format!("{name} (vertex clustering to ~{n} faces)");
+                m
+            }
+            None => imported.mesh,
+        };
+        let mesh = &mesh;
+        let boundary_edges = {
+            let mut e: Vec<(u32, u32)> = mesh
+                .triangles
+                .iter()
+                .flat_map(|t| {
+                    (0..3).map(move |i| (t[i].min(t[(i + 1) % 3]), t[i].max(t[(i + 1) % 3])))
+                })
+                .collect();
+            e.sort_unstable();
+            let mut count = 0;
+            let mut i = 0;
+            while i < e.len() {
+                let mut j = i;
+                while j < e.len() && e[j] == e[i] {
+                    j += 1;
+                }
+                count += usize::from(j - i == 1);
+                i = j;
+            }
+            count
+        };
+        println!("{name}: {boundary_edges} boundary edges");
         let t = Instant::now();
         let mut engine = LoopEngine::new(mesh, &ElasticaParams::default());
         let build = t.elapsed().as_secs_f64();
         println!(
-            "{name}: {} vertices, {} faces; g′ {} nodes; build {:.2} s; {:.1} MB",
+            "{name}: {} vertices, {} faces; g′ {} nodes; build {:.2} s; g+g′ {:.1} MB, with query buffers {:.1} MB",
             mesh.vertex_count(),
             mesh.face_count(),
             engine.graph.node_count(),
             build,
+            engine.graph.memory_bytes() as f64 / 1e6,
             engine.memory_bytes() as f64 / 1e6
         );
         let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
         let mut times = Vec::new();
-        let mut lengths = Vec::new();
+        let mut costs = Vec::new();
+        let mut rows = Vec::new();
+        let mut settled_all = Vec::new();
+        let mut anchors = Vec::new();
+        let mut results = Vec::new();
         for _ in 0..200 {
             let v = (rng.next_u32() as usize) % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
-            let t = Instant::now();
-            let l = engine.best_loop(p);
-            times.push(t.elapsed().as_secs_f64() * 1e3);
+            let mut ms = f64::INFINITY;
+            let mut l = None;
+            let mut settled = 0;
+            for _ in 0..3 {
+                let before = engine.settled_nodes();
+                let t = Instant::now();
+                l = engine.best_loop(p);
+                ms = ms.min(t.elapsed().as_secs_f64() * 1e3);
+                settled = engine.settled_nodes() - before;
+            }
+            times.push(ms);
+            settled_all.push(settled);
+            anchors.push(v);
+            results.push(l.as_ref().map(|l| (l.cost, l.closed)));
             if let Some(l) = l {
-                lengths.push(l.length());
+                costs.push(l.cost);
+                rows.push((ms, l.cost, l.closed, settled));
             }
         }
+        // `BENCH_COSTS=dir`: one line per anchor (vertex, cost, closed) for
+        // comparing loop quality between versions.
+        if let Some(dir) = std::env::var_os("BENCH_COSTS") {
+            let stem = name
+                .split(' ')
+                .next()
+                .unwrap_or(&name)
+                .trim_end_matches(".obj");
+            let text: String = anchors
+                .iter()
+                .zip(&results)
+                .map(|(v, r)| match r {
+                    Some((c, closed)) => format!("{v} {c} {closed}\n"),
+                    None => format!("{v} none\n"),
+                })
+                .collect();
+            std::fs::write(
+                std::path::Path::new(&dir).join(format!("{stem}.costs")),
+                text,
+            )?;
+        }
+        if std::env::var_os("BENCH_VERBOSE").is_some() {
+            rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for r in rows.iter().rev().take(8) {
+                println!(
+                    "  slow: {:.1} ms, cost {:.3}, closed {}, settled {}",
+                    r.0, r.1, r.2, r.3
+                );
+            }
+        }
+        let mut nontrivial: Vec<f64> = rows.iter().filter(|r| r.1 > 0.0).map(|r| r.0).collect();
+        nontrivial.sort_by(f64::total_cmp);
+        costs.sort_by(f64::total_cmp);
+        settled_all.sort_unstable();
         times.sort_by(f64::total_cmp);
         let pct = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
         println!(
-            "  hover best loop, 200 anchors: median {:.1} ms, p95 {:.1} ms, max {:.1} ms; {} loops found",
+            "  hover best loop, 200 anchors: median {:.2} ms, p95 {:.2} ms, max {:.2} ms; {} found ({} closed loops, the rest dual curves)",
             pct(0.5),
             pct(0.95),
             pct(1.0),
-            lengths.len()
+            costs.len(),
+            rows.iter().filter(|r| r.2).count()
         );
+        if !nontrivial.is_empty() {
+            let q = |p: f64| nontrivial[((nontrivial.len() - 1) as f64 * p).round() as usize];
+            println!(
+                "  without the {} zero-cost dual curves (anchor within k rings of the boundary): median {:.2} ms, p95 {:.2} ms",
+                times.len() - nontrivial.len(),
+                q(0.5),
+                q(0.95)
+            );
+        }
+        if !costs.is_empty() {
+            let total: f64 = costs.iter().sum();
+            println!(
+                "  loop cost (normalised units): mean {:.4}, median {:.4}; settled g′ nodes per query: median {}, p95 {}, max {}",
+                total / costs.len() as f64,
+                costs[costs.len() / 2],
+                settled_all[settled_all.len() / 2],
+                settled_all[(settled_all.len() - 1) * 95 / 100],
+                settled_all[settled_all.len() - 1]
+            );
+        }
     }
     Ok(())
 }

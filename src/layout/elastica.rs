@@ -78,8 +78,9 @@ pub struct ElasticaGraph {
     pub succ_first: Vec<u32>,
     /// Number of successors (cyclic within the head's out-row).
     pub succ_count: Vec<u8>,
-    /// Midpoint of every node (normalised units).
-    pub midpoint: Vec<Vec3>,
+    /// Vertex positions in `f32` (normalised units): node midpoints are
+    /// computed from them (12 bytes per vertex instead of per node).
+    pub position: Vec<Vec3>,
     /// Per vertex: the feature/boundary tangent, zero where none.
     pub feature_tangent: Vec<DVec3>,
     pub alpha: f32,
@@ -119,15 +120,13 @@ impl ElasticaGraph {
         };
         let edges = g.edge_count();
         let mut q = Vec::with_capacity(edges);
-        let mut midpoint = Vec::with_capacity(edges);
         for e in 0..edges {
             let (v, w) = (g.source[e] as usize, g.target[e] as usize);
             let qv = q_at(v, g.direction_out(e));
             let qw = q_at(w, g.direction_in(e));
             q.push((0.5 * (qv + qw)) as f32);
-            let m = 0.5 * (mesh.positions[v] + mesh.positions[w]);
-            midpoint.push(m.as_vec3());
         }
+        let position: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
         let max_turn = (params.max_turn_degrees.clamp(1.0, 90.0)).to_radians() as f32;
         let mut succ_first = vec![0u32; edges];
         let mut succ_count = vec![0u8; edges];
@@ -162,12 +161,19 @@ impl ElasticaGraph {
             q,
             succ_first,
             succ_count,
-            midpoint,
+            position,
             feature_tangent,
             alpha: params.alpha as f32,
             beta: params.beta as f32,
             max_turn,
         }
+    }
+
+    /// Midpoint of node `e` (normalised units).
+    #[inline]
+    pub fn midpoint(&self, e: usize) -> Vec3 {
+        let (v, w) = (self.g.source[e] as usize, self.g.target[e] as usize);
+        0.5 * (self.position[v] + self.position[w])
     }
 
     /// Number of g′-nodes.
@@ -207,19 +213,58 @@ impl ElasticaGraph {
     #[inline]
     pub fn arc_weight(&self, a: usize, b: usize) -> f32 {
         let gamma = self.turn(a, b).abs();
-        let (la, lb) = (self.g.length[a], self.g.length[b]);
+        self.weight(
+            gamma,
+            self.g.length[a],
+            self.g.length[b],
+            self.q[a],
+            self.q[b],
+        )
+    }
+
+    /// `w(e′)` from the turning angle γ, the lengths and the `q_n` of both
+    /// nodes.
+    #[inline(always)]
+    fn weight(&self, gamma: f32, la: f32, lb: f32, qa: f32, qb: f32) -> f32 {
         let m = la.min(lb).max(1e-9);
         let g2 = gamma * gamma;
         // γ / (2 tan(γ/2)) = 1 − γ²/12 − γ⁴/720 − …
         let shrink = 1.0 - g2 / 12.0 - g2 * g2 / 720.0;
         let len = m * shrink + 0.5 * (la - lb).abs();
-        let q = 0.5 * (self.q[a] + self.q[b]) * len;
+        let q = 0.5 * (qa + qb) * len;
         len + self.alpha * q + self.beta * g2 / m
+    }
+
+    /// Calls `f(b, w(a → b))` for every successor node `b` of node `a`
+    /// (the same values as [`Self::arc_weight`], with `a`'s data loaded once).
+    #[inline(always)]
+    pub fn for_each_arc(&self, a: usize, mut f: impl FnMut(usize, f32)) {
+        let g = &self.g;
+        let w = g.target[a] as usize;
+        let start = g.offsets[w] as usize;
+        let len = g.offsets[w + 1] as usize - start;
+        if len == 0 {
+            return;
+        }
+        let (angle_in, la, qa) = (g.angle_in[a], g.length[a], self.q[a]);
+        let mut i = self.succ_first[a] as usize - start;
+        for _ in 0..self.succ_count[a] {
+            let b = start + i;
+            let gamma = wrap_angle(g.angle_out[b] - angle_in).abs();
+            f(b, self.weight(gamma, la, g.length[b], qa, self.q[b]));
+            i += 1;
+            if i == len {
+                i = 0;
+            }
+        }
     }
 
     /// Bytes held by g and g′ (excluding the mesh copy).
     pub fn memory_bytes(&self) -> usize {
-        self.g.memory_bytes() + self.q.len() * (4 + 4 + 1 + 12) + self.feature_tangent.len() * 24
+        self.g.memory_bytes()
+            + self.q.len() * (4 + 4 + 1)
+            + self.position.len() * 12
+            + self.feature_tangent.len() * 24
     }
 }
 

@@ -219,9 +219,12 @@ pub(crate) fn angle_in_frame(t: DVec3, u: DVec3, v: DVec3) -> f32 {
 }
 
 /// Signed difference `a − b` wrapped to (−π, π].
+#[inline]
 pub(crate) fn wrap_angle(d: f32) -> f32 {
     use std::f32::consts::{PI, TAU};
-    let mut d = d % TAU;
+    // The float remainder is slow; differences of two angles in [0, 2π)
+    // need none.
+    let mut d = if d.abs() < TAU { d } else { d % TAU };
     if d > PI {
         d -= TAU;
     } else if d <= -PI {

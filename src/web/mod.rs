@@ -18,6 +18,9 @@ pub mod viewer;
 pub mod worker_api;
 
 #[cfg(target_arch = "wasm32")]
+pub mod layout_api;
+
+#[cfg(target_arch = "wasm32")]
 mod panic {
     use std::cell::RefCell;
     use wasm_bindgen::prelude::*;
