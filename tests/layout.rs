@@ -264,6 +264,69 @@ fn dual_curves_end_orthogonally_on_the_boundary() {
     }
 }
 
+/// Issue 10: every g-edge within k = 4 rings of the boundary used to be at
+/// distance 0 from ∂, so anchors near the boundary got one-node, zero-cost
+/// "dual curves". On the flat square (30 × 30 grid, spacing h = 2/30), the
+/// hover result through every vertex within 4 rings of the boundary must be
+/// a real crossing: positive cost, polyline length at least 2h (a curve
+/// leaves the boundary, takes at least one arc and arrives at it again),
+/// both ends on the boundary and, away from corners, within 20° of
+/// orthogonal to it, and passing through the anchor.
+#[test]
+fn dual_curves_near_the_boundary_cross_the_surface() {
+    let n = 30;
+    let h = 2.0 / n as f64;
+    let mesh = flat_grid(1.0, n);
+    let mut e = engine(&mesh);
+    let on_boundary = |p: DVec3| (p.x.abs() - 1.0).abs() < 1e-9 || (p.y.abs() - 1.0).abs() < 1e-9;
+    let mut checked = 0;
+    for &p in &mesh.positions {
+        let rings = ((1.0 - p.x.abs()).min(1.0 - p.y.abs()) / h).round();
+        if rings > 4.0 {
+            continue;
+        }
+        checked += 1;
+        let l = e
+            .best_loop(p)
+            .unwrap_or_else(|| panic!("no curve through {p:?}"));
+        assert!(l.cost > 0.0, "zero-cost curve through {p:?}: {l:?}");
+        if l.closed {
+            continue;
+        }
+        let length: f64 = l.points.windows(2).map(|w| w[0].distance(w[1])).sum();
+        assert!(
+            length >= 2.0 * h - 1e-9,
+            "curve through {p:?} of length {length}"
+        );
+        assert!(l.nodes.len() >= 2, "one-node curve through {p:?}");
+        assert!(
+            distance_to(&l, p) < 1e-9,
+            "curve misses its anchor {p:?} by {}",
+            distance_to(&l, p)
+        );
+        let m = l.points.len();
+        for (a, b) in [
+            (l.points[1], l.points[0]),
+            (l.points[m - 2], l.points[m - 1]),
+        ] {
+            assert!(on_boundary(b), "curve through {p:?} ends inside at {b:?}");
+            let normal = if (b.x.abs() - 1.0).abs() < 1e-9 && (b.y.abs() - 1.0).abs() > 1e-9 {
+                DVec3::X
+            } else if (b.y.abs() - 1.0).abs() < 1e-9 && (b.x.abs() - 1.0).abs() > 1e-9 {
+                DVec3::Y
+            } else {
+                continue; // a corner: no single normal
+            };
+            let ang = angle_deg(b - a, normal);
+            assert!(
+                ang < 20.0,
+                "curve through {p:?} meets the boundary {ang}° off orthogonal at {b:?}"
+            );
+        }
+    }
+    assert_eq!(checked, 31 * 31 - 21 * 21);
+}
+
 #[test]
 fn degenerate_meshes_do_not_panic() {
     let empty = TriMesh::default();

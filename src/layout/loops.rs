@@ -25,6 +25,21 @@
 //!   ∂ is the distance *from* ∂ of the reversed node: one Dijkstra from all
 //!   boundary g-edges per mesh (cached until the covered strips change)
 //!   serves every dual-curve query.
+//! - §5.7 connects ∂ to "all g-edges incident to a boundary vertex" (E∂).
+//!   Taken literally, every g-edge within k rings of the boundary is at
+//!   distance 0 from ∂ in both directions, so an anchor near the boundary
+//!   gets a one-node, zero-cost "dual curve" that never crosses the surface.
+//!   Here E∂ is directed: ∂ → b only for g-edges b that *start* at a
+//!   boundary vertex and end at an interior one, and a → ∂ only for g-edges
+//!   a that *end* at a boundary vertex coming from an interior one (the
+//!   reverses of the former). A dual curve therefore starts on the boundary,
+//!   leaves it into the interior, and ends by arriving at the boundary; it
+//!   has at least two nodes and one g′-arc (no single g-edge both leaves and
+//!   arrives), hence positive length and cost, and its end nodes carry the
+//!   §5.6 orthogonality weight (`q` at their boundary vertex, charged on the
+//!   first and last arcs). g-edges with both ends on the boundary (along it,
+//!   or chords across a part narrower than k rings) never end a curve, so a
+//!   part with no interior vertex has no dual curve.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
 //!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
 //!   same "direction class" and dropped; proposals above 6 × the best cost
@@ -835,7 +850,10 @@ impl LoopEngine {
             if self.disabled[e] {
                 continue;
             }
-            if g.boundary[g.source[e] as usize] || g.boundary[g.target[e] as usize] {
+            // E∂ in the direction of travel: g-edges that leave a boundary
+            // vertex into the interior (a curve's first node). Their reverses,
+            // arriving at the boundary from the interior, are the last nodes.
+            if g.boundary[g.source[e] as usize] && !g.boundary[g.target[e] as usize] {
                 dist[e] = 0.0;
                 heap.push(Reverse(key(0.0, e as u32)));
             }
