@@ -211,6 +211,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .next()
                 .unwrap_or(&name)
                 .trim_end_matches(".obj");
+            // A decimated copy gets its own file (`stem-30000.costs`).
+            let stem = match target {
+                Some(n) => format!("{stem}-{n}"),
+                None => stem.to_string(),
+            };
             let text: String = anchors
                 .iter()
                 .zip(&results)
