@@ -632,8 +632,9 @@ pub fn pair_non_quads(
             add_pairs(&mut pairs, &faces[f], -1);
         }
         // The best valid quadrangulation of the union polygon: every quad
-        // has corner angles within 5°–175°, is flat across both diagonals
-        // within `degrees`, creates no edge or diagonal held elsewhere, and
+        // has corner angles within 5°–175°, is flat across one of its
+        // diagonals within `degrees`, creates no edge or diagonal held
+        // elsewhere, and
         // may not approximate the input worse than the chain did (a strip
         // across a crease would cut the corner).
         let m = ring.len();
