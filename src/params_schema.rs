@@ -91,7 +91,9 @@ const fn nullable(doc: ParamDoc) -> ParamDoc {
     }
 }
 
-/// Every parameter, in the order of [`Params`]' fields.
+/// Every parameter, in the order of [`Params`]' fields (one line each:
+/// kept as a table).
+#[rustfmt::skip]
 pub fn schema() -> Vec<ParamDoc> {
     vec![
         // analysis

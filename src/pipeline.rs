@@ -28,13 +28,13 @@
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::smooth_regions::{smooth_regions, SmoothRegionParams, SmoothRegions};
+use crate::analysis::smooth_regions::{SmoothRegionParams, SmoothRegions, smooth_regions};
 use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
 use crate::extract::{self, ExtractInput, Extracted, ExtractionParams, PostProcessed};
 use crate::field::{
-    self, mesh_links, orientation_singularities, position_singularities, restrict_by_area,
-    solve_orientation, solve_position, FieldParams, Hierarchy, LevelSizing, OrientationConstraints,
-    Singularity,
+    self, FieldParams, Hierarchy, LevelSizing, OrientationConstraints, Singularity, mesh_links,
+    orientation_singularities, position_singularities, restrict_by_area, solve_orientation,
+    solve_position,
 };
 use crate::io::Imported;
 use crate::mesh::{PolyMesh, VertexAdjacency};

@@ -256,7 +256,10 @@ mod tests {
             let (a, b) = (whole.distance(p), pieces.distance(p));
             assert!((a - b).abs() < 1e-12, "{p}: {a} vs {b}");
         }
-        let empty = TriMesh { positions: Vec::new(), triangles: Vec::new() };
+        let empty = TriMesh {
+            positions: Vec::new(),
+            triangles: Vec::new(),
+        };
         let none = PiecewiseDistance::build(&empty, 100, &mut |_| Ok(())).unwrap();
         assert_eq!(none.distance(DVec3::ZERO), f64::INFINITY);
     }

@@ -5,7 +5,7 @@
 
 use glam::{DVec3, Vec3};
 use quadrille::io::Imported;
-use quadrille::mesh::{generate, FaceList, TriMesh};
+use quadrille::mesh::{FaceList, TriMesh, generate};
 use quadrille::pipeline::{Params, Pipeline, Stage};
 
 fn shared(name: &str) -> Imported {

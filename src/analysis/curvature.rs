@@ -91,11 +91,7 @@ impl PrincipalCurvature {
     /// 2006, thesis 3.3); 1 (isotropic) where both curvatures are zero.
     pub fn anisotropy(&self) -> f64 {
         let max = self.max_abs();
-        if max > 0.0 {
-            self.min_abs() / max
-        } else {
-            1.0
-        }
+        if max > 0.0 { self.min_abs() / max } else { 1.0 }
     }
 
     /// Direction of the larger |κ| (across a ridge).
@@ -441,8 +437,8 @@ fn discrete_sums(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::normals::{vertex_normals, NormalWeighting};
-    use crate::mesh::{generate, TriMesh};
+    use crate::analysis::normals::{NormalWeighting, vertex_normals};
+    use crate::mesh::{TriMesh, generate};
 
     fn estimate(mesh: &TriMesh, params: &CurvatureParams) -> Vec<PrincipalCurvature> {
         let normals = vertex_normals(mesh, NormalWeighting::Angle);

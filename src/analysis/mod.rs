@@ -39,14 +39,14 @@ use crate::progress::{Cancelled, Progress};
 use crate::sizing::{self, SizingContext, SizingParams};
 
 pub use areas::barycentric_cell_areas;
-pub use averaging::{average_curvature, AveragingMethod, AveragingParams};
+pub use averaging::{AveragingMethod, AveragingParams, average_curvature};
 pub use curvature::{
-    principal_curvatures, CurvatureEstimator, CurvatureParams, PrincipalCurvature,
+    CurvatureEstimator, CurvatureParams, PrincipalCurvature, principal_curvatures,
 };
-pub use features::{feature_vertices, orientation_constraints, FeatureParams, FeatureVertices};
-pub use filtered_normals::{filtered_normals, FilteredNormalsMode, FilteredNormalsParams, Sigma};
-pub use normals::{face_normals, vertex_normals, NormalWeighting};
-pub use selection::{directional_curvature, select_curvature, CurvatureSelection};
+pub use features::{FeatureParams, FeatureVertices, feature_vertices, orientation_constraints};
+pub use filtered_normals::{FilteredNormalsMode, FilteredNormalsParams, Sigma, filtered_normals};
+pub use normals::{NormalWeighting, face_normals, vertex_normals};
+pub use selection::{CurvatureSelection, directional_curvature, select_curvature};
 
 /// Parameters of the surface analysis. Every field has a documented default
 /// (DESIGN.md's table); `#[serde(default)]` fills missing fields.

@@ -141,7 +141,7 @@ struct RemeshArgs {
 }
 
 fn remesh(args: RemeshArgs) -> Result<(), String> {
-    use quadrille::pipeline::{target_vertex_count, Params, Pipeline};
+    use quadrille::pipeline::{Params, Pipeline, target_vertex_count};
     let name = args.output.display().to_string();
     if quadrille::io::Format::from_extension(&name).is_none_or(|f| {
         !matches!(

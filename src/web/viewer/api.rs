@@ -9,7 +9,7 @@ use wasm_bindgen::prelude::*;
 
 use super::camera::OrbitCamera;
 use super::gpu::{BackendPreference, Gpu, Tier};
-use super::scene::{LineSet, PointSet, Scalar, SceneError, Surface, PLAIN};
+use super::scene::{LineSet, PLAIN, PointSet, Scalar, SceneError, Surface};
 
 fn js(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
