@@ -133,6 +133,32 @@ struct Slot {
     state_b: u32,
 }
 
+impl Slot {
+    /// Distance and state of the bidirectional search's colour A or B.
+    #[inline]
+    fn colour(&self, b: bool) -> (f32, u32) {
+        if b {
+            (self.dist_b, self.state_b)
+        } else {
+            (self.dist, self.state)
+        }
+    }
+
+    #[inline]
+    fn parent_of(&self, b: bool) -> u32 {
+        if b { self.parent_b } else { self.parent }
+    }
+
+    #[inline]
+    fn set_colour(&mut self, b: bool, dist: f32, parent: u32, state: u32) {
+        if b {
+            (self.dist_b, self.parent_b, self.state_b) = (dist, parent, state);
+        } else {
+            (self.dist, self.parent, self.state) = (dist, parent, state);
+        }
+    }
+}
+
 #[derive(Debug, Clone, Default)]
 struct Workspace {
     slot: Vec<Slot>,
@@ -725,70 +751,39 @@ impl LoopEngine {
                 break;
             }
             let raw = (k & 0xffff_ffff) as u32;
-            let x = (raw & !B) as usize;
-            if raw & B == 0 {
-                if slot[x].state == settled {
-                    continue;
-                }
-                slot[x].state = settled;
-                *effort += 1;
-                let d = slot[x].dist;
-                graph.for_each_arc(x, |y, w| {
-                    if disabled[y] {
-                        return;
-                    }
-                    let nd = d + w;
-                    if nd >= best {
-                        return;
-                    }
-                    let ry = g.reverse[y];
-                    if ry != NONE && slot[ry as usize].state_b >= reached {
-                        let c = nd + slot[ry as usize].dist_b;
-                        if c < best {
-                            best = c;
-                            meet = Some((x as u32, y as u32, false));
-                        }
-                    }
-                    // The optimal loop's halves meet where both are below
-                    // half its cost: farther nodes need not be kept.
-                    if 2.0 * nd < best && (slot[y].state < reached || nd < slot[y].dist) {
-                        slot[y].state = slot[y].state.max(reached);
-                        slot[y].dist = nd;
-                        slot[y].parent = x as u32;
-                        heap.push(Reverse(key(nd, y as u32)));
-                    }
-                });
-            } else {
-                if slot[x].state_b == settled {
-                    continue;
-                }
-                slot[x].state_b = settled;
-                *effort += 1;
-                let d = slot[x].dist_b;
-                graph.for_each_arc(x, |y, w| {
-                    if disabled[y] {
-                        return;
-                    }
-                    let nd = d + w;
-                    if nd >= best {
-                        return;
-                    }
-                    let ry = g.reverse[y];
-                    if ry != NONE && slot[ry as usize].state >= reached {
-                        let c = nd + slot[ry as usize].dist;
-                        if c < best {
-                            best = c;
-                            meet = Some((x as u32, y as u32, true));
-                        }
-                    }
-                    if 2.0 * nd < best && (slot[y].state_b < reached || nd < slot[y].dist_b) {
-                        slot[y].state_b = slot[y].state_b.max(reached);
-                        slot[y].dist_b = nd;
-                        slot[y].parent_b = x as u32;
-                        heap.push(Reverse(key(nd, y as u32 | B)));
-                    }
-                });
+            // Colour A grows from b, colour B from the edges closing into b.
+            let (x, in_b) = ((raw & !B) as usize, raw & B != 0);
+            let (d, state) = slot[x].colour(in_b);
+            if state == settled {
+                continue;
             }
+            let parent = slot[x].parent_of(in_b);
+            slot[x].set_colour(in_b, d, parent, settled);
+            *effort += 1;
+            graph.for_each_arc(x, |y, w| {
+                if disabled[y] {
+                    return;
+                }
+                let nd = d + w;
+                if nd >= best {
+                    return;
+                }
+                let ry = g.reverse[y];
+                if ry != NONE {
+                    let (other, other_state) = slot[ry as usize].colour(!in_b);
+                    if other_state >= reached && nd + other < best {
+                        best = nd + other;
+                        meet = Some((x as u32, y as u32, in_b));
+                    }
+                }
+                // The optimal loop's halves meet where both are below
+                // half its cost: farther nodes need not be kept.
+                let (yd, y_state) = slot[y].colour(in_b);
+                if 2.0 * nd < best && (y_state < reached || nd < yd) {
+                    slot[y].set_colour(in_b, nd, x as u32, y_state.max(reached));
+                    heap.push(Reverse(key(nd, y as u32 | if in_b { B } else { 0 })));
+                }
+            });
         }
         let (x, y, in_b) = meet?;
         // A-chain b … a_end and B-chain e … b_end with b_end = reverse(a_end).
@@ -797,8 +792,7 @@ impl LoopEngine {
             let mut z = last;
             while z != NONE && out.len() - start <= slot.len() {
                 out.push(z);
-                let s = &slot[z as usize];
-                z = if b_side { s.parent_b } else { s.parent };
+                z = slot[z as usize].parent_of(b_side);
             }
             out[start..].reverse();
         };
