@@ -16,9 +16,11 @@
 //! (alternatives) or [`LoopEngine::constrained_loop`].
 
 pub mod elastica;
+pub mod embed;
 pub mod loops;
 pub mod surface_graph;
 
 pub use elastica::{ElasticaGraph, ElasticaParams};
+pub use embed::{EdgeCrossing, EmbeddedLoop, Singularity};
 pub use loops::{Anchor, DualLoop, LoopEngine};
 pub use surface_graph::SurfaceGraph;
