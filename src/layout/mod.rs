@@ -21,6 +21,6 @@ pub mod loops;
 pub mod surface_graph;
 
 pub use elastica::{ElasticaGraph, ElasticaParams};
-pub use embed::{EdgeCrossing, EmbeddedLoop, Singularity};
+pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
 pub use loops::{Anchor, DualLoop, LoopEngine};
 pub use surface_graph::SurfaceGraph;

@@ -1,0 +1,132 @@
+//! Strips of dual strip weaving (Campen & Kobbelt 2014, §6): loops on the
+//! triangulation, the strip cross field, the global parametrization and
+//! the strips grown from the loops.
+
+use std::f64::consts::TAU;
+
+use glam::DVec3;
+use quadrille::layout::{ElasticaParams, EmbeddedLoop, LoopEngine, embed_loop};
+use quadrille::mesh::TriMesh;
+use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
+
+fn engine(mesh: &TriMesh) -> LoopEngine {
+    LoopEngine::new(mesh, &ElasticaParams::default())
+}
+
+/// Largest distance of a crossing from the polyline.
+fn max_distance_to_polyline(mesh: &TriMesh, l: &EmbeddedLoop, points: &[DVec3]) -> f64 {
+    l.crossings
+        .iter()
+        .map(|c| {
+            let p = c.point(mesh);
+            points
+                .windows(2)
+                .map(|w| {
+                    let d = w[1] - w[0];
+                    let s = ((p - w[0]).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
+                    p.distance(w[0] + s * d)
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+fn mean_edge(mesh: &TriMesh) -> f64 {
+    let mut s = 0.0;
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            s += mesh.positions[t[i] as usize].distance(mesh.positions[t[(i + 1) % 3] as usize]);
+        }
+    }
+    s / (3 * mesh.triangles.len()) as f64
+}
+
+#[test]
+fn engine_loops_embed_as_valid_walks_near_the_polyline() {
+    let meshes = [
+        (
+            "cylinder",
+            cylinder(1.0, 6.0, 48, 64),
+            DVec3::new(1.0, 0.0, 0.3),
+        ),
+        ("torus", torus(2.0, 0.7, 64, 24), DVec3::new(2.7, 0.0, 0.0)),
+        (
+            "sphere",
+            icosphere(1.0, 4),
+            DVec3::new(0.3, 0.5, 0.81).normalize(),
+        ),
+    ];
+    for (name, mesh, p) in meshes {
+        let mut e = engine(&mesh);
+        let l = e.best_loop(p).expect("a loop");
+        let emb = embed_loop(&mesh, &l.points, l.closed).expect("embedded");
+        emb.check(&mesh).unwrap_or_else(|m| panic!("{name}: {m}"));
+        assert_eq!(emb.closed, l.closed);
+        let d = max_distance_to_polyline(&mesh, &emb, &l.points);
+        let h = mean_edge(&mesh);
+        println!(
+            "{name}: {} crossings, max distance {d:.4} (mean edge {h:.4})",
+            emb.crossings.len()
+        );
+        assert!(
+            d < 1.0 * h,
+            "{name}: crossing {d} from the polyline (mean edge {h})"
+        );
+    }
+}
+
+#[test]
+fn polyline_through_vertices_embeds_validly() {
+    // The cylinder's ring of vertices at one height: every point is a vertex.
+    let (segments, stacks) = (32u32, 16u32);
+    let mesh = cylinder(1.0, 4.0, segments, stacks);
+    let z = mesh.positions[(5 * segments) as usize].z;
+    let mut ring: Vec<DVec3> = mesh
+        .positions
+        .iter()
+        .copied()
+        .filter(|p| (p.z - z).abs() < 1e-9)
+        .collect();
+    assert_eq!(ring.len(), segments as usize);
+    ring.sort_by(|a, b| a.y.atan2(a.x).total_cmp(&b.y.atan2(b.x)));
+    ring.push(ring[0]);
+    let emb = embed_loop(&mesh, &ring, true).expect("embedded");
+    emb.check(&mesh).unwrap();
+    // Perturbed off the vertices, it stays within one ring of the circle and
+    // goes round once: every crossing near height z.
+    let h = 4.0 / stacks as f64;
+    for c in &emb.crossings {
+        assert!((c.point(&mesh).z - z).abs() <= h, "{c:?}");
+    }
+    let mut turn = 0.0;
+    let pts: Vec<DVec3> = emb.crossings.iter().map(|c| c.point(&mesh)).collect();
+    for i in 0..pts.len() {
+        let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
+        let mut d = b.y.atan2(b.x) - a.y.atan2(a.x);
+        if d > TAU / 2.0 {
+            d -= TAU;
+        } else if d < -TAU / 2.0 {
+            d += TAU;
+        }
+        turn += d;
+    }
+    assert!((turn.abs() - TAU).abs() < 1e-6, "winds {turn}");
+
+    // An open polyline along a grid line of a flat grid, vertex to vertex,
+    // from boundary to boundary.
+    let grid = flat_grid(1.0, 10);
+    let mut line: Vec<DVec3> = grid
+        .positions
+        .iter()
+        .copied()
+        .filter(|p| p.y.abs() < 1e-9)
+        .collect();
+    line.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let emb = embed_loop(&grid, &line, false).expect("embedded");
+    emb.check(&grid).unwrap();
+    assert!(
+        emb.crossings
+            .iter()
+            .all(|c| c.point(&grid).y.abs() <= 0.2 + 1e-9)
+    );
+}
