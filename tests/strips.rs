@@ -5,6 +5,7 @@
 use std::f64::consts::TAU;
 
 use glam::DVec3;
+use quadrille::layout::strip_field::strip_field;
 use quadrille::layout::{ElasticaParams, EmbeddedLoop, LoopEngine, embed_loop};
 use quadrille::mesh::TriMesh;
 use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
@@ -129,4 +130,113 @@ fn polyline_through_vertices_embeds_validly() {
             .iter()
             .all(|c| c.point(&grid).y.abs() <= 0.2 + 1e-9)
     );
+}
+
+/// Deviation (degrees) of a cross arm from a direction, modulo π/2.
+fn cross_deviation_deg(arm: DVec3, dir: DVec3) -> f64 {
+    let a = arm
+        .normalize()
+        .dot(dir.normalize())
+        .abs()
+        .min(1.0)
+        .acos()
+        .to_degrees();
+    a.min(90.0 - a)
+}
+
+fn great_circle(normal: DVec3, samples: usize) -> Vec<DVec3> {
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    (0..=samples)
+        .map(|k| {
+            let a = TAU * k as f64 / samples as f64;
+            u * a.cos() + v * a.sin()
+        })
+        .collect()
+}
+
+fn three_great_circles(mesh: &TriMesh) -> Vec<EmbeddedLoop> {
+    [DVec3::X, DVec3::Y, DVec3::Z]
+        .into_iter()
+        .map(|n| embed_loop(mesh, &great_circle(n, 400), true).expect("embedded"))
+        .collect()
+}
+
+#[test]
+fn cylinder_loop_field_follows_the_circumference() {
+    let mesh = cylinder(1.0, 8.0, 48, 64);
+    let mut e = engine(&mesh);
+    let l = e.best_loop(DVec3::new(1.0, 0.0, 0.3)).expect("a loop");
+    assert!(l.closed, "the circumference is shorter than the height");
+    let emb = embed_loop(&mesh, &l.points, true).unwrap();
+    let field = strip_field(&mesh, &[emb]).expect("a field");
+    let mut worst: f64 = 0.0;
+    for (f, arm) in field.cross.iter().enumerate() {
+        let c = mesh.corners(f);
+        let m = (c[0] + c[1] + c[2]) / 3.0;
+        worst = worst.max(cross_deviation_deg(*arm, DVec3::new(-m.y, m.x, 0.0)));
+    }
+    println!("cylinder: max deviation from the circumference {worst:.3}°");
+    assert!(worst < 5.0, "max deviation {worst}°");
+    assert!(field.singularities.is_empty(), "{:?}", field.singularities);
+}
+
+#[test]
+fn field_singularities_obey_poincare_hopf() {
+    let sphere = icosphere(1.0, 4);
+    let mut e = engine(&sphere);
+    let l = e
+        .best_loop(DVec3::new(0.3, 0.5, 0.81).normalize())
+        .expect("a loop");
+    let emb = embed_loop(&sphere, &l.points, true).unwrap();
+    let field = strip_field(&sphere, &[emb]).expect("a field");
+    let sum: i32 = field.singularities.iter().map(|s| s.index).sum();
+    println!(
+        "sphere, one loop: {} singularities, Σ index {sum}",
+        field.singularities.len()
+    );
+    assert_eq!(sum, 8, "{:?}", field.singularities);
+
+    let tor = torus(2.0, 0.7, 64, 24);
+    let mut e = engine(&tor);
+    let loops: Vec<EmbeddedLoop> = [DVec3::new(2.7, 0.0, 0.0), DVec3::new(0.0, 1.3, 0.0)]
+        .into_iter()
+        .map(|p| {
+            let l = e.best_loop(p).expect("a loop");
+            embed_loop(&tor, &l.points, true).unwrap()
+        })
+        .collect();
+    let field = strip_field(&tor, &loops).expect("a field");
+    let sum: i32 = field.singularities.iter().map(|s| s.index).sum();
+    println!(
+        "torus: {} singularities, Σ index {sum}",
+        field.singularities.len()
+    );
+    assert_eq!(sum, 0, "{:?}", field.singularities);
+}
+
+#[test]
+fn three_great_circles_give_one_singularity_per_octant() {
+    let sphere = icosphere(1.0, 4);
+    let loops = three_great_circles(&sphere);
+    let field = strip_field(&sphere, &loops).expect("a field");
+    println!("{:?}", field.singularities);
+    assert_eq!(field.singularities.len(), 8, "{:?}", field.singularities);
+    let mut octants: Vec<u8> = field
+        .singularities
+        .iter()
+        .map(|s| {
+            assert_eq!(s.index, 1);
+            let p = sphere.positions[s.vertex as usize];
+            (p.x > 0.0) as u8 | ((p.y > 0.0) as u8) << 1 | ((p.z > 0.0) as u8) << 2
+        })
+        .collect();
+    octants.sort_unstable();
+    octants.dedup();
+    assert_eq!(octants.len(), 8);
+}
+
+#[test]
+fn no_loops_no_field() {
+    assert!(strip_field(&icosphere(1.0, 2), &[]).is_none());
 }

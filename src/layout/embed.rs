@@ -226,8 +226,11 @@ impl<'a> LoopEmbedder<'a> {
             return Err(EmbedError::TooShort);
         }
         // 2. A face path through the dual graph; 3. without back-and-forth.
-        let mut path: Vec<(u32, DVec3)> = Vec::with_capacity(visits.len() * 2);
-        let push = |path: &mut Vec<(u32, DVec3)>, item: (u32, DVec3)| {
+        // Each entry: (face, start, end) of the polyline piece it stands for:
+        // a sample point twice, or for faces inserted between two samples
+        // the segment between them.
+        let mut path: Vec<(u32, DVec3, DVec3)> = Vec::with_capacity(visits.len() * 2);
+        let push = |path: &mut Vec<(u32, DVec3, DVec3)>, item: (u32, DVec3, DVec3)| {
             if path.last().is_some_and(|l| l.0 == item.0) {
                 return;
             }
@@ -239,14 +242,14 @@ impl<'a> LoopEmbedder<'a> {
         };
         let m = visits.len();
         let links = if closed { m } else { m - 1 };
-        push(&mut path, visits[0]);
+        push(&mut path, (visits[0].0, visits[0].1, visits[0].1));
         for i in 0..links {
-            let (f, _) = visits[i];
+            let (f, p) = visits[i];
             let (g, q) = visits[(i + 1) % m];
-            for (h, hint) in self.connect(f, g)? {
-                push(&mut path, (h, hint));
+            for h in self.connect(f, g)? {
+                push(&mut path, (h, p, q));
             }
-            push(&mut path, (g, q));
+            push(&mut path, (g, q, q));
         }
         if closed {
             loop {
@@ -272,8 +275,8 @@ impl<'a> LoopEmbedder<'a> {
             crossings.push(c);
         }
         for j in 0..pairs {
-            let (f, p) = path[j];
-            let (g, q) = path[(j + 1) % n];
+            let (f, p, _) = path[j];
+            let (g, _, q) = path[(j + 1) % n];
             let e = self
                 .topology
                 .shared_edge(f, g)
@@ -307,20 +310,17 @@ impl<'a> LoopEmbedder<'a> {
     }
 
     /// Faces strictly between `f` and `g` on a short dual path (empty when
-    /// they share an edge), each with a hint point for the crossing
-    /// parameters: around a shared vertex on the side with fewer faces,
-    /// else a breadth-first search of depth ≤ 8.
-    fn connect(&self, f: u32, g: u32) -> Result<Vec<(u32, DVec3)>, EmbedError> {
+    /// they share an edge): around a shared vertex on the side with fewer
+    /// faces, else a breadth-first search of depth ≤ 8.
+    fn connect(&self, f: u32, g: u32) -> Result<Vec<u32>, EmbedError> {
         let mesh = self.mesh;
         if f == g || self.topology.shared_edge(f, g).is_some() {
             return Ok(Vec::new());
         }
         let (tf, tg) = (mesh.triangles[f as usize], mesh.triangles[g as usize]);
         if let Some(&v) = tf.iter().find(|v| tg.contains(v)) {
-            let pv = mesh.positions[v as usize];
-            let fan = self.fan_path(v, f, g);
-            if let Some(fan) = fan {
-                return Ok(fan.into_iter().map(|h| (h, pv)).collect());
+            if let Some(fan) = self.fan_path(v, f, g) {
+                return Ok(fan);
             }
         }
         // Breadth-first search in the dual graph.
@@ -339,8 +339,7 @@ impl<'a> LoopEmbedder<'a> {
                     let mut out = Vec::new();
                     let mut cur = h;
                     while cur != f {
-                        let c = mesh.corners(cur as usize);
-                        out.push((cur, (c[0] + c[1] + c[2]) / 3.0));
+                        out.push(cur);
                         cur = parent.iter().find(|p| p.0 == cur).map_or(f, |p| p.1);
                     }
                     out.reverse();

@@ -18,6 +18,9 @@
 pub mod elastica;
 pub mod embed;
 pub mod loops;
+pub mod parametrization;
+pub mod strip_field;
+pub mod strips;
 pub mod surface_graph;
 
 pub use elastica::{ElasticaGraph, ElasticaParams};
