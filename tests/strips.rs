@@ -5,6 +5,7 @@
 use std::f64::consts::TAU;
 
 use glam::DVec3;
+use quadrille::layout::parametrization::{Parametrization, parametrize};
 use quadrille::layout::strip_field::strip_field;
 use quadrille::layout::{ElasticaParams, EmbeddedLoop, LoopEngine, embed_loop};
 use quadrille::mesh::TriMesh;
@@ -239,4 +240,97 @@ fn three_great_circles_give_one_singularity_per_octant() {
 #[test]
 fn no_loops_no_field() {
     assert!(strip_field(&icosphere(1.0, 2), &[]).is_none());
+}
+
+fn torus_meridian(u0: f64, big: f64, small: f64) -> Vec<DVec3> {
+    (0..=300)
+        .map(|k| {
+            let v = TAU * k as f64 / 300.0;
+            let ring = big + small * v.cos();
+            DVec3::new(ring * u0.cos(), ring * u0.sin(), small * v.sin())
+        })
+        .collect()
+}
+
+fn torus_longitude(v0: f64, big: f64, small: f64) -> Vec<DVec3> {
+    (0..=600)
+        .map(|k| {
+            let u = TAU * k as f64 / 600.0;
+            let ring = big + small * v0.cos();
+            DVec3::new(ring * u.cos(), ring * u.sin(), small * v0.sin())
+        })
+        .collect()
+}
+
+fn spacing(mesh: &TriMesh) -> f64 {
+    0.02 * mesh.bbox().unwrap().diagonal()
+}
+
+/// Spread of the transversal coordinate over the loop's crossings.
+fn isoline_spread(mesh: &TriMesh, p: &Parametrization, l: &EmbeddedLoop) -> f64 {
+    let (values, comp) = p.loop_values(mesh, l).expect("values");
+    let t: Vec<f64> = values.iter().map(|x| x[comp]).collect();
+    t.iter().copied().fold(f64::MIN, f64::max) - t.iter().copied().fold(f64::MAX, f64::min)
+}
+
+#[test]
+fn torus_loops_are_isolines_and_the_map_is_fold_free() {
+    let (big, small) = (2.0, 0.7);
+    let mesh = torus(big, small, 64, 24);
+    let loops = vec![
+        embed_loop(&mesh, &torus_meridian(0.05, big, small), true).unwrap(),
+        embed_loop(&mesh, &torus_longitude(1.3, big, small), true).unwrap(),
+    ];
+    let field = strip_field(&mesh, &loops).unwrap();
+    let p = parametrize(&mesh, &field, &loops).expect("a parametrization");
+    let h = spacing(&mesh);
+    for l in &loops {
+        let spread = isoline_spread(&mesh, &p, l);
+        println!(
+            "torus: isoline spread {spread:.2e} ({:.3} % of the spacing {h:.3})",
+            100.0 * spread / h
+        );
+        assert!(spread < 0.01 * h);
+    }
+    // Fold-free away from singularities (two rings).
+    let vf = quadrille::mesh::VertexFaces::new(&mesh);
+    let mut near = vec![false; mesh.positions.len()];
+    for s in &field.singularities {
+        for &f in vf.faces(s.vertex as usize) {
+            for &v in &mesh.triangles[f as usize] {
+                near[v as usize] = true;
+            }
+        }
+    }
+    let folded: Vec<usize> = (0..mesh.triangles.len())
+        .filter(|&f| p.folded[f] && !mesh.triangles[f].iter().any(|&v| near[v as usize]))
+        .collect();
+    println!(
+        "torus: {} singularities, {} folded faces away from them",
+        field.singularities.len(),
+        folded.len()
+    );
+    assert!(folded.is_empty(), "{folded:?}");
+}
+
+#[test]
+fn sphere_great_circles_are_isolines() {
+    let sphere = icosphere(1.0, 4);
+    let loops = three_great_circles(&sphere);
+    let field = strip_field(&sphere, &loops).unwrap();
+    let p = parametrize(&sphere, &field, &loops).expect("a parametrization");
+    let h = spacing(&sphere);
+    for l in &loops {
+        let spread = isoline_spread(&sphere, &p, l);
+        println!(
+            "sphere: isoline spread {spread:.2e} ({:.3} % of the spacing {h:.3})",
+            100.0 * spread / h
+        );
+        assert!(spread < 0.01 * h);
+    }
+    let folded = p.folded.iter().filter(|&&x| x).count();
+    println!(
+        "sphere: {folded} folded faces of {}",
+        sphere.triangles.len()
+    );
 }

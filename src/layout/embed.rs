@@ -116,7 +116,7 @@ pub enum EmbedError {
 /// Per face and local edge i (from corner i to corner i + 1): the face on
 /// the other side, or `u32::MAX` on the boundary (and at non-manifold
 /// edges).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) struct EdgeTopology {
     pub opposite: Vec<[u32; 3]>,
     /// The local edge index of the same edge in the opposite face.
