@@ -268,8 +268,8 @@ fn spacing(mesh: &TriMesh) -> f64 {
 
 /// Spread of the transversal coordinate over the loop's crossings.
 fn isoline_spread(mesh: &TriMesh, p: &Parametrization, l: &EmbeddedLoop) -> f64 {
-    let (values, comp) = p.loop_values(mesh, l).expect("values");
-    let t: Vec<f64> = values.iter().map(|x| x[comp]).collect();
+    let chart = p.loop_chart(mesh, l).expect("a chart");
+    let t: Vec<f64> = chart.values.iter().map(|x| x[chart.comp]).collect();
     t.iter().copied().fold(f64::MIN, f64::max) - t.iter().copied().fold(f64::MAX, f64::min)
 }
 

@@ -13,7 +13,7 @@
 //! units) + w_seam Σ_cut |ΔX_g − R_k ΔX_f|² + w_iso Σ_loops Σ_faces
 //! (entry − exit of the transversal coordinate)² + ε|X|².
 //!
-//! Deviations: seams and loop isolines are soft constraints (weight 10³
+//! Deviations: seams and loop isolines are soft constraints (weight 10⁴
 //! against the O(1) area-normalized gradient rows) instead of being
 //! eliminated exactly; seams constrain edge vectors only, so charts may be
 //! translated against each other (no integer translations: no rounding);
@@ -29,7 +29,7 @@ use super::strip_field::{StripField, face_frames, solve_spd};
 use crate::mesh::TriMesh;
 
 /// Weight of seam and isoline rows.
-const HARD: f64 = 1e3;
+const HARD: f64 = 1e4;
 
 /// Rotation of parameter vectors by −k·π/2.
 pub fn rotate(k: u8, x: DVec2) -> DVec2 {
@@ -137,23 +137,33 @@ impl Parametrization {
         }
     }
 
-    /// (u, v) of every crossing of `l` carried through the chart
-    /// transitions into the chart of the loop's first face (for a closed
-    /// loop the first crossing is repeated at the end, after going round),
-    /// and the transversal coordinate there. None for an empty loop or a
-    /// broken walk.
-    pub fn loop_values(&self, mesh: &TriMesh, l: &EmbeddedLoop) -> Option<(Vec<DVec2>, usize)> {
+    /// The loop in one chart: per face of the loop the transition from its
+    /// chart into the chart of the loop's first face, (u, v) of every
+    /// crossing carried into that chart (for a closed loop the first
+    /// crossing is repeated at the end, after going round), and the
+    /// transversal coordinate there. None for an empty loop or a broken
+    /// walk.
+    pub fn loop_chart(&self, mesh: &TriMesh, l: &EmbeddedLoop) -> Option<LoopChart> {
         let &f0 = l.faces.first()?;
         let c0 = *l.crossings.first()?;
         let c1 = *l.crossings.get(1 % l.crossings.len())?;
         let comp = self.transversal(f0 as usize, c1.point(mesh) - c0.point(mesh));
         let mut to_ref = Transition::IDENTITY;
-        let mut out = Vec::with_capacity(l.faces.len() + 1);
+        let mut chart = LoopChart {
+            to_ref: Vec::with_capacity(l.faces.len()),
+            values: Vec::with_capacity(l.faces.len() + 1),
+            comp,
+        };
         for (i, (f, a, b)) in l.segments().enumerate() {
             let f = f as usize;
-            out.push(to_ref.apply(self.uv_on_edge(mesh, f, a.a, a.b, a.t)?));
+            chart.to_ref.push(to_ref);
+            chart
+                .values
+                .push(to_ref.apply(self.uv_on_edge(mesh, f, a.a, a.b, a.t)?));
             if i + 1 == l.faces.len() {
-                out.push(to_ref.apply(self.uv_on_edge(mesh, f, b.a, b.b, b.t)?));
+                chart
+                    .values
+                    .push(to_ref.apply(self.uv_on_edge(mesh, f, b.a, b.b, b.t)?));
                 break;
             }
             let t = mesh.triangles[f];
@@ -163,8 +173,19 @@ impl Parametrization {
             })?;
             to_ref = to_ref.after(&self.transition(f, e)?.inverse());
         }
-        Some((out, comp))
+        Some(chart)
     }
+}
+
+/// A loop carried into one chart, see [`Parametrization::loop_chart`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopChart {
+    /// Per face of the loop: its chart → the reference chart.
+    pub to_ref: Vec<Transition>,
+    /// (u, v) of the crossings in the reference chart.
+    pub values: Vec<DVec2>,
+    /// The transversal coordinate (0: u, 1: v) in the reference chart.
+    pub comp: usize,
 }
 
 struct UnionFind(Vec<u32>);
