@@ -7,7 +7,9 @@ use std::f64::consts::TAU;
 use glam::DVec3;
 use quadrille::layout::parametrization::{Parametrization, parametrize};
 use quadrille::layout::strip_field::strip_field;
-use quadrille::layout::{ElasticaParams, EmbeddedLoop, LoopEngine, embed_loop};
+use quadrille::layout::{
+    ElasticaParams, EmbeddedLoop, LoopEngine, StripParams, embed_loop, strip_analysis,
+};
 use quadrille::mesh::TriMesh;
 use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
 
@@ -333,4 +335,154 @@ fn sphere_great_circles_are_isolines() {
         "sphere: {folded} folded faces of {}",
         sphere.triangles.len()
     );
+}
+
+fn circle_at(z: f64, samples: usize) -> Vec<DVec3> {
+    (0..=samples)
+        .map(|k| {
+            let a = TAU * k as f64 / samples as f64;
+            DVec3::new(a.cos(), a.sin(), z)
+        })
+        .collect()
+}
+
+#[test]
+fn cylinder_strip_covers_the_cylinder_with_circular_stripes() {
+    let mesh = cylinder(1.0, 8.0, 48, 64);
+    let mut e = engine(&mesh);
+    let l = e.best_loop(DVec3::new(1.0, 0.0, 0.3)).expect("a loop");
+    let engine_loop = embed_loop(&mesh, &l.points, l.closed).unwrap();
+    let exact_circle = embed_loop(&mesh, &circle_at(0.3, 400), true).unwrap();
+    for (name, emb) in [("engine loop", engine_loop), ("circle", exact_circle)] {
+        let a = strip_analysis(&mesh, &[emb], &StripParams::default());
+        assert!(a.singularities.is_empty(), "{name}: {:?}", a.singularities);
+        assert_eq!(a.strips.len(), 1, "{name}: {:?}", a.notes);
+        let s = &a.strips[0];
+        println!(
+            "cylinder ({name}): strip of {} / {} faces, extent {:.3} / {:.3}, field {:.1} ms, param {:.1} ms, strips {:.1} ms",
+            s.faces.len(),
+            mesh.triangles.len(),
+            s.left,
+            s.right,
+            a.field_ms,
+            a.parametrization_ms,
+            a.strips_ms
+        );
+        assert_eq!(
+            s.faces.len(),
+            mesh.triangles.len(),
+            "{name}: the strip covers everything"
+        );
+        assert!(a.covered.iter().all(Option::is_some));
+        let worst_dir = a
+            .covered
+            .iter()
+            .flatten()
+            .map(|d| d.z.abs())
+            .fold(0.0, f64::max);
+        println!("cylinder ({name}): covered directions max |z| {worst_dir:.4}");
+        assert!(
+            worst_dir < 0.1,
+            "{name}: covered direction not circumferential"
+        );
+        let segments = s.stripe_segments(&mesh, a.spacing);
+        assert!(!segments.is_empty());
+        let worst = segments
+            .iter()
+            .map(|[p, q]| (p.z - q.z).abs())
+            .fold(0.0, f64::max);
+        // Stripes are circles: on the exact circle's strip the two ends of
+        // every segment lie at one height; their count per level is the
+        // number of faces between two rings of the mesh.
+        println!(
+            "cylinder ({name}): {} stripe segments, max height change along one {worst:.2e} (spacing {:.3})",
+            segments.len(),
+            a.spacing
+        );
+        if name == "circle" {
+            assert!(worst < 0.05 * a.spacing, "stripe not horizontal: {worst}");
+        }
+    }
+}
+
+#[test]
+fn sphere_strip_stops_at_the_singularities() {
+    // Equator only: the field follows the parallels; its 8 singularities
+    // (index +1) cluster around the poles.
+    let sphere = icosphere(1.0, 4);
+    let equator = embed_loop(&sphere, &great_circle(DVec3::Z, 400), true).unwrap();
+    let a = strip_analysis(&sphere, &[equator], &StripParams::default());
+    assert_eq!(a.singularities.len(), 8, "{:?}", a.singularities);
+    let s = &a.strips[0];
+    let mut in_strip = vec![false; sphere.triangles.len()];
+    for &f in &s.faces {
+        in_strip[f as usize] = true;
+    }
+    let singular: Vec<u32> = a.singularities.iter().map(|x| x.vertex).collect();
+    let sing_z = a
+        .singularities
+        .iter()
+        .map(|x| sphere.positions[x.vertex as usize].z.abs());
+    let lowest = sing_z.fold(f64::MAX, f64::min);
+    let centre_z = |f: usize| sphere.corners(f).iter().map(|p| p.z).sum::<f64>() / 3.0;
+    println!(
+        "sphere, equator: strip of {} / {} faces, extent {:.3} / {:.3}, singularities at |z| ≥ {lowest:.3}",
+        s.faces.len(),
+        sphere.triangles.len(),
+        s.left,
+        s.right
+    );
+    for &f in &s.faces {
+        assert!(
+            !sphere.triangles[f as usize]
+                .iter()
+                .any(|v| singular.contains(v)),
+            "strip face {f} touches a singularity"
+        );
+    }
+    // Everything well below the singularities is covered, the caps are not.
+    let band_z = lowest - 0.05;
+    assert!(
+        (0..sphere.triangles.len())
+            .filter(|&f| centre_z(f).abs() < band_z)
+            .all(|f| in_strip[f])
+    );
+    let north_out = (0..sphere.triangles.len())
+        .filter(|&f| !in_strip[f] && centre_z(f) > 0.0)
+        .count();
+    let south_out = (0..sphere.triangles.len())
+        .filter(|&f| !in_strip[f] && centre_z(f) < 0.0)
+        .count();
+    assert!(
+        north_out > 0 && south_out > 0,
+        "a pole is covered ({north_out}, {south_out} faces left out)"
+    );
+
+    // Three great circles: the singularities are the octant centres, at
+    // geodesic distance asin(1/√3) ≈ 0.6155 from every circle; each strip
+    // stops there (at face resolution, the nearest corner of the first face
+    // touching a singularity: within one edge length ≈ 0.08).
+    let loops = three_great_circles(&sphere);
+    let a = strip_analysis(&sphere, &loops, &StripParams::default());
+    assert_eq!(a.strips.len(), 3);
+    let expected = (1.0 / 3f64.sqrt()).asin();
+    for s in &a.strips {
+        println!(
+            "sphere, 3 circles: strip of {} faces, extent {:.3} / {:.3} (singularities at {expected:.3})",
+            s.faces.len(),
+            s.left,
+            s.right
+        );
+        for x in [s.left, s.right] {
+            assert!(x > expected - 0.12 && x < expected + 0.02, "extent {x}");
+        }
+    }
+    // The three strips overlap and together cover the sphere except next to
+    // the singularities (§6.2).
+    let covered = a.covered.iter().filter(|c| c.is_some()).count();
+    println!(
+        "sphere, 3 circles: {covered} / {} vertices covered",
+        sphere.positions.len()
+    );
+    assert!(covered as f64 > 0.99 * sphere.positions.len() as f64);
 }

@@ -26,4 +26,5 @@ pub mod surface_graph;
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
 pub use loops::{Anchor, DualLoop, LoopEngine};
+pub use strips::{Strip, StripAnalysis, StripParams, strip_analysis};
 pub use surface_graph::SurfaceGraph;
