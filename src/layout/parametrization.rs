@@ -235,6 +235,8 @@ pub fn parametrize(
     parametrize_with(mesh, EdgeTopology::new(mesh), field, loops)
 }
 
+// Parallel per-face arrays read best indexed.
+#[allow(clippy::needless_range_loop)]
 pub(crate) fn parametrize_with(
     mesh: &TriMesh,
     topology: EdgeTopology,

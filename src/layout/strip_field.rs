@@ -115,6 +115,8 @@ pub fn strip_field(mesh: &TriMesh, loops: &[EmbeddedLoop]) -> Option<StripField>
     strip_field_with(mesh, &topology, loops)
 }
 
+// Parallel per-face arrays read best indexed.
+#[allow(clippy::needless_range_loop)]
 pub(crate) fn strip_field_with(
     mesh: &TriMesh,
     topology: &EdgeTopology,

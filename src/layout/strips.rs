@@ -48,7 +48,7 @@ impl Strip {
     /// (marching triangles), world coordinates.
     pub fn stripe_segments(&self, mesh: &TriMesh, spacing: f64) -> Vec<[DVec3; 2]> {
         let mut out = Vec::new();
-        if !(spacing > 0.0) {
+        if spacing.is_nan() || spacing <= 0.0 {
             return out;
         }
         for (&f, w) in self.faces.iter().zip(&self.coordinate) {
