@@ -486,3 +486,31 @@ fn sphere_strip_stops_at_the_singularities() {
     );
     assert!(covered as f64 > 0.99 * sphere.positions.len() as f64);
 }
+
+#[test]
+fn malformed_loops_are_skipped_with_a_note() {
+    let mesh = cylinder(1.0, 8.0, 24, 32);
+    let good = embed_loop(&mesh, &circle_at(0.3, 200), true).unwrap();
+    let bad = EmbeddedLoop {
+        crossings: vec![quadrille::layout::EdgeCrossing {
+            a: 0,
+            b: 99_999,
+            t: 0.5,
+        }],
+        faces: vec![7, 123_456],
+        closed: true,
+    };
+    let empty = EmbeddedLoop::default();
+    let a = strip_analysis(
+        &mesh,
+        &[bad.clone(), good, empty.clone()],
+        &StripParams::default(),
+    );
+    assert_eq!(a.strips.len(), 1);
+    assert_eq!(a.strips[0].loop_index, 1);
+    assert_eq!(a.notes.len(), 2, "{:?}", a.notes);
+    let none = strip_analysis(&mesh, &[bad, empty], &StripParams::default());
+    assert!(none.strips.is_empty() && none.uv.is_empty());
+    assert!(embed_loop(&mesh, &[DVec3::new(f64::NAN, 0.0, 0.0), DVec3::X], false).is_err());
+    assert!(embed_loop(&mesh, &[DVec3::X], true).is_err());
+}

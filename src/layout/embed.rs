@@ -51,12 +51,16 @@ pub struct EmbeddedLoop {
 
 impl EmbeddedLoop {
     /// The segments `(face, from, to)` of the walk.
+    /// (Segments without both crossings, in a malformed loop, are skipped.)
     pub fn segments(&self) -> impl Iterator<Item = (u32, EdgeCrossing, EdgeCrossing)> + '_ {
-        let n = self.crossings.len();
-        self.faces
-            .iter()
-            .enumerate()
-            .map(move |(i, &f)| (f, self.crossings[i], self.crossings[(i + 1) % n]))
+        let n = self.crossings.len().max(1);
+        self.faces.iter().enumerate().filter_map(move |(i, &f)| {
+            Some((
+                f,
+                *self.crossings.get(i)?,
+                *self.crossings.get((i + 1) % n)?,
+            ))
+        })
     }
 
     /// Checks that the loop is a valid walk on `mesh`: the face count
@@ -109,6 +113,8 @@ pub enum EmbedError {
     TooShort,
     #[error("the polyline jumps between faces {0} and {1}, which are not close on the mesh")]
     Gap(u32, u32),
+    #[error("the polyline has a non-finite point")]
+    NotFinite,
     #[error("the walk collapsed to fewer than two crossings")]
     Degenerate,
 }
@@ -195,6 +201,9 @@ impl<'a> LoopEmbedder<'a> {
     /// See [`embed_loop`].
     pub fn embed(&self, points: &[DVec3], closed: bool) -> Result<EmbeddedLoop, EmbedError> {
         let mesh = self.mesh;
+        if points.iter().any(|p| !p.is_finite()) {
+            return Err(EmbedError::NotFinite);
+        }
         // 1. Faces of fine samples, skipping samples at vertices.
         let near_vertex = 1e-3 * self.step;
         let mut visits: Vec<(u32, DVec3)> = Vec::new();

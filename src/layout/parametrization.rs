@@ -226,13 +226,19 @@ impl Normal {
 }
 
 /// The §6.1 parametrization for `field` (from [`super::strip_field`]) and
-/// the loops it was built from; None if the solve fails.
+/// the loops it was built from; None if the solve fails. Loops that are
+/// not valid walks on `mesh` are ignored.
 pub fn parametrize(
     mesh: &TriMesh,
     field: &StripField,
     loops: &[EmbeddedLoop],
 ) -> Option<Parametrization> {
-    parametrize_with(mesh, EdgeTopology::new(mesh), field, loops)
+    let valid: Vec<EmbeddedLoop> = loops
+        .iter()
+        .filter(|l| l.check(mesh).is_ok())
+        .cloned()
+        .collect();
+    parametrize_with(mesh, EdgeTopology::new(mesh), field, &valid)
 }
 
 // Parallel per-face arrays read best indexed.

@@ -110,9 +110,16 @@ pub(crate) fn solve_spd(
 
 /// The §6.1 cross field aligned with `loops`; None without loops (or when
 /// the solve fails).
+/// Loops that are not valid walks on `mesh` ([`EmbeddedLoop::check`]) are
+/// ignored.
 pub fn strip_field(mesh: &TriMesh, loops: &[EmbeddedLoop]) -> Option<StripField> {
     let topology = EdgeTopology::new(mesh);
-    strip_field_with(mesh, &topology, loops)
+    let valid: Vec<EmbeddedLoop> = loops
+        .iter()
+        .filter(|l| l.check(mesh).is_ok())
+        .cloned()
+        .collect();
+    strip_field_with(mesh, &topology, &valid)
 }
 
 // Parallel per-face arrays read best indexed.
