@@ -458,24 +458,33 @@ fn sphere_strip_stops_at_the_singularities() {
         "a pole is covered ({north_out}, {south_out} faces left out)"
     );
 
-    // Three great circles: the singularities are the octant centres, at
-    // geodesic distance asin(1/√3) ≈ 0.6155 from every circle; each strip
-    // stops there (at face resolution, the nearest corner of the first face
-    // touching a singularity: within one edge length ≈ 0.08).
+    // Three great circles: the layout is the cube's (singularities at the
+    // octant centres = cube corners, at geodesic distance asin(1/√3) ≈ 0.615
+    // from every circle). Each strip is a belt of four cube faces, bounded
+    // by the cube edges through the corners: it reaches farthest from its
+    // circle at the edge midpoints, where the other two circles cross, at
+    // geodesic distance π/4 (to within an edge length ≈ 0.08: strip faces
+    // straddle the bounding isoline). A strip leaking past the corners
+    // would reach π/2.
     let loops = three_great_circles(&sphere);
     let a = strip_analysis(&sphere, &loops, &StripParams::default());
     assert_eq!(a.strips.len(), 3);
     let expected = (1.0 / 3f64.sqrt()).asin();
-    for s in &a.strips {
+    for (s, n) in a.strips.iter().zip([DVec3::X, DVec3::Y, DVec3::Z]) {
+        let reach = s
+            .faces
+            .iter()
+            .flat_map(|&f| sphere.triangles[f as usize])
+            .map(|v| sphere.positions[v as usize].dot(n).abs().min(1.0).asin())
+            .fold(0.0, f64::max);
         println!(
-            "sphere, 3 circles: strip of {} faces, extent {:.3} / {:.3} (singularities at {expected:.3})",
+            "sphere, 3 circles: strip of {} faces, extent {:.3} / {:.3} in S, reaches geodesic distance {reach:.3} (cube edge midpoints at π/4, corners at {expected:.3})",
             s.faces.len(),
             s.left,
             s.right
         );
-        for x in [s.left, s.right] {
-            assert!(x > expected - 0.12 && x < expected + 0.02, "extent {x}");
-        }
+        let pi4 = std::f64::consts::FRAC_PI_4;
+        assert!((reach - pi4).abs() < 0.08, "reach {reach}");
     }
     // The three strips overlap and together cover the sphere except next to
     // the singularities (§6.2).

@@ -10,8 +10,9 @@
 //! distance |w| of a face's nearest corner from the loop's isoline, w the
 //! transversal coordinate relative to the loop, carried through the chart
 //! transitions); on each side it stops at the first face that is folded or
-//! touches a singular vertex, so the bound is the |w| of that face's nearest
-//! corner (face resolution, not the exact isoline through the singularity).
+//! touches a singular vertex; the side's bound is the isoline |w| through
+//! the singular vertex (for a fold: the folded face's nearest corner), and
+//! faces touching singular vertices or folded are left out.
 //! A face belongs to one sheet of the strip only (the one reached first),
 //! so a strip wrapping around a handle is not doubly covered.
 
@@ -274,13 +275,17 @@ pub fn grow_strip(
             continue;
         }
         done[f] = true;
-        let stop = param.folded[f] || mesh.triangles[f].iter().any(|&v| singular[v as usize]);
-        if stop && !is_loop_face[f] {
-            if centre >= 0.0 {
-                right = Some(key);
-            } else {
-                left = Some(key);
-            }
+        // A singularity bounds the strip by the isoline through it, a fold
+        // by the face's nearest corner.
+        let tri = mesh.triangles[f];
+        let at_singularity = (0..3)
+            .filter(|&i| singular[tri[i] as usize])
+            .map(|i| w[i].abs())
+            .reduce(f64::min);
+        if (param.folded[f] || at_singularity.is_some()) && !is_loop_face[f] {
+            let b = at_singularity.unwrap_or(key).max(key);
+            let side = if centre >= 0.0 { &mut right } else { &mut left };
+            *side = Some(side.map_or(b, |s: f64| s.min(b)));
             continue;
         }
         strip.faces.push(face);
