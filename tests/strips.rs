@@ -523,3 +523,38 @@ fn malformed_loops_are_skipped_with_a_note() {
     assert!(embed_loop(&mesh, &[DVec3::new(f64::NAN, 0.0, 0.0), DVec3::X], false).is_err());
     assert!(embed_loop(&mesh, &[DVec3::X], true).is_err());
 }
+
+#[test]
+fn covered_directions_make_the_next_loop_transversal() {
+    // §6.2: after committing the circumference of a cylinder, hovering
+    // elsewhere must not propose a parallel loop again.
+    let mesh = cylinder(1.0, 8.0, 48, 64);
+    let mut e = engine(&mesh);
+    let first = e.best_loop(DVec3::new(1.0, 0.0, 0.3)).expect("a loop");
+    let emb = embed_loop(&mesh, &first.points, first.closed).unwrap();
+    let a = strip_analysis(&mesh, &[emb], &StripParams::default());
+    e.set_covered(&a.covered);
+    let anchor = DVec3::new(0.0, 1.0, -2.0);
+    match e.best_loop(anchor) {
+        None => println!("no further loop"),
+        Some(l) => {
+            let i = (0..l.points.len())
+                .min_by(|&x, &y| {
+                    l.points[x]
+                        .distance(anchor)
+                        .total_cmp(&l.points[y].distance(anchor))
+                })
+                .unwrap();
+            let (p, q) = (
+                l.points[i.saturating_sub(1)],
+                l.points[(i + 1).min(l.points.len() - 1)],
+            );
+            let d = (q - p).normalize();
+            println!("next loop: closed {}, tangent {d:.3}", l.closed);
+            assert!(
+                d.z.abs() > std::f64::consts::FRAC_1_SQRT_2,
+                "a loop parallel to the strip: {d}"
+            );
+        }
+    }
+}
