@@ -18,6 +18,9 @@
 pub mod elastica;
 pub mod embed;
 pub mod loops;
+pub mod primal;
+pub mod regions;
+pub mod symmetry;
 pub mod surface_graph;
 
 pub use elastica::{ElasticaGraph, ElasticaParams};

@@ -1,0 +1,495 @@
+//! Primalization (Campen & Kobbelt 2014, *Dual Strip Weaving*, §7): the
+//! quad layout dual to the loop arrangement of [`super::regions`].
+//!
+//! A region is a layout vertex, a loop arc (a loop's stretch between two
+//! consecutive loop crossings) is a layout edge joining the regions on its
+//! two sides, and a crossing of two loops is a quad patch whose corners are
+//! the four regions around it. A vertex sits on the region's cross-field
+//! singularity if it holds exactly one, otherwise at its geodesic centre:
+//! the mesh vertex farthest from the region's boundary (multi-source
+//! Dijkstra over the region's uncrossed mesh edges, seeded with the
+//! distances to the loop crossings on its crossed edges and 0 on the mesh
+//! boundary).
+//!
+//! Deviations from the paper:
+//! - Edge routes are not elastica in the corridor: each is the shortest
+//!   path over the region's mesh edges from the vertex to the mesh vertex
+//!   next to the arc's middle loop crossing, through that crossing, and on
+//!   to the other vertex; then a few Laplacian smoothing steps, each point
+//!   projected back onto the surface (the crossing point stays fixed).
+//! - In valence-4 regions without singularity the paper puts the vertex
+//!   where the two corridor curves cross; we use the geodesic centre too.
+//! - Open surfaces: arcs that end on the mesh boundary give layout edges
+//!   between the two regions beside them, but no layout vertices are placed
+//!   on the boundary and no boundary patches (the half-patches between a
+//!   dual curve's end and the boundary) are built.
+//! - [`QuadLayout::move_vertex`] snaps the new point to the surface and
+//!   re-routes from the region's mesh vertex nearest to it; a point outside
+//!   the vertex's region is rejected.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::embed::{EmbeddedLoop, Singularity};
+use super::regions::{Edges, RegionError, Regions};
+use crate::mesh::TriMesh;
+use crate::spatial::SurfaceIndex;
+
+/// Laplacian smoothing steps on an edge route.
+const SMOOTHING_STEPS: usize = 4;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LayoutVertex {
+    pub position: DVec3,
+    /// A triangle the position lies on.
+    pub face: u32,
+    pub region: u32,
+    /// Placed on a cross-field singularity.
+    pub singular: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LayoutEdge {
+    /// Layout vertices: the regions left and right of the arc.
+    pub ends: [u32; 2],
+    /// The loop arc it crosses (index into `Regions::arcs`) and its loop.
+    pub arc: u32,
+    pub loop_index: u32,
+    /// Route on the surface from `ends[0]` to `ends[1]`.
+    pub polyline: Vec<DVec3>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LayoutPatch {
+    /// Counter-clockwise; `edges[i]` joins `corners[i]` and `corners[i+1]`.
+    pub corners: [u32; 4],
+    pub edges: [u32; 4],
+    /// The loop crossing it is dual to (index into `Regions::crossings`).
+    pub crossing: u32,
+}
+
+/// The exported layout: what `to_json` writes and `from_json` reads.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LayoutExport {
+    pub vertices: Vec<LayoutVertex>,
+    pub edges: Vec<LayoutEdge>,
+    pub patches: Vec<LayoutPatch>,
+}
+
+impl LayoutExport {
+    pub fn from_json(text: &str) -> Result<LayoutExport, serde_json::Error> {
+        serde_json::from_str(text)
+    }
+}
+
+/// A quad layout on the surface; vertex i is region i.
+pub struct QuadLayout {
+    pub vertices: Vec<LayoutVertex>,
+    pub edges: Vec<LayoutEdge>,
+    pub patches: Vec<LayoutPatch>,
+    router: Router,
+}
+
+/// What re-routing needs: the region graph of mesh vertices and, per
+/// layout edge, the fixed point where it crosses its arc.
+struct Router {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    vertex_region: Vec<u32>,
+    /// Uncrossed mesh edges per vertex (CSR).
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+    /// Shortest-path tree towards each layout vertex's source.
+    parent: Vec<u32>,
+    /// Mesh vertex each layout vertex's routes start from.
+    source: Vec<u32>,
+    /// Per layout edge: the crossing point and the mesh vertices beside it
+    /// in the left and right region.
+    middles: Vec<(DVec3, [u32; 2])>,
+    index: Option<SurfaceIndex>,
+}
+
+impl Router {
+    /// Dijkstra inside one region from the given (vertex, distance) seeds;
+    /// fills `parent` for the region's vertices and returns the distances
+    /// of the vertices reached.
+    fn dijkstra(&mut self, seeds: &[(u32, f64)], record_parent: bool) -> Vec<(u32, f64)> {
+        let mut dist: std::collections::HashMap<u32, f64> = Default::default();
+        let mut heap = BinaryHeap::new();
+        for &(v, d) in seeds {
+            if dist.get(&v).is_none_or(|&x| d < x) {
+                dist.insert(v, d);
+                heap.push((Reverse(OrdF(d)), v));
+                if record_parent {
+                    self.parent[v as usize] = v;
+                }
+            }
+        }
+        let mut done = Vec::new();
+        while let Some((Reverse(OrdF(d)), v)) = heap.pop() {
+            if dist.get(&v).is_some_and(|&x| d > x) {
+                continue;
+            }
+            done.push((v, d));
+            for i in self.offsets[v as usize]..self.offsets[v as usize + 1] {
+                let w = self.neighbours[i as usize];
+                let nd = d + self.positions[v as usize].distance(self.positions[w as usize]);
+                if dist.get(&w).is_none_or(|&x| nd < x) {
+                    dist.insert(w, nd);
+                    heap.push((Reverse(OrdF(nd)), w));
+                    if record_parent {
+                        self.parent[w as usize] = v;
+                    }
+                }
+            }
+        }
+        done
+    }
+
+    /// Mesh vertices from `v` back to its tree's source.
+    fn path_to_source(&self, mut v: u32) -> Vec<u32> {
+        let mut out = vec![v];
+        for _ in 0..self.positions.len() {
+            let p = self.parent[v as usize];
+            if p == v || p == u32::MAX {
+                break;
+            }
+            out.push(p);
+            v = p;
+        }
+        out
+    }
+
+    fn nearest_in_region(&self, region: u32, p: DVec3) -> Option<u32> {
+        (0..self.positions.len() as u32)
+            .filter(|&v| self.vertex_region[v as usize] == region)
+            .min_by(|&a, &b| {
+                self.positions[a as usize]
+                    .distance_squared(p)
+                    .total_cmp(&self.positions[b as usize].distance_squared(p))
+            })
+    }
+
+    /// Route of an edge from `from` (layout vertex position) to `to`.
+    fn route(&self, from: DVec3, to: DVec3, ends: [u32; 2], edge: usize) -> Vec<DVec3> {
+        let (mid, beside) = self.middles[edge];
+        let mut pts = vec![from];
+        let left = self.path_to_source(beside[0]);
+        pts.extend(left.iter().rev().map(|&v| self.positions[v as usize]));
+        let fixed = pts.len();
+        pts.push(mid);
+        let right = self.path_to_source(beside[1]);
+        pts.extend(right.iter().map(|&v| self.positions[v as usize]));
+        pts.push(to);
+        let _ = ends;
+        pts.dedup_by(|a, b| a.distance(*b) < 1e-12);
+        let fixed = pts
+            .iter()
+            .position(|p| *p == mid)
+            .unwrap_or(fixed.min(pts.len() - 1));
+        if let Some(index) = &self.index {
+            for _ in 0..SMOOTHING_STEPS {
+                let prev = pts.clone();
+                for i in 1..pts.len().saturating_sub(1) {
+                    if i != fixed {
+                        let q = 0.5 * prev[i] + 0.25 * (prev[i - 1] + prev[i + 1]);
+                        pts[i] = index.closest(q).point;
+                    }
+                }
+            }
+        }
+        pts
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+struct OrdF(f64);
+impl Eq for OrdF {}
+impl Ord for OrdF {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+impl QuadLayout {
+    /// The layout dual to `loops`; `regions` must come from
+    /// [`Regions::compute`] on the same mesh and loops and be sufficient.
+    pub fn build(
+        mesh: &TriMesh,
+        loops: &[EmbeddedLoop],
+        regions: &Regions,
+        singularities: &[Singularity],
+    ) -> Result<QuadLayout, RegionError> {
+        if !regions.sufficient {
+            return Err(RegionError::Insufficient(regions.red_count()));
+        }
+        if regions.vertex_region.len() != mesh.positions.len()
+            || regions.face_region.len() != mesh.triangles.len()
+        {
+            return Err(RegionError::Invalid(
+                "regions were computed on another mesh".into(),
+            ));
+        }
+        let edges = Edges::new(mesh);
+        let nv = mesh.positions.len();
+        // Uncrossed edges (their ends lie in one region).
+        let mut crossed = vec![false; edges.verts.len()];
+        for l in loops {
+            for c in &l.crossings {
+                if let Some(e) = edges.find(c.a, c.b) {
+                    crossed[e as usize] = true;
+                }
+            }
+        }
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        for (e, &[a, b]) in edges.verts.iter().enumerate() {
+            if !crossed[e] {
+                pairs.push((a, b));
+                pairs.push((b, a));
+            }
+        }
+        pairs.sort_unstable();
+        let mut offsets = vec![0u32; nv + 1];
+        for &(a, _) in &pairs {
+            offsets[a as usize + 1] += 1;
+        }
+        for i in 0..nv {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut router = Router {
+            positions: mesh.positions.clone(),
+            triangles: mesh.triangles.clone(),
+            vertex_region: regions.vertex_region.clone(),
+            offsets,
+            neighbours: pairs.iter().map(|p| p.1).collect(),
+            parent: vec![u32::MAX; nv],
+            source: Vec::new(),
+            middles: Vec::new(),
+            index: SurfaceIndex::new(mesh),
+        };
+
+        // Distances from region boundaries: loop crossings and mesh boundary.
+        let on_boundary = crate::mesh::boundary_vertices(mesh);
+        let mut seeds: Vec<Vec<(u32, f64)>> = vec![Vec::new(); regions.regions.len()];
+        for l in loops {
+            for c in &l.crossings {
+                let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
+                for v in [c.a, c.b] {
+                    let r = regions.vertex_region[v as usize];
+                    seeds[r as usize].push((v, mesh.positions[v as usize].distance(p)));
+                }
+            }
+        }
+        for (v, &b) in on_boundary.iter().enumerate() {
+            let r = regions.vertex_region[v];
+            if b && r != u32::MAX {
+                seeds[r as usize].push((v as u32, 0.0));
+            }
+        }
+
+        let mut vertices = Vec::with_capacity(regions.regions.len());
+        for (r, region) in regions.regions.iter().enumerate() {
+            let (vertex, singular) = if region.singularities.len() == 1 {
+                (singularities[region.singularities[0] as usize].vertex, true)
+            } else if seeds[r].is_empty() {
+                // No boundary at all (no loops): any vertex of the region.
+                let Some(v) = (0..nv).find(|&v| regions.vertex_region[v] == r as u32) else {
+                    return Err(RegionError::Degenerate(format!("region {r} holds no mesh vertex")));
+                };
+                (v as u32, false)
+            } else {
+                let reached = router.dijkstra(&seeds[r], false);
+                let Some(&(v, _)) = reached
+                    .iter()
+                    .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                else {
+                    return Err(RegionError::Degenerate(format!("region {r} holds no mesh vertex")));
+                };
+                (v, false)
+            };
+            let face = first_face(mesh, vertex);
+            vertices.push(LayoutVertex {
+                position: mesh.positions[vertex as usize],
+                face,
+                region: r as u32,
+                singular,
+            });
+            router.source.push(vertex);
+        }
+        for r in 0..vertices.len() {
+            let s = router.source[r];
+            router.dijkstra(&[(s, 0.0)], true);
+        }
+
+        // One edge per arc, routed through the arc's middle crossing.
+        let mut layout_edges = Vec::with_capacity(regions.arcs.len());
+        for (i, arc) in regions.arcs.iter().enumerate() {
+            let l = &loops[arc.loop_index as usize];
+            let (mid, near) = if arc.edge_crossings.is_empty() {
+                let a = arc.start.map(|c| regions.crossings[c as usize].point);
+                let b = arc.end.map(|c| regions.crossings[c as usize].point);
+                let m = match (a, b) {
+                    (Some(a), Some(b)) => 0.5 * (a + b),
+                    (Some(a), None) | (None, Some(a)) => a,
+                    (None, None) => DVec3::ZERO,
+                };
+                (m, [None, None])
+            } else {
+                let c = l.crossings[arc.edge_crossings[arc.edge_crossings.len() / 2] as usize];
+                let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
+                let pick = |r: u32| {
+                    [c.a, c.b]
+                        .into_iter()
+                        .find(|&v| regions.vertex_region[v as usize] == r)
+                };
+                (p, [pick(arc.left), pick(arc.right)])
+            };
+            let mut beside = [0u32; 2];
+            for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
+                beside[k] = match near[k].or_else(|| router.nearest_in_region(r, mid)) {
+                    Some(v) => v,
+                    None => {
+                        return Err(RegionError::Degenerate(format!("region {r} holds no mesh vertex")));
+                    }
+                };
+            }
+            router.middles.push((mid, beside));
+            let ends = [arc.left, arc.right];
+            let polyline = router.route(
+                vertices[ends[0] as usize].position,
+                vertices[ends[1] as usize].position,
+                ends,
+                i,
+            );
+            layout_edges.push(LayoutEdge {
+                ends,
+                arc: i as u32,
+                loop_index: arc.loop_index,
+                polyline,
+            });
+        }
+        let patches = regions
+            .crossings
+            .iter()
+            .enumerate()
+            .map(|(c, x)| LayoutPatch {
+                corners: x.corners,
+                edges: x.arcs,
+                crossing: c as u32,
+            })
+            .collect();
+        Ok(QuadLayout {
+            vertices,
+            edges: layout_edges,
+            patches,
+            router,
+        })
+    }
+
+    /// Moves layout vertex `i` to the surface point nearest `point` and
+    /// re-routes its edges. The point must lie in the vertex's region.
+    pub fn move_vertex(&mut self, i: usize, point: DVec3) -> Result<(), RegionError> {
+        if i >= self.vertices.len() || !point.is_finite() {
+            return Err(RegionError::Invalid(format!("cannot move layout vertex {i} to {point}")));
+        }
+        let region = self.vertices[i].region;
+        let (snapped, face) = match &self.router.index {
+            Some(index) => {
+                let c = index.closest(point);
+                (c.point, c.face)
+            }
+            None => (point, self.vertices[i].face),
+        };
+        let tri = self.router.triangles[face as usize];
+        let nearest = *tri
+            .iter()
+            .min_by(|&&a, &&b| {
+                let pa = self.router.positions[a as usize];
+                let pb = self.router.positions[b as usize];
+                pa.distance_squared(snapped).total_cmp(&pb.distance_squared(snapped))
+            })
+            .unwrap_or(&tri[0]);
+        if self.router.vertex_region[nearest as usize] != region {
+            return Err(RegionError::Invalid(format!(
+                "the point lies outside region {region} of layout vertex {i}"
+            )));
+        }
+        self.vertices[i].position = snapped;
+        self.vertices[i].face = face;
+        self.vertices[i].singular = false;
+        self.router.source[i] = nearest;
+        self.router.dijkstra(&[(nearest, 0.0)], true);
+        for (k, e) in self.edges.iter_mut().enumerate() {
+            if e.ends.contains(&(i as u32)) {
+                e.polyline = self.router.route(
+                    self.vertices[e.ends[0] as usize].position,
+                    self.vertices[e.ends[1] as usize].position,
+                    e.ends,
+                    k,
+                );
+            }
+        }
+        Ok(())
+    }
+
+    pub fn export(&self) -> LayoutExport {
+        LayoutExport {
+            vertices: self.vertices.clone(),
+            edges: self.edges.clone(),
+            patches: self.patches.clone(),
+        }
+    }
+
+    /// JSON: `{ vertices: [{position, face, region, singular}], edges:
+    /// [{ends, arc, loop_index, polyline}], patches: [{corners, edges,
+    /// crossing}] }`, positions as `[x, y, z]`.
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        serde_json::to_string(&self.export())
+    }
+
+    /// OBJ lines: `v` per polyline point, one `l` per layout edge, comments
+    /// naming the vertices and patches.
+    pub fn to_obj(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "# quad layout (dual strip weaving): {} vertices, {} edges, {} patches",
+            self.vertices.len(),
+            self.edges.len(),
+            self.patches.len()
+        );
+        for (i, v) in self.vertices.iter().enumerate() {
+            let p = v.position;
+            let _ = writeln!(s, "# vertex {i} {} {} {} region {}", p.x, p.y, p.z, v.region);
+        }
+        let mut next = 1usize;
+        for (i, e) in self.edges.iter().enumerate() {
+            let _ = writeln!(s, "# edge {i} joins vertices {} {}", e.ends[0], e.ends[1]);
+            for p in &e.polyline {
+                let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
+            }
+            let ids: Vec<String> = (next..next + e.polyline.len()).map(|k| k.to_string()).collect();
+            let _ = writeln!(s, "l {}", ids.join(" "));
+            next += e.polyline.len();
+        }
+        for (i, p) in self.patches.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "# patch {i} corners {} {} {} {} edges {} {} {} {}",
+                p.corners[0], p.corners[1], p.corners[2], p.corners[3], p.edges[0], p.edges[1], p.edges[2], p.edges[3]
+            );
+        }
+        s
+    }
+}
+
+fn first_face(mesh: &TriMesh, v: u32) -> u32 {
+    mesh.triangles
+        .iter()
+        .position(|t| t.contains(&v))
+        .unwrap_or(0) as u32
+}
