@@ -528,3 +528,125 @@ fn mirror_plane_of_a_torus() {
     lumpy.map_positions(|p| p * (1.0 + 0.3 * (3.0 * p.x + 1.0).sin() * (2.0 * p.y + 0.5).cos() + 0.2 * (4.0 * p.z).sin()));
     assert!(symmetry::detect(&lumpy).is_none());
 }
+
+#[test]
+fn sphere_two_great_circles_at_a_small_angle_are_yellow() {
+    let mesh = sphere();
+    let theta: f64 = 0.3;
+    let loops = vec![
+        great_circle(&mesh, DVec3::Z),
+        great_circle(&mesh, DVec3::new(0.0, theta.sin(), theta.cos())),
+    ];
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    println!("sphere, 2 great circles at 0.3 rad: {:?}", summary(&r));
+    assert_eq!(r.regions.len(), 4);
+    let mut k: Vec<f64> = r.regions.iter().map(|g| g.total_curvature).collect();
+    k.sort_by(f64::total_cmp);
+    // Lunes of opening θ and π − θ: K = 2θ and 2π − 2θ; valence 2 while
+    // K asks for 4 − 4θ/π ≈ 3.6 and 4θ/π ≈ 0.4: off by more than 1.
+    assert!((k[0] - 2.0 * theta).abs() < 0.05 && (k[3] - (2.0 * PI - 2.0 * theta)).abs() < 0.05);
+    for reg in &r.regions {
+        assert_eq!((reg.euler, reg.valence), (1, 2));
+        assert_eq!(reg.guidance, Guidance::ValenceMismatch);
+    }
+    assert!(r.sufficient);
+}
+
+#[test]
+fn two_curves_crossing_at_one_edge_point() {
+    // Both dual curves cross the grid edge y = 0, x ∈ [0, 0.2] at x = 0.05,
+    // with the same t: the crossing is seen in exactly one triangle.
+    let mesh = flat_grid(1.0, 10);
+    let a = plane_sections(&mesh, DVec3::X, 0.05).remove(0);
+    let n = DVec3::new(-0.37, 1.0, 0.0);
+    let mut b = plane_sections(&mesh, n, n.dot(DVec3::new(0.05, 0.0, 0.0))).remove(0);
+    let shared: Vec<_> = a
+        .crossings
+        .iter()
+        .filter_map(|ca| {
+            b.crossings
+                .iter()
+                .position(|cb| (cb.a, cb.b) == (ca.a, ca.b))
+                .map(|i| (i, ca.t))
+        })
+        .collect();
+    assert_eq!(shared.len(), 1);
+    b.crossings[shared[0].0].t = shared[0].1;
+    let r = Regions::compute(&mesh, &[a.clone(), b.clone()], &[]).unwrap();
+    println!("flat grid, 2 curves through one edge point: {:?}", summary(&r));
+    assert_eq!(r.crossings.len(), 1);
+    assert_eq!(r.regions.len(), 4);
+    for reg in &r.regions {
+        assert_eq!((reg.euler, reg.valence), (1, 3));
+    }
+    // Same with the loop order swapped (the tie is broken by loop index).
+    let r = Regions::compute(&mesh, &[b, a], &[]).unwrap();
+    assert_eq!((r.crossings.len(), r.regions.len()), (1, 4));
+}
+
+/// Timings on a ~30k-face torus and the rocker arm (run with --nocapture).
+#[test]
+fn timings_at_30k_faces() {
+    use std::time::Instant;
+    let mesh = torus(2.0, 0.7, 150, 100);
+    let mut loops = meridians(&mesh, PI / 150.0 + 0.003);
+    loops.push(outer_longitude(&mesh, 0.1));
+    let t = Instant::now();
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let t_regions = t.elapsed();
+    let t = Instant::now();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    let t_primal = t.elapsed();
+    println!(
+        "torus {} faces, {} loops: regions {:.1} ms, primal {:.1} ms ({} patches)",
+        mesh.triangles.len(),
+        loops.len(),
+        t_regions.as_secs_f64() * 1e3,
+        t_primal.as_secs_f64() * 1e3,
+        layout.patches.len()
+    );
+    assert_eq!(layout.patches.len(), 2);
+
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/rocker-arm.obj");
+    let Ok(bytes) = std::fs::read(&path) else {
+        println!("rocker arm not found at {}", path.display());
+        return;
+    };
+    let mesh = quadrille::io::import(&bytes, "rocker-arm.obj").unwrap().mesh;
+    let bbox = mesh.bbox().unwrap();
+    let c = bbox.center();
+    let mut loops = Vec::new();
+    for (n, off) in [
+        (DVec3::X, 0.013),
+        (DVec3::Y, 0.011),
+        (DVec3::Z, 0.007),
+        (DVec3::new(1.0, 1.0, 0.0).normalize(), 0.017),
+    ] {
+        let d = n.dot(c) + off * bbox.diagonal();
+        if mesh.positions.iter().any(|p| (n.dot(*p) - d).abs() < 1e-9) {
+            continue;
+        }
+        loops.extend(plane_sections(&mesh, n, d));
+    }
+    let t = Instant::now();
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let t_regions = t.elapsed();
+    let t = Instant::now();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]);
+    let t_primal = t.elapsed();
+    println!(
+        "rocker arm {} faces, {} loops, {} crossings: {} regions ({} red), regions {:.1} ms, primal {:.1} ms ({})",
+        mesh.triangles.len(),
+        loops.len(),
+        r.crossings.len(),
+        r.regions.len(),
+        r.red_count(),
+        t_regions.as_secs_f64() * 1e3,
+        t_primal.as_secs_f64() * 1e3,
+        match &layout {
+            Ok(l) => format!("{} vertices, {} edges, {} patches", l.vertices.len(), l.edges.len(), l.patches.len()),
+            Err(e) => e.to_string(),
+        }
+    );
+    println!("rocker arm regions: {:?}", summary(&r));
+}

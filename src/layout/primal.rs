@@ -104,11 +104,12 @@ struct Router {
     neighbours: Vec<u32>,
     /// Shortest-path tree towards each layout vertex's source.
     parent: Vec<u32>,
-    /// Mesh vertex each layout vertex's routes start from.
+    /// Mesh vertex each layout vertex's routes start from (`u32::MAX` for
+    /// a region too thin to hold a mesh vertex).
     source: Vec<u32>,
     /// Per layout edge: the crossing point and the mesh vertices beside it
-    /// in the left and right region.
-    middles: Vec<(DVec3, [u32; 2])>,
+    /// in the left and right region (`None`: a region without vertices).
+    middles: Vec<(DVec3, [Option<u32>; 2])>,
     index: Option<SurfaceIndex>,
 }
 
@@ -151,6 +152,9 @@ impl Router {
 
     /// Mesh vertices from `v` back to its tree's source.
     fn path_to_source(&self, mut v: u32) -> Vec<u32> {
+        if self.parent[v as usize] == u32::MAX {
+            return Vec::new();
+        }
         let mut out = vec![v];
         for _ in 0..self.positions.len() {
             let p = self.parent[v as usize];
@@ -177,12 +181,11 @@ impl Router {
     fn route(&self, from: DVec3, to: DVec3, ends: [u32; 2], edge: usize) -> Vec<DVec3> {
         let (mid, beside) = self.middles[edge];
         let mut pts = vec![from];
-        let left = self.path_to_source(beside[0]);
-        pts.extend(left.iter().rev().map(|&v| self.positions[v as usize]));
+        let path = |b: Option<u32>| b.map(|v| self.path_to_source(v)).unwrap_or_default();
+        pts.extend(path(beside[0]).iter().rev().map(|&v| self.positions[v as usize]));
         let fixed = pts.len();
         pts.push(mid);
-        let right = self.path_to_source(beside[1]);
-        pts.extend(right.iter().map(|&v| self.positions[v as usize]));
+        pts.extend(path(beside[1]).iter().map(|&v| self.positions[v as usize]));
         pts.push(to);
         let _ = ends;
         pts.dedup_by(|a, b| a.distance(*b) < 1e-12);
@@ -292,36 +295,40 @@ impl QuadLayout {
 
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
-            let (vertex, singular) = if region.singularities.len() == 1 {
-                (singularities[region.singularities[0] as usize].vertex, true)
+            let single = match region.singularities[..] {
+                [s] => singularities.get(s as usize).map(|s| s.vertex),
+                _ => None,
+            };
+            let vertex = if let Some(v) = single {
+                Some(v)
             } else if seeds[r].is_empty() {
                 // No boundary at all (no loops): any vertex of the region.
-                let Some(v) = (0..nv).find(|&v| regions.vertex_region[v] == r as u32) else {
-                    return Err(RegionError::Degenerate(format!("region {r} holds no mesh vertex")));
-                };
-                (v as u32, false)
+                (0..nv as u32).find(|&v| regions.vertex_region[v as usize] == r as u32)
             } else {
                 let reached = router.dijkstra(&seeds[r], false);
-                let Some(&(v, _)) = reached
+                reached
                     .iter()
                     .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-                else {
-                    return Err(RegionError::Degenerate(format!("region {r} holds no mesh vertex")));
-                };
-                (v, false)
+                    .map(|&(v, _)| v)
             };
-            let face = first_face(mesh, vertex);
+            let (position, face) = match vertex {
+                Some(v) => (mesh.positions[v as usize], first_face(mesh, v)),
+                None => thin_region_point(regions, r as u32, router.index.as_ref())
+                    .ok_or_else(|| RegionError::Degenerate(format!("region {r} is empty")))?,
+            };
             vertices.push(LayoutVertex {
-                position: mesh.positions[vertex as usize],
+                position,
                 face,
                 region: r as u32,
-                singular,
+                singular: single.is_some(),
             });
-            router.source.push(vertex);
+            router.source.push(vertex.unwrap_or(u32::MAX));
         }
         for r in 0..vertices.len() {
             let s = router.source[r];
-            router.dijkstra(&[(s, 0.0)], true);
+            if s != u32::MAX {
+                router.dijkstra(&[(s, 0.0)], true);
+            }
         }
 
         // One edge per arc, routed through the arc's middle crossing.
@@ -347,14 +354,9 @@ impl QuadLayout {
                 };
                 (p, [pick(arc.left), pick(arc.right)])
             };
-            let mut beside = [0u32; 2];
+            let mut beside = [None; 2];
             for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
-                beside[k] = match near[k].or_else(|| router.nearest_in_region(r, mid)) {
-                    Some(v) => v,
-                    None => {
-                        return Err(RegionError::Degenerate(format!("region {r} holds no mesh vertex")));
-                    }
-                };
+                beside[k] = near[k].or_else(|| router.nearest_in_region(r, mid));
             }
             router.middles.push((mid, beside));
             let ends = [arc.left, arc.right];
@@ -485,6 +487,22 @@ impl QuadLayout {
         }
         s
     }
+}
+
+/// A point for a region that holds no mesh vertex (thinner than a
+/// triangle): the mean of the loop crossings at its corners, on the surface.
+fn thin_region_point(regions: &Regions, r: u32, index: Option<&SurfaceIndex>) -> Option<(DVec3, u32)> {
+    let corners: Vec<&super::regions::LoopCrossing> =
+        regions.crossings.iter().filter(|c| c.corners.contains(&r)).collect();
+    let first = corners.first()?;
+    let mean = corners.iter().map(|c| c.point).sum::<DVec3>() / corners.len() as f64;
+    Some(match index {
+        Some(index) => {
+            let c = index.closest(mean);
+            (c.point, c.face)
+        }
+        None => (first.point, first.face),
+    })
 }
 
 fn first_face(mesh: &TriMesh, v: u32) -> u32 {

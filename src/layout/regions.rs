@@ -27,9 +27,10 @@
 //! Deviations and choices:
 //! - The brief's face-level rule (faces glued across uncrossed edges) is
 //!   refined to pieces, so a triangle where two loops cross does not become
-//!   a spurious region; pieces bounded by chords only (three loops forming a
-//!   triangle inside one mesh triangle) are dropped. `face_region` gives
-//!   each triangle the region holding the majority of its corners.
+//!   a spurious region. Pieces bounded by chords only (three loops forming
+//!   a small triangle inside one mesh triangle) are regions of their own
+//!   (F = 1, no vertex or edge: a disc). `face_region` gives each triangle
+//!   the region holding the majority of its corners.
 //! - Total Gaussian curvature: angle defects of interior mesh vertices. No
 //!   vertex lies on a loop (crossings have 0 < t < 1), so each vertex's
 //!   defect belongs wholly to the one region that holds it.
@@ -253,6 +254,45 @@ impl FacePieces {
         let c = self.keys.partition_point(|&x| x < ((k as u64) << 32 | dr as u64));
         (c + m - 1) % m
     }
+    fn find_piece(&self, sig: &[bool]) -> Option<u32> {
+        self.piece_sig.iter().position(|s| s == sig).map(|p| p as u32)
+    }
+
+    /// Signature (side of every chord) of the quadrant at the crossing of
+    /// chords `a` and `b` next to `a`'s half towards Q (`forward`) or P, on
+    /// `a`'s left or right.
+    fn quadrant_sig(&self, a: usize, b: usize, forward: bool, left: bool) -> Vec<bool> {
+        let (ca, cb) = (&self.chords[a], &self.chords[b]);
+        let (la, _) = intersect(ca.pos2[0], ca.pos2[1], cb.pos2[0], cb.pos2[1]);
+        let x = ca.pos2[0].lerp(ca.pos2[1], la);
+        let toward = ca.idx[if forward { 1 } else { 0 }];
+        self.chords
+            .iter()
+            .enumerate()
+            .map(|(c, ch)| {
+                if c == a {
+                    left == ca.left_is_inside()
+                } else if c == b {
+                    cb.inside_point(toward)
+                } else if !ch.interleaves(ca) {
+                    ch.inside_point(ca.idx[0])
+                } else if !ch.interleaves(cb) {
+                    ch.inside_point(cb.idx[0])
+                } else {
+                    // Three chords crossing pairwise: which side of `ch` the
+                    // crossing point lies on. The inside (counter-clockwise
+                    // from lo to hi) is right of lo → hi.
+                    let (plo, phi) = if ch.idx[0] < ch.idx[1] {
+                        (ch.pos2[0], ch.pos2[1])
+                    } else {
+                        (ch.pos2[1], ch.pos2[0])
+                    };
+                    cross2(phi - plo, x - plo) < 0.0
+                }
+            })
+            .collect()
+    }
+
     fn piece_at(&self, k: usize, dr: u32) -> u32 {
         self.piece_base + self.interval_piece[self.interval_at(k, dr)]
     }
@@ -419,6 +459,24 @@ impl Arrangement {
                 };
                 fp.interval_piece.push(p as u32);
             }
+            // Pieces bounded by chords only (three loops forming a small
+            // triangle inside this face): add the quadrants no perimeter
+            // stretch reaches.
+            if fp.chords.len() >= 3 {
+                for a in 0..fp.chords.len() {
+                    for b in 0..fp.chords.len() {
+                        if a == b || !fp.chords[a].interleaves(&fp.chords[b]) {
+                            continue;
+                        }
+                        for (forward, left) in [(true, true), (true, false), (false, true), (false, false)] {
+                            let sig = fp.quadrant_sig(a, b, forward, left);
+                            if fp.find_piece(&sig).is_none() {
+                                fp.piece_sig.push(sig);
+                            }
+                        }
+                    }
+                }
+            }
             fp.piece_base = piece_count;
             piece_count += fp.piece_sig.len() as u32;
         }
@@ -465,38 +523,8 @@ impl Arrangement {
     /// chord `a`'s half towards Q (`forward`) or P, on `a`'s left or right.
     fn quadrant(&self, face: u32, a: usize, b: usize, forward: bool, left: bool) -> Option<u32> {
         let fp = &self.faces[face as usize];
-        let (ca, cb) = (&fp.chords[a], &fp.chords[b]);
-        let (la, lb) = intersect(ca.pos2[0], ca.pos2[1], cb.pos2[0], cb.pos2[1]);
-        let x = ca.pos2[0].lerp(ca.pos2[1], la);
-        let _ = lb;
-        let toward = ca.idx[if forward { 1 } else { 0 }];
-        let sig: Vec<bool> = fp
-            .chords
-            .iter()
-            .enumerate()
-            .map(|(c, ch)| {
-                if c == a {
-                    left == ca.left_is_inside()
-                } else if c == b {
-                    cb.inside_point(toward)
-                } else if !ch.interleaves(ca) {
-                    ch.inside_point(ca.idx[0])
-                } else if !ch.interleaves(cb) {
-                    ch.inside_point(cb.idx[0])
-                } else {
-                    let (lo, hi) = ch.lo_hi();
-                    let (plo, phi) = if ch.idx[0] == lo {
-                        (ch.pos2[0], ch.pos2[1])
-                    } else {
-                        (ch.pos2[1], ch.pos2[0])
-                    };
-                    let _ = hi;
-                    cross2(phi - plo, x - plo) < 0.0
-                }
-            })
-            .collect();
-        let p = fp.piece_sig.iter().position(|s| *s == sig)?;
-        Some(self.region_of_piece(fp.piece_base + p as u32))
+        let p = fp.find_piece(&fp.quadrant_sig(a, b, forward, left))?;
+        Some(self.region_of_piece(fp.piece_base + p))
     }
 }
 
