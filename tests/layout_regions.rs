@@ -24,7 +24,10 @@ fn plane_sections(mesh: &TriMesh, n: DVec3, d: f64) -> Vec<EmbeddedLoop> {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
             if (s[a as usize] > 0.0) != (s[b as usize] > 0.0) {
-                edge_faces.entry((a.min(b), a.max(b))).or_default().push(f as u32);
+                edge_faces
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push(f as u32);
             }
         }
     }
@@ -449,7 +452,10 @@ fn export_round_trips() {
     assert_eq!(back["patches"].as_array().unwrap().len(), 6);
     let parsed = quadrille::layout::primal::LayoutExport::from_json(&json).unwrap();
     assert_eq!(parsed.patches.len(), 6);
-    assert_eq!(parsed.edges[3].polyline.len(), layout.edges[3].polyline.len());
+    assert_eq!(
+        parsed.edges[3].polyline.len(),
+        layout.edges[3].polyline.len()
+    );
 
     let obj = layout.to_obj();
     let v_lines = obj.lines().filter(|l| l.starts_with("v ")).count();
@@ -494,7 +500,12 @@ fn mirror_plane_of_a_torus() {
     let (plane, score) = symmetry::detect(&mesh).unwrap();
     println!("torus mirror plane {plane:?} score {score}");
     assert!(score < 1e-3);
-    assert!((plane.point - DVec3::new(0.3, -0.2, 0.5)).dot(plane.normal).abs() < 1e-9);
+    assert!(
+        (plane.point - DVec3::new(0.3, -0.2, 0.5))
+            .dot(plane.normal)
+            .abs()
+            < 1e-9
+    );
     // The meridian at angle a mirrors (plane through the axis) onto a
     // curve on the surface; a longitude mirrored in z = 0.5 + 0 ... its
     // own mirror image when the plane is x or y.
@@ -525,7 +536,11 @@ fn mirror_plane_of_a_torus() {
     assert!(!symmetry::is_self_symmetric(&pts, &m, 1e-3));
     // A lumpy shape has no mirror plane.
     let mut lumpy = icosphere(1.0, 3);
-    lumpy.map_positions(|p| p * (1.0 + 0.3 * (3.0 * p.x + 1.0).sin() * (2.0 * p.y + 0.5).cos() + 0.2 * (4.0 * p.z).sin()));
+    lumpy.map_positions(|p| {
+        p * (1.0
+            + 0.3 * (3.0 * p.x + 1.0).sin() * (2.0 * p.y + 0.5).cos()
+            + 0.2 * (4.0 * p.z).sin())
+    });
     assert!(symmetry::detect(&lumpy).is_none());
 }
 
@@ -573,7 +588,10 @@ fn two_curves_crossing_at_one_edge_point() {
     assert_eq!(shared.len(), 1);
     b.crossings[shared[0].0].t = shared[0].1;
     let r = Regions::compute(&mesh, &[a.clone(), b.clone()], &[]).unwrap();
-    println!("flat grid, 2 curves through one edge point: {:?}", summary(&r));
+    println!(
+        "flat grid, 2 curves through one edge point: {:?}",
+        summary(&r)
+    );
     assert_eq!(r.crossings.len(), 1);
     assert_eq!(r.regions.len(), 4);
     for reg in &r.regions {
@@ -607,12 +625,15 @@ fn timings_at_30k_faces() {
     );
     assert_eq!(layout.patches.len(), 2);
 
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/rocker-arm.obj");
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/meshes/rocker-arm.obj");
     let Ok(bytes) = std::fs::read(&path) else {
         println!("rocker arm not found at {}", path.display());
         return;
     };
-    let mesh = quadrille::io::import(&bytes, "rocker-arm.obj").unwrap().mesh;
+    let mesh = quadrille::io::import(&bytes, "rocker-arm.obj")
+        .unwrap()
+        .mesh;
     let bbox = mesh.bbox().unwrap();
     let c = bbox.center();
     let mut loops = Vec::new();
@@ -644,9 +665,34 @@ fn timings_at_30k_faces() {
         t_regions.as_secs_f64() * 1e3,
         t_primal.as_secs_f64() * 1e3,
         match &layout {
-            Ok(l) => format!("{} vertices, {} edges, {} patches", l.vertices.len(), l.edges.len(), l.patches.len()),
+            Ok(l) => format!(
+                "{} vertices, {} edges, {} patches",
+                l.vertices.len(),
+                l.edges.len(),
+                l.patches.len()
+            ),
             Err(e) => e.to_string(),
         }
     );
     println!("rocker arm regions: {:?}", summary(&r));
+    // Invariants: Gauss–Bonnet over the regions, and the layout has the
+    // surface's Euler characteristic.
+    let chi = {
+        let t = mesh.topology();
+        t.euler_characteristic
+    };
+    let total: f64 = r.regions.iter().map(|g| g.total_curvature).sum();
+    assert!(
+        (total - 2.0 * PI * chi as f64).abs() < 1e-6,
+        "{total} vs χ = {chi}"
+    );
+    if let Ok(l) = layout {
+        let (v, e, f) = (
+            l.vertices.len() as i64,
+            l.edges.len() as i64,
+            l.patches.len() as i64,
+        );
+        assert_eq!(v - e + f, chi as i64);
+        check_layout(&l);
+    }
 }

@@ -20,8 +20,8 @@ pub mod embed;
 pub mod loops;
 pub mod primal;
 pub mod regions;
-pub mod symmetry;
 pub mod surface_graph;
+pub mod symmetry;
 
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbeddedLoop, Singularity};

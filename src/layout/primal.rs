@@ -104,6 +104,8 @@ struct Router {
     neighbours: Vec<u32>,
     /// Shortest-path tree towards each layout vertex's source.
     parent: Vec<u32>,
+    /// Dijkstra scratch, all infinite between runs.
+    dist: Vec<f64>,
     /// Mesh vertex each layout vertex's routes start from (`u32::MAX` for
     /// a region too thin to hold a mesh vertex).
     source: Vec<u32>,
@@ -115,14 +117,17 @@ struct Router {
 
 impl Router {
     /// Dijkstra inside one region from the given (vertex, distance) seeds;
-    /// fills `parent` for the region's vertices and returns the distances
-    /// of the vertices reached.
+    /// fills `parent` for the vertices reached if `record_parent`, and
+    /// returns the vertices reached with their distances.
     fn dijkstra(&mut self, seeds: &[(u32, f64)], record_parent: bool) -> Vec<(u32, f64)> {
-        let mut dist: std::collections::HashMap<u32, f64> = Default::default();
         let mut heap = BinaryHeap::new();
+        let mut touched = Vec::new();
         for &(v, d) in seeds {
-            if dist.get(&v).is_none_or(|&x| d < x) {
-                dist.insert(v, d);
+            if d < self.dist[v as usize] {
+                if self.dist[v as usize] == f64::INFINITY {
+                    touched.push(v);
+                }
+                self.dist[v as usize] = d;
                 heap.push((Reverse(OrdF(d)), v));
                 if record_parent {
                     self.parent[v as usize] = v;
@@ -131,21 +136,27 @@ impl Router {
         }
         let mut done = Vec::new();
         while let Some((Reverse(OrdF(d)), v)) = heap.pop() {
-            if dist.get(&v).is_some_and(|&x| d > x) {
+            if d > self.dist[v as usize] {
                 continue;
             }
             done.push((v, d));
             for i in self.offsets[v as usize]..self.offsets[v as usize + 1] {
                 let w = self.neighbours[i as usize];
                 let nd = d + self.positions[v as usize].distance(self.positions[w as usize]);
-                if dist.get(&w).is_none_or(|&x| nd < x) {
-                    dist.insert(w, nd);
+                if nd < self.dist[w as usize] {
+                    if self.dist[w as usize] == f64::INFINITY {
+                        touched.push(w);
+                    }
+                    self.dist[w as usize] = nd;
                     heap.push((Reverse(OrdF(nd)), w));
                     if record_parent {
                         self.parent[w as usize] = v;
                     }
                 }
             }
+        }
+        for v in touched {
+            self.dist[v as usize] = f64::INFINITY;
         }
         done
     }
@@ -178,16 +189,20 @@ impl Router {
     }
 
     /// Route of an edge from `from` (layout vertex position) to `to`.
-    fn route(&self, from: DVec3, to: DVec3, ends: [u32; 2], edge: usize) -> Vec<DVec3> {
+    fn route(&self, from: DVec3, to: DVec3, edge: usize) -> Vec<DVec3> {
         let (mid, beside) = self.middles[edge];
         let mut pts = vec![from];
         let path = |b: Option<u32>| b.map(|v| self.path_to_source(v)).unwrap_or_default();
-        pts.extend(path(beside[0]).iter().rev().map(|&v| self.positions[v as usize]));
+        pts.extend(
+            path(beside[0])
+                .iter()
+                .rev()
+                .map(|&v| self.positions[v as usize]),
+        );
         let fixed = pts.len();
         pts.push(mid);
         pts.extend(path(beside[1]).iter().map(|&v| self.positions[v as usize]));
         pts.push(to);
-        let _ = ends;
         pts.dedup_by(|a, b| a.distance(*b) < 1e-12);
         let fixed = pts
             .iter()
@@ -208,9 +223,14 @@ impl Router {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct OrdF(f64);
 impl Eq for OrdF {}
+impl PartialOrd for OrdF {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
 impl Ord for OrdF {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
         self.0.total_cmp(&other.0)
@@ -269,6 +289,7 @@ impl QuadLayout {
             offsets,
             neighbours: pairs.iter().map(|p| p.1).collect(),
             parent: vec![u32::MAX; nv],
+            dist: vec![f64::INFINITY; nv],
             source: Vec::new(),
             middles: Vec::new(),
             index: SurfaceIndex::new(mesh),
@@ -363,7 +384,6 @@ impl QuadLayout {
             let polyline = router.route(
                 vertices[ends[0] as usize].position,
                 vertices[ends[1] as usize].position,
-                ends,
                 i,
             );
             layout_edges.push(LayoutEdge {
@@ -395,7 +415,9 @@ impl QuadLayout {
     /// re-routes its edges. The point must lie in the vertex's region.
     pub fn move_vertex(&mut self, i: usize, point: DVec3) -> Result<(), RegionError> {
         if i >= self.vertices.len() || !point.is_finite() {
-            return Err(RegionError::Invalid(format!("cannot move layout vertex {i} to {point}")));
+            return Err(RegionError::Invalid(format!(
+                "cannot move layout vertex {i} to {point}"
+            )));
         }
         let region = self.vertices[i].region;
         let (snapped, face) = match &self.router.index {
@@ -411,7 +433,8 @@ impl QuadLayout {
             .min_by(|&&a, &&b| {
                 let pa = self.router.positions[a as usize];
                 let pb = self.router.positions[b as usize];
-                pa.distance_squared(snapped).total_cmp(&pb.distance_squared(snapped))
+                pa.distance_squared(snapped)
+                    .total_cmp(&pb.distance_squared(snapped))
             })
             .unwrap_or(&tri[0]);
         if self.router.vertex_region[nearest as usize] != region {
@@ -429,7 +452,6 @@ impl QuadLayout {
                 e.polyline = self.router.route(
                     self.vertices[e.ends[0] as usize].position,
                     self.vertices[e.ends[1] as usize].position,
-                    e.ends,
                     k,
                 );
             }
@@ -466,7 +488,11 @@ impl QuadLayout {
         );
         for (i, v) in self.vertices.iter().enumerate() {
             let p = v.position;
-            let _ = writeln!(s, "# vertex {i} {} {} {} region {}", p.x, p.y, p.z, v.region);
+            let _ = writeln!(
+                s,
+                "# vertex {i} {} {} {} region {}",
+                p.x, p.y, p.z, v.region
+            );
         }
         let mut next = 1usize;
         for (i, e) in self.edges.iter().enumerate() {
@@ -474,7 +500,9 @@ impl QuadLayout {
             for p in &e.polyline {
                 let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
             }
-            let ids: Vec<String> = (next..next + e.polyline.len()).map(|k| k.to_string()).collect();
+            let ids: Vec<String> = (next..next + e.polyline.len())
+                .map(|k| k.to_string())
+                .collect();
             let _ = writeln!(s, "l {}", ids.join(" "));
             next += e.polyline.len();
         }
@@ -482,7 +510,14 @@ impl QuadLayout {
             let _ = writeln!(
                 s,
                 "# patch {i} corners {} {} {} {} edges {} {} {} {}",
-                p.corners[0], p.corners[1], p.corners[2], p.corners[3], p.edges[0], p.edges[1], p.edges[2], p.edges[3]
+                p.corners[0],
+                p.corners[1],
+                p.corners[2],
+                p.corners[3],
+                p.edges[0],
+                p.edges[1],
+                p.edges[2],
+                p.edges[3]
             );
         }
         s
@@ -491,9 +526,16 @@ impl QuadLayout {
 
 /// A point for a region that holds no mesh vertex (thinner than a
 /// triangle): the mean of the loop crossings at its corners, on the surface.
-fn thin_region_point(regions: &Regions, r: u32, index: Option<&SurfaceIndex>) -> Option<(DVec3, u32)> {
-    let corners: Vec<&super::regions::LoopCrossing> =
-        regions.crossings.iter().filter(|c| c.corners.contains(&r)).collect();
+fn thin_region_point(
+    regions: &Regions,
+    r: u32,
+    index: Option<&SurfaceIndex>,
+) -> Option<(DVec3, u32)> {
+    let corners: Vec<&super::regions::LoopCrossing> = regions
+        .crossings
+        .iter()
+        .filter(|c| c.corners.contains(&r))
+        .collect();
     let first = corners.first()?;
     let mean = corners.iter().map(|c| c.point).sum::<DVec3>() / corners.len() as f64;
     Some(match index {

@@ -251,11 +251,16 @@ impl FacePieces {
         if m == 0 {
             return 0;
         }
-        let c = self.keys.partition_point(|&x| x < ((k as u64) << 32 | dr as u64));
+        let c = self
+            .keys
+            .partition_point(|&x| x < ((k as u64) << 32 | dr as u64));
         (c + m - 1) % m
     }
     fn find_piece(&self, sig: &[bool]) -> Option<u32> {
-        self.piece_sig.iter().position(|s| s == sig).map(|p| p as u32)
+        self.piece_sig
+            .iter()
+            .position(|s| s == sig)
+            .map(|p| p as u32)
     }
 
     /// Signature (side of every chord) of the quadrant at the crossing of
@@ -350,7 +355,10 @@ fn validate(mesh: &TriMesh, edges: &Edges, loops: &[EmbeddedLoop]) -> Result<(),
                 return Err(bad(format!("crossing {i} is malformed: {c:?}")));
             }
             let Some(e) = edges.find(c.a, c.b) else {
-                return Err(bad(format!("crossing {i}: ({}, {}) is no mesh edge", c.a, c.b)));
+                return Err(bad(format!(
+                    "crossing {i}: ({}, {}) is no mesh edge",
+                    c.a, c.b
+                )));
             };
             let on_boundary = edges.faces[e as usize].len() == 1;
             let end = !l.closed && (i == 0 || i == n - 1);
@@ -372,7 +380,10 @@ fn validate(mesh: &TriMesh, edges: &Edges, loops: &[EmbeddedLoop]) -> Result<(),
                 return Err(bad(format!("segment {i}: face {f} lacks its edges")));
             }
             if (l.closed || i > 0) && l.faces[(i + segs - 1) % segs] == f {
-                return Err(bad(format!("segments {} and {i} share face {f}", i as i64 - 1)));
+                return Err(bad(format!(
+                    "segments {} and {i} share face {f}",
+                    i as i64 - 1
+                )));
             }
         }
     }
@@ -390,8 +401,10 @@ impl Arrangement {
                 }
             }
         }
-        let mut ranks: Vec<Vec<(u32, u32)>> =
-            loops.iter().map(|l| vec![(0, 0); l.crossings.len()]).collect();
+        let mut ranks: Vec<Vec<(u32, u32)>> = loops
+            .iter()
+            .map(|l| vec![(0, 0); l.crossings.len()])
+            .collect();
         for (e, list) in on_edge.iter_mut().enumerate() {
             list.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
             for (r, &(_, li, i)) in list.iter().enumerate() {
@@ -402,8 +415,9 @@ impl Arrangement {
 
         // Chords per face.
         let mut faces: Vec<FacePieces> = vec![FacePieces::default(); mesh.triangles.len()];
-        let mut raw: Vec<Vec<(u32, u32, [u64; 2], [DVec2; 2])>> =
-            vec![Vec::new(); mesh.triangles.len()];
+        // (loop, segment, perimeter keys of P and Q, local positions).
+        type RawChord = (u32, u32, [u64; 2], [DVec2; 2]);
+        let mut raw: Vec<Vec<RawChord>> = vec![Vec::new(); mesh.triangles.len()];
         for (li, l) in loops.iter().enumerate() {
             let n = l.crossings.len();
             for (s, &f) in l.faces.iter().enumerate() {
@@ -468,7 +482,9 @@ impl Arrangement {
                         if a == b || !fp.chords[a].interleaves(&fp.chords[b]) {
                             continue;
                         }
-                        for (forward, left) in [(true, true), (true, false), (false, true), (false, false)] {
+                        for (forward, left) in
+                            [(true, true), (true, false), (false, true), (false, false)]
+                        {
                             let sig = fp.quadrant_sig(a, b, forward, left);
                             if fp.find_piece(&sig).is_none() {
                                 fp.piece_sig.push(sig);
@@ -530,16 +546,25 @@ impl Arrangement {
 
 /// Piece of face `f` holding stretch `q` (counted from the edge's lower
 /// vertex) of edge `e`.
-fn stretch_piece(mesh: &TriMesh, edges: &Edges, faces: &[FacePieces], e: usize, f: u32, q: u32) -> u32 {
+fn stretch_piece(
+    mesh: &TriMesh,
+    edges: &Edges,
+    faces: &[FacePieces],
+    e: usize,
+    f: u32,
+    q: u32,
+) -> u32 {
     let tri = mesh.triangles[f as usize];
     let k = edges.face_edges[f as usize]
         .iter()
         .position(|&x| x as usize == e)
         .unwrap_or(0);
-    let m = faces[f as usize].keys.len();
-    let _ = m;
     let count = faces_edge_count(faces, f, k);
-    let dr = if tri[k] == edges.verts[e][0] { q } else { count - q };
+    let dr = if tri[k] == edges.verts[e][0] {
+        q
+    } else {
+        count - q
+    };
     faces[f as usize].piece_at(k, dr)
 }
 
@@ -644,11 +669,15 @@ impl Regions {
         }
 
         let (crossings, arcs, ends) = build_crossings_and_arcs(mesh, &edges, &arr, loops)?;
-        let (cycles, valence) = walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
+        let (cycles, valence) =
+            walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
 
         let mut region_sing = vec![Vec::new(); nr];
         for (i, s) in singularities.iter().enumerate() {
-            let r = vertex_region.get(s.vertex as usize).copied().unwrap_or(u32::MAX);
+            let r = vertex_region
+                .get(s.vertex as usize)
+                .copied()
+                .unwrap_or(u32::MAX);
             if r == u32::MAX {
                 return Err(RegionError::Invalid(format!(
                     "singularity {i} at vertex {} outside the mesh",
@@ -734,8 +763,22 @@ fn build_crossings_and_arcs(
                 let pa = crossing_point(mesh, l, ca.seg as usize);
                 let pb = crossing_point(mesh, l, (ca.seg as usize + 1) % n);
                 let id = crossings.len() as u32;
-                per_loop[ca.lp as usize].push((ca.seg, la, EventEnd { crossing: id, which: 0 }));
-                per_loop[cb.lp as usize].push((cb.seg, lb, EventEnd { crossing: id, which: 1 }));
+                per_loop[ca.lp as usize].push((
+                    ca.seg,
+                    la,
+                    EventEnd {
+                        crossing: id,
+                        which: 0,
+                    },
+                ));
+                per_loop[cb.lp as usize].push((
+                    cb.seg,
+                    lb,
+                    EventEnd {
+                        crossing: id,
+                        which: 1,
+                    },
+                ));
                 crossings.push(LoopCrossing {
                     face: f as u32,
                     loops: [ca.lp, cb.lp],
@@ -807,14 +850,18 @@ fn build_crossings_and_arcs(
             let (left, right) = if let Some(i) = s {
                 let (f, a, b) = chord_pair(ev[i].2);
                 (
-                    arr.quadrant(f, a, b, true, true).ok_or_else(|| fail("an arc's left"))?,
-                    arr.quadrant(f, a, b, true, false).ok_or_else(|| fail("an arc's right"))?,
+                    arr.quadrant(f, a, b, true, true)
+                        .ok_or_else(|| fail("an arc's left"))?,
+                    arr.quadrant(f, a, b, true, false)
+                        .ok_or_else(|| fail("an arc's right"))?,
                 )
             } else if let Some(j) = e {
                 let (f, a, b) = chord_pair(ev[j].2);
                 (
-                    arr.quadrant(f, a, b, false, true).ok_or_else(|| fail("an arc's left"))?,
-                    arr.quadrant(f, a, b, false, false).ok_or_else(|| fail("an arc's right"))?,
+                    arr.quadrant(f, a, b, false, true)
+                        .ok_or_else(|| fail("an arc's left"))?,
+                    arr.quadrant(f, a, b, false, false)
+                        .ok_or_else(|| fail("an arc's right"))?,
                 )
             } else {
                 // No crossing: the pieces next to segment 0 at its end Q.
@@ -866,7 +913,11 @@ fn build_crossings_and_arcs(
         let mut arc_ids = [0u32; 4];
         for i in 0..4 {
             let (_, w, fwd) = halves[i];
-            arc_ids[i] = if fwd { ends.after[c][w] } else { ends.before[c][w] };
+            arc_ids[i] = if fwd {
+                ends.after[c][w]
+            } else {
+                ends.before[c][w]
+            };
             // The quadrant counter-clockwise after half i: on the left of a
             // half pointing outwards = left if forward, right if backward.
             let (x, y) = if w == 0 { (a, b) } else { (b, a) };
@@ -929,8 +980,15 @@ fn walk_boundaries(
             let (e, r) = arr.ranks[li][i];
             let (u, _) = directed.get(&e).copied().unwrap_or((0, 0));
             let m = arr.edge_counts[e as usize];
-            let dr = if u == edges.verts[e as usize][0] { r } else { m - 1 - r };
-            curve_ends.entry(e).or_default().push((dr, li as u32, is_start));
+            let dr = if u == edges.verts[e as usize][0] {
+                r
+            } else {
+                m - 1 - r
+            };
+            curve_ends
+                .entry(e)
+                .or_default()
+                .push((dr, li as u32, is_start));
         }
     }
     for list in curve_ends.values_mut() {
@@ -970,8 +1028,6 @@ fn walk_boundaries(
                     }
                 })?;
                 // The other loop's half lying on our left.
-                let x = &crossings[c];
-                let _ = x;
                 let (ours_left_inside, ep, eq) = {
                     let (f, a, b) = crossing_chords(arr, crossings, c);
                     let fp = &arr.faces[f as usize];
@@ -981,7 +1037,11 @@ fn walk_boundaries(
                         (&fp.chords[b], &fp.chords[a])
                     };
                     let left_inside = ca.left_is_inside() == forward;
-                    (left_inside, ca.inside_point(cb.idx[0]), ca.inside_point(cb.idx[1]))
+                    (
+                        left_inside,
+                        ca.inside_point(cb.idx[0]),
+                        ca.inside_point(cb.idx[1]),
+                    )
                 };
                 let other = 1 - w;
                 if eq == ours_left_inside {
@@ -1002,7 +1062,11 @@ fn walk_boundaries(
                 let (e, r) = arr.ranks[arc.loop_index as usize][i];
                 let (u, _) = directed.get(&e).copied()?;
                 let m = arr.edge_counts[e as usize];
-                let dr = if u == edges.verts[e as usize][0] { r } else { m - 1 - r };
+                let dr = if u == edges.verts[e as usize][0] {
+                    r
+                } else {
+                    m - 1 - r
+                };
                 let (l2, is_start) = next_end(e, Some(dr))?;
                 let la = &ends.loop_arcs[l2 as usize];
                 Some(if is_start {
@@ -1022,14 +1086,16 @@ fn walk_boundaries(
         }
         let arc = &arcs[start / 2];
         let region = if start % 2 == 0 { arc.left } else { arc.right } as usize;
-        let free = arc.start.is_none() && arc.end.is_none() && loops[arc.loop_index as usize].closed;
+        let free =
+            arc.start.is_none() && arc.end.is_none() && loops[arc.loop_index as usize].closed;
         let mut count = 0u32;
         let mut side = start;
         let mut steps = 0;
         loop {
             visited[side] = true;
-            let (next, stretch) = next_side(side)
-                .ok_or_else(|| RegionError::Degenerate("a region boundary does not close".into()))?;
+            let (next, stretch) = next_side(side).ok_or_else(|| {
+                RegionError::Degenerate("a region boundary does not close".into())
+            })?;
             count += 1 + stretch as u32;
             side = next;
             steps += 1;

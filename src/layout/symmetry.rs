@@ -38,7 +38,9 @@ impl MirrorPlane {
     /// `None` for a zero or non-finite normal.
     pub fn new(point: DVec3, normal: DVec3) -> Option<MirrorPlane> {
         let n = normal.try_normalize()?;
-        point.is_finite().then_some(MirrorPlane { point, normal: n })
+        point
+            .is_finite()
+            .then_some(MirrorPlane { point, normal: n })
     }
 
     /// Signed distance of `p` from the plane.
@@ -57,7 +59,7 @@ impl MirrorPlane {
 pub fn detect(mesh: &TriMesh) -> Option<(MirrorPlane, f64)> {
     let bbox = mesh.bbox()?;
     let diagonal = bbox.diagonal();
-    if !(diagonal > 0.0) {
+    if diagonal.is_nan() || diagonal <= 0.0 {
         return None;
     }
     let index = SurfaceIndex::new(mesh)?;
@@ -112,7 +114,8 @@ pub fn is_self_symmetric(points: &[DVec3], mirrored: &[DVec3], tol: f64) -> bool
         return points.is_empty() && mirrored.is_empty();
     }
     let near = |p: DVec3, line: &[DVec3]| {
-        (0..line.len()).any(|i| point_segment_distance(p, line[i], line[(i + 1) % line.len()]) <= tol)
+        (0..line.len())
+            .any(|i| point_segment_distance(p, line[i], line[(i + 1) % line.len()]) <= tol)
     };
     points.iter().all(|&p| near(p, mirrored)) && mirrored.iter().all(|&p| near(p, points))
 }
