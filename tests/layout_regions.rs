@@ -541,6 +541,7 @@ fn mirror_plane_of_a_torus() {
             + 0.3 * (3.0 * p.x + 1.0).sin() * (2.0 * p.y + 0.5).cos()
             + 0.2 * (4.0 * p.z).sin())
     });
+    println!("lumpy sphere: {:?}", symmetry::best_axis_plane(&lumpy));
     assert!(symmetry::detect(&lumpy).is_none());
 }
 
@@ -694,5 +695,147 @@ fn timings_at_30k_faces() {
         );
         assert_eq!(v - e + f, chi as i64);
         check_layout(&l);
+    }
+}
+
+/// A closed polyline in the plane z = 0 traced through a flat mesh: its
+/// crossings with the mesh edges in order along the curve, and the face
+/// between consecutive crossings (brute force; small meshes only).
+fn trace_planar_loop(mesh: &TriMesh, curve: &[DVec3]) -> EmbeddedLoop {
+    let mut edges: Vec<(u32, u32)> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
+        .collect();
+    edges.sort();
+    edges.dedup();
+    let cross = |a: DVec3, b: DVec3| a.x * b.y - a.y * b.x;
+    let mut l = EmbeddedLoop {
+        closed: true,
+        ..Default::default()
+    };
+    let mut points = Vec::new();
+    for i in 0..curve.len() {
+        let (p, q) = (curve[i], curve[(i + 1) % curve.len()]);
+        let mut hits = Vec::new();
+        for &(a, b) in &edges {
+            let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+            let (r, s) = (q - p, pb - pa);
+            let d = cross(r, s);
+            if d.abs() < 1e-15 {
+                continue;
+            }
+            let u = cross(pa - p, s) / d;
+            let t = cross(pa - p, r) / d;
+            if (0.0..1.0).contains(&u) && t > 0.0 && t < 1.0 {
+                assert!(t > 1e-6 && t < 1.0 - 1e-6, "curve passes a vertex");
+                hits.push((u, EdgeCrossing { a, b, t }));
+            }
+        }
+        hits.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for (_, c) in hits {
+            points.push(mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t));
+            l.crossings.push(c);
+        }
+    }
+    let n = l.crossings.len();
+    for i in 0..n {
+        let (c0, c1) = (l.crossings[i], l.crossings[(i + 1) % n]);
+        let f = mesh
+            .triangles
+            .iter()
+            .position(|t| {
+                let has = |c: EdgeCrossing| t.contains(&c.a) && t.contains(&c.b);
+                let m = 0.5 * (points[i] + points[(i + 1) % n]);
+                let [x, y, z] = t.map(|v| mesh.positions[v as usize]);
+                let inside = cross(y - x, m - x) >= -1e-12
+                    && cross(z - y, m - y) >= -1e-12
+                    && cross(x - z, m - z) >= -1e-12;
+                has(c0) && has(c1) && inside
+            })
+            .expect("consecutive crossings share a face");
+        l.faces.push(f as u32);
+    }
+    l
+}
+
+#[test]
+fn figure_eight_crosses_itself() {
+    let mesh = flat_grid(1.0, 20);
+    let centre = DVec3::new(0.013, 0.027, 0.0);
+    let curve: Vec<DVec3> = (0..400)
+        .map(|i| {
+            let s = 2.0 * PI * i as f64 / 400.0;
+            centre + DVec3::new(0.8 * s.sin(), 0.5 * s.sin() * s.cos(), 0.0)
+        })
+        .collect();
+    let l = trace_planar_loop(&mesh, &curve);
+    let r = Regions::compute(&mesh, &[l], &[]).unwrap();
+    println!("flat grid, figure eight: {:?}", summary(&r));
+    assert_eq!(r.crossings.len(), 1);
+    assert_eq!(r.arcs.len(), 2);
+    assert_eq!(r.regions.len(), 3);
+    let mut got: Vec<(i64, u32, u32)> = r
+        .regions
+        .iter()
+        .map(|g| (g.euler, g.boundary_cycles, g.valence))
+        .collect();
+    got.sort();
+    // Outside: the square minus the figure eight, an annulus whose inner
+    // boundary passes the crossing twice; two lobes with one corner each.
+    assert_eq!(got, vec![(0, 2, 2), (1, 1, 1), (1, 1, 1)]);
+    assert!(!r.sufficient);
+}
+
+#[test]
+fn open_surface_layout_with_two_crossing_curves() {
+    let mesh = flat_grid(1.0, 10);
+    let mut loops = plane_sections(&mesh, DVec3::X, 0.05);
+    loops.extend(plane_sections(
+        &mesh,
+        DVec3::new(0.3, 1.0, 0.0).normalize(),
+        -0.05,
+    ));
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    assert_eq!(
+        (
+            layout.vertices.len(),
+            layout.edges.len(),
+            layout.patches.len()
+        ),
+        (4, 4, 1)
+    );
+    check_layout(&layout);
+    // Moving a vertex into another region is refused.
+    let other = layout.vertices[1].position;
+    let mut layout = layout;
+    assert!(layout.move_vertex(0, other).is_err());
+}
+
+#[test]
+fn layout_refuses_regions_of_other_loops() {
+    let mesh = sphere();
+    let loops = octant_loops(&mesh);
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    assert!(QuadLayout::build(&mesh, &loops[..1], &r, &[]).is_err());
+    assert!(QuadLayout::build(&test_torus(), &loops, &r, &[]).is_err());
+}
+
+#[test]
+fn mirror_planes_of_the_shared_meshes() {
+    for name in ["suzanne.obj", "fandisk.obj", "spot.obj", "rocker-arm.obj"] {
+        let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/meshes")
+            .join(name);
+        let Ok(bytes) = std::fs::read(&path) else {
+            continue;
+        };
+        let mesh = quadrille::io::import(&bytes, name).unwrap().mesh;
+        println!(
+            "{name}: best axis plane {:?}, detected: {}",
+            symmetry::best_axis_plane(&mesh),
+            symmetry::detect(&mesh).is_some()
+        );
     }
 }

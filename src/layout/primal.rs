@@ -256,6 +256,18 @@ impl QuadLayout {
                 "regions were computed on another mesh".into(),
             ));
         }
+        let from_these_loops = regions.arcs.iter().all(|a| {
+            loops.get(a.loop_index as usize).is_some_and(|l| {
+                a.edge_crossings
+                    .iter()
+                    .all(|&c| (c as usize) < l.crossings.len())
+            })
+        });
+        if !from_these_loops {
+            return Err(RegionError::Invalid(
+                "regions were computed for other loops".into(),
+            ));
+        }
         let edges = Edges::new(mesh);
         let nv = mesh.positions.len();
         // Uncrossed edges (their ends lie in one region).

@@ -360,6 +360,9 @@ fn validate(mesh: &TriMesh, edges: &Edges, loops: &[EmbeddedLoop]) -> Result<(),
                     c.a, c.b
                 )));
             };
+            if edges.faces[e as usize].len() > 2 {
+                return Err(bad(format!("crossing {i} is on a non-manifold edge")));
+            }
             let on_boundary = edges.faces[e as usize].len() == 1;
             let end = !l.closed && (i == 0 || i == n - 1);
             if on_boundary != end {
@@ -877,6 +880,17 @@ fn build_crossings_and_arcs(
                     arr.region_of_piece(fp.piece_base + fp.interval_piece[(q + m - 1) % m]),
                 )
             };
+            // The same regions must be seen from the arc's other end.
+            if let (Some(_), Some(j)) = (s, e) {
+                let (f, a, b) = chord_pair(ev[j].2);
+                if arr.quadrant(f, a, b, false, true) != Some(left)
+                    || arr.quadrant(f, a, b, false, false) != Some(right)
+                {
+                    return Err(RegionError::Degenerate(format!(
+                        "loop {li}: an arc's sides differ at its two ends"
+                    )));
+                }
+            }
             let start = s.map(|i| ev[i].2);
             let end = e.map(|j| ev[j].2);
             if let Some(x) = start {

@@ -57,6 +57,12 @@ impl MirrorPlane {
 /// distance of reflected vertices to the surface / bbox diagonal), or
 /// `None` if no candidate scores below [`DETECT_THRESHOLD`].
 pub fn detect(mesh: &TriMesh) -> Option<(MirrorPlane, f64)> {
+    best_axis_plane(mesh).filter(|&(_, s)| s < DETECT_THRESHOLD)
+}
+
+/// The best of the axis-aligned candidate planes and its score, however
+/// poor (`None` only for an empty or degenerate mesh).
+pub fn best_axis_plane(mesh: &TriMesh) -> Option<(MirrorPlane, f64)> {
     let bbox = mesh.bbox()?;
     let diagonal = bbox.diagonal();
     if diagonal.is_nan() || diagonal <= 0.0 {
@@ -86,7 +92,7 @@ pub fn detect(mesh: &TriMesh) -> Option<(MirrorPlane, f64)> {
             };
             let sum: f64 = samples
                 .iter()
-                .map(|&p| index.distance(plane.reflect(p)))
+                .map(|&p| index.closest(plane.reflect(p)).distance)
                 .sum();
             let score = sum / samples.len() as f64 / diagonal;
             if best.is_none_or(|(_, s)| score < s) {
@@ -94,7 +100,7 @@ pub fn detect(mesh: &TriMesh) -> Option<(MirrorPlane, f64)> {
             }
         }
     }
-    best.filter(|&(_, s)| s < DETECT_THRESHOLD)
+    best
 }
 
 /// The mirror image of a curve on the surface: each point reflected and
