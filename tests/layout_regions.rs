@@ -839,3 +839,103 @@ fn mirror_planes_of_the_shared_meshes() {
         );
     }
 }
+
+/// Random plane sections on closed meshes: every loop graph satisfies
+/// χ(M) = Σ χ(regions) − #crossings (the loop graph has one 4-valent vertex
+/// per crossing and two arcs per crossing), Gauss–Bonnet over the regions,
+/// Σ valence = 2 · #arcs (each arc side is one corner), and a sufficient
+/// arrangement gives a layout with V − E + F = χ(M).
+#[test]
+fn random_plane_sections_keep_the_invariants() {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut rand = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let meshes = [
+        ("sphere", icosphere(1.0, 3)),
+        ("torus", torus(2.0, 0.7, 40, 20)),
+    ];
+    let mut sufficient = 0;
+    for (name, mesh) in &meshes {
+        let chi = mesh.topology().euler_characteristic;
+        let scale = mesh.bbox().unwrap().diagonal();
+        for trial in 0..25 {
+            let mut loops = Vec::new();
+            for _ in 0..1 + trial % 5 {
+                let n = DVec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5).normalize();
+                let d = (rand() - 0.5) * 0.4 * scale;
+                if mesh.positions.iter().any(|p| (n.dot(*p) - d).abs() < 1e-9) {
+                    continue;
+                }
+                loops.extend(plane_sections(mesh, n, d));
+            }
+            let r = Regions::compute(mesh, &loops, &[]).unwrap();
+            let euler: i64 = r.regions.iter().map(|g| g.euler).sum();
+            assert_eq!(
+                euler - r.crossings.len() as i64,
+                chi,
+                "{name} trial {trial}"
+            );
+            let k: f64 = r.regions.iter().map(|g| g.total_curvature).sum();
+            assert!((k - 2.0 * PI * chi as f64).abs() < 1e-6);
+            let ended = r.arcs.iter().filter(|a| a.start.is_some()).count() as u32;
+            assert_eq!(r.regions.iter().map(|g| g.valence).sum::<u32>(), 2 * ended);
+            assert_eq!(ended as usize, 2 * r.crossings.len());
+            if r.sufficient && !r.crossings.is_empty() {
+                sufficient += 1;
+                let l = QuadLayout::build(mesh, &loops, &r, &[]).unwrap();
+                let (v, e, f) = (
+                    l.vertices.len() as i64,
+                    l.edges.len() as i64,
+                    l.patches.len() as i64,
+                );
+                assert_eq!(v - e + f, chi, "{name} trial {trial}");
+                check_layout(&l);
+            }
+        }
+    }
+    println!("{sufficient} sufficient random arrangements laid out");
+    assert!(sufficient > 5);
+}
+
+/// Garbage loops never panic: they are errors or (when they happen to be
+/// valid) regions.
+#[test]
+fn garbage_loops_do_not_panic() {
+    let mesh = torus(2.0, 0.7, 12, 8);
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move |m: u64| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state % m
+    };
+    let nv = mesh.positions.len() as u64;
+    let nf = mesh.triangles.len() as u64;
+    for _ in 0..2000 {
+        let n = next(6) as usize;
+        let closed = next(2) == 0;
+        let crossings = (0..n)
+            .map(|_| {
+                let (a, b) = (next(nv + 2) as u32, next(nv + 2) as u32);
+                EdgeCrossing {
+                    a: a.min(b),
+                    b: a.max(b),
+                    t: next(5) as f64 / 4.0,
+                }
+            })
+            .collect();
+        let faces = (0..n.saturating_sub(!closed as usize))
+            .map(|_| next(nf + 2) as u32)
+            .collect();
+        let l = EmbeddedLoop {
+            crossings,
+            faces,
+            closed,
+        };
+        let _ = Regions::compute(&mesh, &[l], &[]);
+    }
+}
