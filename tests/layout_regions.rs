@@ -854,10 +854,20 @@ fn random_plane_sections_keep_the_invariants() {
         state ^= state << 17;
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
-    let meshes = [
+    let mut meshes = vec![
         ("sphere", icosphere(1.0, 3)),
         ("torus", torus(2.0, 0.7, 40, 20)),
     ];
+    let rocker = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/meshes/rocker-arm.obj");
+    if let Ok(bytes) = std::fs::read(&rocker) {
+        meshes.push((
+            "rocker arm",
+            quadrille::io::import(&bytes, "rocker-arm.obj")
+                .unwrap()
+                .mesh,
+        ));
+    }
     let mut sufficient = 0;
     for (name, mesh) in &meshes {
         let chi = mesh.topology().euler_characteristic;
