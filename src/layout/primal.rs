@@ -199,20 +199,17 @@ impl Router {
                 .rev()
                 .map(|&v| self.positions[v as usize]),
         );
-        let fixed = pts.len();
         pts.push(mid);
         pts.extend(path(beside[1]).iter().map(|&v| self.positions[v as usize]));
         pts.push(to);
         pts.dedup_by(|a, b| a.distance(*b) < 1e-12);
-        let fixed = pts
-            .iter()
-            .position(|p| *p == mid)
-            .unwrap_or(fixed.min(pts.len() - 1));
+        // The arc crossing stays where it is.
+        let fixed = pts.iter().position(|p| *p == mid);
         if let Some(index) = &self.index {
             for _ in 0..SMOOTHING_STEPS {
                 let prev = pts.clone();
                 for i in 1..pts.len().saturating_sub(1) {
-                    if i != fixed {
+                    if Some(i) != fixed {
                         let q = 0.5 * prev[i] + 0.25 * (prev[i - 1] + prev[i + 1]);
                         pts[i] = index.closest(q).point;
                     }

@@ -671,7 +671,7 @@ impl Regions {
             region_faces[r as usize].push(f as u32);
         }
 
-        let (crossings, arcs, ends) = build_crossings_and_arcs(mesh, &edges, &arr, loops)?;
+        let (crossings, arcs, ends) = build_crossings_and_arcs(mesh, &arr, loops)?;
         let (cycles, valence) =
             walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
 
@@ -745,7 +745,6 @@ struct ArcEnds {
 
 fn build_crossings_and_arcs(
     mesh: &TriMesh,
-    _edges: &Edges,
     arr: &Arrangement,
     loops: &[EmbeddedLoop],
 ) -> Result<(Vec<LoopCrossing>, Vec<LoopArc>, ArcEnds), RegionError> {

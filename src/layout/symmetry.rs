@@ -113,8 +113,9 @@ pub fn mirror_polyline(index: &SurfaceIndex, plane: &MirrorPlane, points: &[DVec
 }
 
 /// Whether two closed polylines coincide within `tol` (every point of each
-/// lies within `tol` of the other polyline): a loop that is its own mirror
-/// image needs no second copy.
+/// lies within `tol` of the other polyline, the last point joined to the
+/// first): a loop that is its own mirror image needs no second copy. For
+/// open dual curves the closing segment makes the test slightly lenient.
 pub fn is_self_symmetric(points: &[DVec3], mirrored: &[DVec3], tol: f64) -> bool {
     if points.is_empty() || mirrored.is_empty() {
         return points.is_empty() && mirrored.is_empty();
