@@ -287,6 +287,13 @@ fn sphere_one_great_circle_hemispheres() {
         assert_eq!(reg.guidance, Guidance::Ok);
     }
     assert!(r.sufficient);
+    // The layout: two vertices, no edge or patch (V − E + F = 2).
+    let loops = [great_circle(&mesh, DVec3::Z)];
+    let l = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    assert_eq!(
+        (l.vertices.len(), l.edges.len(), l.patches.len()),
+        (2, 0, 0)
+    );
 }
 
 #[test]
@@ -894,7 +901,7 @@ fn random_plane_sections_keep_the_invariants() {
             let ended = r.arcs.iter().filter(|a| a.start.is_some()).count() as u32;
             assert_eq!(r.regions.iter().map(|g| g.valence).sum::<u32>(), 2 * ended);
             assert_eq!(ended as usize, 2 * r.crossings.len());
-            if r.sufficient && !r.crossings.is_empty() {
+            if r.sufficient {
                 sufficient += 1;
                 let l = QuadLayout::build(mesh, &loops, &r, &[]).unwrap();
                 let (v, e, f) = (

@@ -3,7 +3,7 @@
 //!
 //! A region is a layout vertex, a loop arc (a loop's stretch between two
 //! consecutive loop crossings) is a layout edge joining the regions on its
-//! two sides, and a crossing of two loops is a quad patch whose corners are
+//! two sides (a closed loop crossed by no other gives no edge), and a crossing of two loops is a quad patch whose corners are
 //! the four regions around it. A vertex sits on the region's cross-field
 //! singularity if it holds exactly one, otherwise at its geodesic centre:
 //! the mesh vertex farthest from the region's boundary (multi-source
@@ -361,10 +361,16 @@ impl QuadLayout {
             }
         }
 
-        // One edge per arc, routed through the arc's middle crossing.
+        // One edge per arc, routed through the arc's middle crossing. A
+        // closed loop crossed by no loop bounds no patch: no edge.
         let mut layout_edges = Vec::with_capacity(regions.arcs.len());
+        let mut edge_of_arc = vec![u32::MAX; regions.arcs.len()];
         for (i, arc) in regions.arcs.iter().enumerate() {
             let l = &loops[arc.loop_index as usize];
+            if l.closed && arc.start.is_none() {
+                continue;
+            }
+            edge_of_arc[i] = layout_edges.len() as u32;
             let (mid, near) = if arc.edge_crossings.is_empty() {
                 let a = arc.start.map(|c| regions.crossings[c as usize].point);
                 let b = arc.end.map(|c| regions.crossings[c as usize].point);
@@ -393,7 +399,7 @@ impl QuadLayout {
             let polyline = router.route(
                 vertices[ends[0] as usize].position,
                 vertices[ends[1] as usize].position,
-                i,
+                layout_edges.len(),
             );
             layout_edges.push(LayoutEdge {
                 ends,
@@ -408,7 +414,7 @@ impl QuadLayout {
             .enumerate()
             .map(|(c, x)| LayoutPatch {
                 corners: x.corners,
-                edges: x.arcs,
+                edges: x.arcs.map(|a| edge_of_arc[a as usize]),
                 crossing: c as u32,
             })
             .collect();
