@@ -956,3 +956,37 @@ fn garbage_loops_do_not_panic() {
         let _ = Regions::compute(&mesh, &[l], &[]);
     }
 }
+
+#[test]
+fn rounded_box_corners_are_curvature_extrema() {
+    let mesh = quadrille::mesh::generate::rounded_box(1.0, 0.1, 12, 4);
+    let planes = [
+        plane_sections(&mesh, DVec3::X, 0.013),
+        plane_sections(&mesh, DVec3::Y, 0.011),
+        plane_sections(&mesh, DVec3::Z, 0.007),
+    ];
+    // Two planes: four quarters, each holding two box corners → orange.
+    let loops: Vec<EmbeddedLoop> = planes[..2].concat();
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    println!("rounded box, 2 planes: {:?}", summary(&r));
+    assert_eq!(r.regions.len(), 4);
+    for reg in &r.regions {
+        assert_eq!(reg.curvature_extrema.len(), 2);
+        assert_eq!(reg.guidance, Guidance::CurvatureExtrema);
+    }
+    // Three planes: eight octants with one corner each, valence 3 and
+    // K = π/2: all fine.
+    let loops: Vec<EmbeddedLoop> = planes.concat();
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    println!("rounded box, 3 planes: {:?}", summary(&r));
+    assert_eq!(r.regions.len(), 8);
+    for reg in &r.regions {
+        assert_eq!(reg.curvature_extrema.len(), 1);
+        assert_eq!(reg.valence, 3);
+        assert!((reg.total_curvature - FRAC_PI_2).abs() < 1e-6);
+        assert_eq!(reg.guidance, Guidance::Ok);
+    }
+    // A sphere has no pronounced extremum anywhere.
+    let r = Regions::compute(&sphere(), &[], &[]).unwrap();
+    assert!(r.regions[0].curvature_extrema.is_empty());
+}

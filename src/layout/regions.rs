@@ -36,7 +36,13 @@
 //!   defect belongs wholly to the one region that holds it.
 //! - Orange (several pronounced Gaussian-curvature extrema): ≥ 2 cross-field
 //!   singularities in the region — the paper's remark in §6 ("the field
-//!   singularity constellation can also be exploited").
+//!   singularity constellation can also be exploited") — or ≥ 2 pronounced
+//!   extrema found on the mesh itself, so the colour works before a field
+//!   exists: greedy non-maximum suppression over vertices by |angle
+//!   defect|; a seed is pronounced when the geodesic ball of radius
+//!   ρ = [`EXTREMUM_RADIUS`] × bbox diagonal around it (Dijkstra over mesh
+//!   edges) holds |K| ≥ π/4 (half the curvature of a valence-3 or -5
+//!   corner); a pronounced seed suppresses other seeds within 2ρ.
 //! - Yellow (|v − v_expected| > 1 with K = (4 − v)π/2) only for regions not
 //!   touching the mesh boundary: the relation ignores boundary turning.
 //! - Meshes are assumed consistently oriented (left/right of a loop).
@@ -48,6 +54,13 @@ use glam::{DVec2, DVec3};
 
 use super::embed::{EmbeddedLoop, Singularity};
 use crate::mesh::TriMesh;
+
+/// Radius of the geodesic balls that decide pronounced curvature extrema,
+/// relative to the bounding-box diagonal.
+pub const EXTREMUM_RADIUS: f64 = 0.05;
+
+/// Least |total Gaussian curvature| in such a ball for an extremum.
+pub const EXTREMUM_CURVATURE: f64 = std::f64::consts::FRAC_PI_4;
 
 /// Errors of the region and layout computations.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -89,6 +102,8 @@ pub struct Region {
     pub expected_valence: f64,
     /// Indices into the singularity slice of the singularities inside.
     pub singularities: Vec<u32>,
+    /// Mesh vertices at pronounced Gaussian-curvature extrema inside.
+    pub curvature_extrema: Vec<u32>,
     pub touches_mesh_boundary: bool,
     pub guidance: Guidance,
 }
@@ -597,6 +612,87 @@ pub(crate) fn angle_defects(mesh: &TriMesh) -> Vec<f64> {
     defect
 }
 
+/// Pronounced Gaussian-curvature extrema (see the module doc): mesh
+/// vertices, interior ones only.
+pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) -> Vec<u32> {
+    let Some(bbox) = mesh.bbox() else {
+        return Vec::new();
+    };
+    let rho = EXTREMUM_RADIUS * bbox.diagonal();
+    let adjacency = crate::mesh::VertexAdjacency::new(mesh);
+    let n = mesh.positions.len();
+    let mut order: Vec<u32> = (0..n as u32)
+        .filter(|&v| !on_boundary[v as usize] && adjacency.degree(v as usize) > 0)
+        .collect();
+    order.sort_by(|&a, &b| {
+        defects[b as usize]
+            .abs()
+            .total_cmp(&defects[a as usize].abs())
+            .then(a.cmp(&b))
+    });
+    let mut suppressed = vec![false; n];
+    let mut dist = vec![f64::INFINITY; n];
+    let mut extrema = Vec::new();
+    for &seed in &order {
+        if suppressed[seed as usize] {
+            continue;
+        }
+        // Dijkstra to 2ρ: curvature within ρ, suppression within 2ρ.
+        let mut heap = std::collections::BinaryHeap::new();
+        let mut reached = Vec::new();
+        dist[seed as usize] = 0.0;
+        heap.push((std::cmp::Reverse(Dist(0.0)), seed));
+        let mut ball = 0.0;
+        while let Some((std::cmp::Reverse(Dist(d)), v)) = heap.pop() {
+            if d > dist[v as usize] {
+                continue;
+            }
+            reached.push((v, d));
+            if d <= rho && !on_boundary[v as usize] {
+                ball += defects[v as usize];
+            }
+            for &w in adjacency.neighbors(v as usize) {
+                let nd = d + mesh.positions[v as usize].distance(mesh.positions[w as usize]);
+                if nd <= 2.0 * rho && nd < dist[w as usize] {
+                    dist[w as usize] = nd;
+                    heap.push((std::cmp::Reverse(Dist(nd)), w));
+                }
+            }
+        }
+        let pronounced = ball.abs() >= EXTREMUM_CURVATURE;
+        if pronounced {
+            extrema.push(seed);
+        }
+        let reach = if pronounced { 2.0 * rho } else { rho };
+        for &(v, d) in &reached {
+            if d <= reach {
+                suppressed[v as usize] = true;
+            }
+        }
+        for &(v, _) in &reached {
+            dist[v as usize] = f64::INFINITY;
+        }
+        dist[seed as usize] = f64::INFINITY;
+    }
+    extrema.sort_unstable();
+    extrema
+}
+
+/// A distance ordered by `total_cmp`, for the heap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Dist(f64);
+impl Eq for Dist {}
+impl PartialOrd for Dist {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Dist {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
 /// One end of a loop crossing as seen from one of its loops.
 #[derive(Debug, Clone, Copy)]
 struct EventEnd {
@@ -690,12 +786,17 @@ impl Regions {
             region_sing[r as usize].push(i as u32);
         }
 
+        let mut region_extrema = vec![Vec::new(); nr];
+        for v in curvature_extrema(mesh, &defects, &on_boundary) {
+            region_extrema[vertex_region[v as usize] as usize].push(v);
+        }
+
         let regions: Vec<Region> = (0..nr)
             .map(|r| {
                 let expected = 4.0 - curvature[r] / FRAC_PI_2;
                 let guidance = if euler[r] != 1 {
                     Guidance::NonDisc
-                } else if region_sing[r].len() >= 2 {
+                } else if region_sing[r].len() >= 2 || region_extrema[r].len() >= 2 {
                     Guidance::CurvatureExtrema
                 } else if !touches[r] && (valence[r] as f64 - expected).abs() > 1.0 + 1e-9 {
                     Guidance::ValenceMismatch
@@ -710,6 +811,7 @@ impl Regions {
                     total_curvature: curvature[r],
                     expected_valence: expected,
                     singularities: std::mem::take(&mut region_sing[r]),
+                    curvature_extrema: std::mem::take(&mut region_extrema[r]),
                     touches_mesh_boundary: touches[r],
                     guidance,
                 }
