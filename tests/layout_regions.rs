@@ -990,3 +990,63 @@ fn rounded_box_corners_are_curvature_extrema() {
     let r = Regions::compute(&sphere(), &[], &[]).unwrap();
     assert!(r.regions[0].curvature_extrema.is_empty());
 }
+
+/// The same closed loop traversed the other way.
+fn reversed(l: &EmbeddedLoop) -> EmbeddedLoop {
+    let n = l.crossings.len();
+    EmbeddedLoop {
+        crossings: l.crossings.iter().rev().copied().collect(),
+        faces: (0..n).map(|i| l.faces[(2 * n - 2 - i) % n]).collect(),
+        closed: l.closed,
+    }
+}
+
+#[test]
+fn loop_direction_and_order_do_not_matter() {
+    let mesh = sphere();
+    let loops = octant_loops(&mesh);
+    let base = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let sorted = |r: &Regions| {
+        let mut s: Vec<(i64, u32, u32, i64)> = r
+            .regions
+            .iter()
+            .map(|g| {
+                (
+                    g.euler,
+                    g.boundary_cycles,
+                    g.valence,
+                    (g.total_curvature * 1e6).round() as i64,
+                )
+            })
+            .collect();
+        s.sort();
+        s
+    };
+    let want = sorted(&base);
+    let variants = [
+        vec![reversed(&loops[0]), loops[1].clone(), loops[2].clone()],
+        vec![loops[2].clone(), reversed(&loops[1]), loops[0].clone()],
+        loops.iter().map(reversed).collect(),
+    ];
+    for v in variants {
+        let r = Regions::compute(&mesh, &v, &[]).unwrap();
+        assert_eq!(sorted(&r), want);
+        let l = QuadLayout::build(&mesh, &v, &r, &[]).unwrap();
+        assert_eq!(
+            (l.vertices.len(), l.edges.len(), l.patches.len()),
+            (8, 12, 6)
+        );
+        check_layout(&l);
+    }
+    // Mutations of valid loops are errors or valid arrangements, never
+    // panics.
+    for i in 0..loops[0].crossings.len() {
+        let mut m = loops.clone();
+        m[0].faces.swap(i, (i + 7) % loops[0].faces.len());
+        let _ = Regions::compute(&mesh, &m, &[]);
+        let mut m = loops.clone();
+        let k = i % m[1].crossings.len();
+        m[1].crossings.remove(k);
+        let _ = Regions::compute(&mesh, &m, &[]);
+    }
+}

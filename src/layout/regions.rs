@@ -581,7 +581,7 @@ fn stretch_piece(
     let dr = if tri[k] == edges.verts[e][0] {
         q
     } else {
-        count - q
+        count.saturating_sub(q)
     };
     faces[f as usize].piece_at(k, dr)
 }
@@ -1012,6 +1012,16 @@ fn build_crossings_and_arcs(
         }
     }
 
+    if ends
+        .after
+        .iter()
+        .chain(&ends.before)
+        .any(|x| x.contains(&u32::MAX))
+    {
+        return Err(RegionError::Degenerate(
+            "a loop crossing is not the end of two arcs per loop".into(),
+        ));
+    }
     // Corners and arcs of every crossing, counter-clockwise: the four half
     // chords in perimeter order.
     for (c, &(f, a, b)) in chords_of.iter().enumerate() {
