@@ -1050,3 +1050,24 @@ fn loop_direction_and_order_do_not_matter() {
         let _ = Regions::compute(&mesh, &m, &[]);
     }
 }
+
+#[test]
+fn octant_edge_routes_are_nearly_geodesic() {
+    let mesh = sphere();
+    let loops = octant_loops(&mesh);
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    let mut worst: f64 = 0.0;
+    for e in &layout.edges {
+        let len: f64 = e.polyline.windows(2).map(|w| w[0].distance(w[1])).sum();
+        // Neighbouring octant centres: the great circle between them
+        // crosses the shared arc at its middle (by symmetry).
+        let (a, b) = (e.polyline[0], e.polyline[e.polyline.len() - 1]);
+        let geodesic = a.normalize().angle_between(b.normalize());
+        worst = worst.max(len / geodesic);
+        // Every route point lies on the unit sphere's polyhedron.
+        assert!(e.polyline.iter().all(|p| (p.length() - 1.0).abs() < 0.01));
+    }
+    println!("octant routes: worst length / great-circle length {worst:.3}");
+    assert!(worst < 1.15, "{worst}");
+}

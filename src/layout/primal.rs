@@ -39,7 +39,7 @@ use crate::mesh::TriMesh;
 use crate::spatial::SurfaceIndex;
 
 /// Laplacian smoothing steps on an edge route.
-const SMOOTHING_STEPS: usize = 4;
+const SMOOTHING_STEPS: usize = 10;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LayoutVertex {
