@@ -814,6 +814,24 @@ fn open_surface_layout_with_two_crossing_curves() {
         (4, 4, 1)
     );
     check_layout(&layout);
+    // Boundary-aligned: the quarters' vertices are the square's corners and
+    // the four edges run along its sides.
+    for v in &layout.vertices {
+        assert!(
+            (v.position.x.abs() - 1.0).abs() < 1e-12 && (v.position.y.abs() - 1.0).abs() < 1e-12
+        );
+    }
+    for e in &layout.edges {
+        let (a, b) = (e.polyline[0], e.polyline[e.polyline.len() - 1]);
+        let side = if (a.x - b.x).abs() < 1e-12 {
+            DVec3::X
+        } else {
+            DVec3::Y
+        };
+        for p in &e.polyline {
+            assert!((p.dot(side).abs() - 1.0).abs() < 1e-9, "{p} off the side");
+        }
+    }
     // Moving a vertex into another region is refused.
     let other = layout.vertices[1].position;
     let mut layout = layout;

@@ -19,10 +19,14 @@
 //!   projected back onto the surface (the crossing point stays fixed).
 //! - In valence-4 regions without singularity the paper puts the vertex
 //!   where the two corridor curves cross; we use the geodesic centre too.
-//! - Open surfaces: arcs that end on the mesh boundary give layout edges
-//!   between the two regions beside them, but no layout vertices are placed
-//!   on the boundary and no boundary patches (the half-patches between a
-//!   dual curve's end and the boundary) are built.
+//! - Open surfaces (boundary-aligned layouts, dual curves ending on the
+//!   boundary): a region touching the mesh boundary gets its vertex on the
+//!   boundary — at its sharpest boundary corner (turning ≥ π/4), else at
+//!   the boundary vertex farthest from the loops — and the layout edge of
+//!   an arc ending on the boundary is routed through that end, along the
+//!   boundary. A region touching the boundary along several stretches
+//!   still gets one vertex (a layout would need one per stretch); trimmed
+//!   (non-aligned) layouts are not built.
 //! - [`QuadLayout::move_vertex`] snaps the new point to the surface and
 //!   re-routes from the region's mesh vertex nearest to it; a point outside
 //!   the vertex's region is rejected.
@@ -37,6 +41,10 @@ use super::embed::{EmbeddedLoop, Singularity};
 use super::regions::{Edges, RegionError, Regions};
 use crate::mesh::TriMesh;
 use crate::spatial::SurfaceIndex;
+
+/// Least turning of the mesh boundary (π − Σ angles) at a vertex for it to
+/// be taken as a boundary region's layout corner.
+const BOUNDARY_CORNER: f64 = std::f64::consts::FRAC_PI_4;
 
 /// Laplacian smoothing steps on an edge route.
 const SMOOTHING_STEPS: usize = 10;
@@ -316,12 +324,18 @@ impl QuadLayout {
                 }
             }
         }
+        let loop_seeds = seeds.clone();
         for (v, &b) in on_boundary.iter().enumerate() {
             let r = regions.vertex_region[v];
             if b && r != u32::MAX {
                 seeds[r as usize].push((v as u32, 0.0));
             }
         }
+        // Turning of the mesh boundary at each boundary vertex: π − Σ angles.
+        let turning: Vec<f64> = super::regions::angle_defects(mesh)
+            .iter()
+            .map(|d| d - std::f64::consts::PI)
+            .collect();
 
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
@@ -331,6 +345,28 @@ impl QuadLayout {
             };
             let vertex = if let Some(v) = single {
                 Some(v)
+            } else if region.touches_mesh_boundary {
+                // Boundary-aligned layout: on the mesh boundary, at its
+                // sharpest corner in the region, else farthest from loops.
+                let on_region_boundary = |v: u32| {
+                    on_boundary[v as usize] && regions.vertex_region[v as usize] == r as u32
+                };
+                let corner = (0..nv as u32)
+                    .filter(|&v| on_region_boundary(v))
+                    .max_by(|&a, &b| {
+                        turning[a as usize]
+                            .total_cmp(&turning[b as usize])
+                            .then(b.cmp(&a))
+                    })
+                    .filter(|&v| turning[v as usize] >= BOUNDARY_CORNER);
+                corner.or_else(|| {
+                    router
+                        .dijkstra(&loop_seeds[r], false)
+                        .iter()
+                        .filter(|&&(v, _)| on_region_boundary(v))
+                        .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                        .map(|&(v, _)| v)
+                })
             } else if seeds[r].is_empty() {
                 // No boundary at all (no loops): any vertex of the region.
                 (0..nv as u32).find(|&v| regions.vertex_region[v as usize] == r as u32)
@@ -381,7 +417,19 @@ impl QuadLayout {
                 };
                 (m, [None, None])
             } else {
-                let c = l.crossings[arc.edge_crossings[arc.edge_crossings.len() / 2] as usize];
+                // Arcs ending on the mesh boundary: through their end there,
+                // so the layout edge runs along the boundary.
+                let ec = &arc.edge_crossings;
+                let at = if l.closed {
+                    ec[ec.len() / 2]
+                } else if arc.end.is_none() {
+                    ec[ec.len() - 1]
+                } else if arc.start.is_none() {
+                    ec[0]
+                } else {
+                    ec[ec.len() / 2]
+                };
+                let c = l.crossings[at as usize];
                 let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
                 let pick = |r: u32| {
                     [c.a, c.b]
