@@ -159,6 +159,13 @@ fn torus_two_meridians_and_longitude_are_two_quads() {
     assert_eq!(layout.vertices.len(), 2);
     assert_eq!(layout.edges.len(), 4);
     check_layout(&layout);
+    // Each half torus is symmetric about the plane through the z axis at
+    // a ± π/2: its corridor-crossing vertex lies there (within two columns).
+    for v in &layout.vertices {
+        let angle = v.position.y.atan2(v.position.x);
+        let off = (angle - MERIDIAN_ANGLE).rem_euclid(PI) - FRAC_PI_2;
+        assert!(off.abs() < 2.0 * 2.0 * PI / 48.0, "{angle}");
+    }
 }
 
 /// A generic rotation, so the coordinate planes miss the icosphere's

@@ -3,13 +3,14 @@
 //!
 //! A region is a layout vertex, a loop arc (a loop's stretch between two
 //! consecutive loop crossings) is a layout edge joining the regions on its
-//! two sides (a closed loop crossed by no other gives no edge), and a crossing of two loops is a quad patch whose corners are
-//! the four regions around it. A vertex sits on the region's cross-field
+//! two sides (a closed loop crossed by no other gives no edge), and a
+//! crossing of two loops is a quad patch whose corners are the four
+//! regions around it. A vertex sits on the region's cross-field
 //! singularity if it holds exactly one, otherwise at its geodesic centre:
 //! the mesh vertex farthest from the region's boundary (multi-source
 //! Dijkstra over the region's uncrossed mesh edges, seeded with the
 //! distances to the loop crossings on its crossed edges and 0 on the mesh
-//! boundary).
+//! boundary) — except in valence-4 and boundary regions, see below.
 //!
 //! Deviations from the paper:
 //! - Edge routes are not elastica in the corridor: each is the shortest
@@ -17,8 +18,10 @@
 //!   next to the arc's middle loop crossing, through that crossing, and on
 //!   to the other vertex; then a few Laplacian smoothing steps, each point
 //!   projected back onto the surface (the crossing point stays fixed).
-//! - In valence-4 regions without singularity the paper puts the vertex
-//!   where the two corridor curves cross; we use the geodesic centre too.
+//! - In closed valence-4 regions without singularity the paper puts the
+//!   vertex where the two corridor curves cross; we take the mesh vertex
+//!   with the least summed geodesic distance to the four arc middles (on
+//!   both shortest curves joining opposite middles where they cross).
 //! - Open surfaces (boundary-aligned layouts, dual curves ending on the
 //!   boundary): a region touching the mesh boundary gets its vertex on the
 //!   boundary — at its sharpest boundary corner (turning ≥ π/4), else at
@@ -337,6 +340,50 @@ impl QuadLayout {
             .map(|d| d - std::f64::consts::PI)
             .collect();
 
+        // Where each arc's layout edge crosses it, and the mesh vertices
+        // beside that point in the regions left and right.
+        let mut arc_middles: Vec<(DVec3, [Option<u32>; 2])> =
+            Vec::with_capacity(regions.arcs.len());
+        for arc in &regions.arcs {
+            let l = &loops[arc.loop_index as usize];
+            let (mid, near) = if arc.edge_crossings.is_empty() {
+                let a = arc.start.map(|c| regions.crossings[c as usize].point);
+                let b = arc.end.map(|c| regions.crossings[c as usize].point);
+                let m = match (a, b) {
+                    (Some(a), Some(b)) => 0.5 * (a + b),
+                    (Some(a), None) | (None, Some(a)) => a,
+                    (None, None) => DVec3::ZERO,
+                };
+                (m, [None, None])
+            } else {
+                // Arcs ending on the mesh boundary: through their end there,
+                // so the layout edge runs along the boundary.
+                let ec = &arc.edge_crossings;
+                let at = if l.closed {
+                    ec[ec.len() / 2]
+                } else if arc.end.is_none() {
+                    ec[ec.len() - 1]
+                } else if arc.start.is_none() {
+                    ec[0]
+                } else {
+                    ec[ec.len() / 2]
+                };
+                let c = l.crossings[at as usize];
+                let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
+                let pick = |r: u32| {
+                    [c.a, c.b]
+                        .into_iter()
+                        .find(|&v| regions.vertex_region[v as usize] == r)
+                };
+                (p, [pick(arc.left), pick(arc.right)])
+            };
+            let mut beside = [None; 2];
+            for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
+                beside[k] = near[k].or_else(|| router.nearest_in_region(r, mid));
+            }
+            arc_middles.push((mid, beside));
+        }
+
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
             let single = match region.singularities[..] {
@@ -367,6 +414,8 @@ impl QuadLayout {
                         .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
                         .map(|&(v, _)| v)
                 })
+            } else if let Some(v) = corridor_crossing(&mut router, region, &arc_middles) {
+                Some(v)
             } else if seeds[r].is_empty() {
                 // No boundary at all (no loops): any vertex of the region.
                 (0..nv as u32).find(|&v| regions.vertex_region[v as usize] == r as u32)
@@ -407,41 +456,7 @@ impl QuadLayout {
                 continue;
             }
             edge_of_arc[i] = layout_edges.len() as u32;
-            let (mid, near) = if arc.edge_crossings.is_empty() {
-                let a = arc.start.map(|c| regions.crossings[c as usize].point);
-                let b = arc.end.map(|c| regions.crossings[c as usize].point);
-                let m = match (a, b) {
-                    (Some(a), Some(b)) => 0.5 * (a + b),
-                    (Some(a), None) | (None, Some(a)) => a,
-                    (None, None) => DVec3::ZERO,
-                };
-                (m, [None, None])
-            } else {
-                // Arcs ending on the mesh boundary: through their end there,
-                // so the layout edge runs along the boundary.
-                let ec = &arc.edge_crossings;
-                let at = if l.closed {
-                    ec[ec.len() / 2]
-                } else if arc.end.is_none() {
-                    ec[ec.len() - 1]
-                } else if arc.start.is_none() {
-                    ec[0]
-                } else {
-                    ec[ec.len() / 2]
-                };
-                let c = l.crossings[at as usize];
-                let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
-                let pick = |r: u32| {
-                    [c.a, c.b]
-                        .into_iter()
-                        .find(|&v| regions.vertex_region[v as usize] == r)
-                };
-                (p, [pick(arc.left), pick(arc.right)])
-            };
-            let mut beside = [None; 2];
-            for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
-                beside[k] = near[k].or_else(|| router.nearest_in_region(r, mid));
-            }
+            let (mid, beside) = arc_middles[i];
             router.middles.push((mid, beside));
             let ends = [arc.left, arc.right];
             let polyline = router.route(
@@ -585,6 +600,39 @@ impl QuadLayout {
         }
         s
     }
+}
+
+/// The regular vertex of a closed valence-4 region (§7: "in regions of
+/// valence 4 two curves cross"): the mesh vertex minimizing the summed
+/// geodesic distances to the four arc middles, which is where the two
+/// shortest curves joining opposite middles cross.
+fn corridor_crossing(
+    router: &mut Router,
+    region: &super::regions::Region,
+    arc_middles: &[(DVec3, [Option<u32>; 2])],
+) -> Option<u32> {
+    use super::regions::BoundarySide;
+    if region.valence != 4 || region.touches_mesh_boundary || region.boundary.len() != 1 {
+        return None;
+    }
+    let mut sums: std::collections::HashMap<u32, (f64, u32)> = Default::default();
+    for side in &region.boundary[0] {
+        let BoundarySide::Arc { arc, left } = *side else {
+            return None;
+        };
+        let (mid, beside) = arc_middles[arc as usize];
+        let v = beside[if left { 0 } else { 1 }]?;
+        let d0 = router.positions[v as usize].distance(mid);
+        for (w, d) in router.dijkstra(&[(v, d0)], false) {
+            let e = sums.entry(w).or_insert((0.0, 0));
+            e.0 += d;
+            e.1 += 1;
+        }
+    }
+    sums.into_iter()
+        .filter(|&(_, (_, n))| n == 4)
+        .min_by(|a, b| a.1.0.total_cmp(&b.1.0).then(a.0.cmp(&b.0)))
+        .map(|(v, _)| v)
 }
 
 /// A point for a region that holds no mesh vertex (thinner than a

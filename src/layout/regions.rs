@@ -94,6 +94,8 @@ pub struct Region {
     /// Euler characteristic of the region as a cut surface.
     pub euler: i64,
     pub boundary_cycles: u32,
+    /// Each boundary cycle as its sides in order, the region on the left.
+    pub boundary: Vec<Vec<BoundarySide>>,
     /// Corners of the region's boundary.
     pub valence: u32,
     /// Sum of the angle defects of its interior mesh vertices.
@@ -106,6 +108,16 @@ pub struct Region {
     pub curvature_extrema: Vec<u32>,
     pub touches_mesh_boundary: bool,
     pub guidance: Guidance,
+}
+
+/// One side of a region's boundary between two corners.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoundarySide {
+    /// The left or right side of a loop arc.
+    Arc { arc: u32, left: bool },
+    /// A stretch of the mesh boundary (between two dual-curve ends, or a
+    /// whole boundary loop).
+    MeshBoundary,
 }
 
 /// A crossing of two loop segments inside one triangle.
@@ -768,7 +780,7 @@ impl Regions {
         }
 
         let (crossings, arcs, ends) = build_crossings_and_arcs(mesh, &arr, loops)?;
-        let (cycles, valence) =
+        let (cycles, valence, mut boundary) =
             walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
 
         let mut region_sing = vec![Vec::new(); nr];
@@ -807,6 +819,7 @@ impl Regions {
                     faces: std::mem::take(&mut region_faces[r]),
                     euler: euler[r],
                     boundary_cycles: cycles[r],
+                    boundary: std::mem::take(&mut boundary[r]),
                     valence: valence[r],
                     total_curvature: curvature[r],
                     expected_valence: expected,
@@ -1073,10 +1086,11 @@ fn walk_boundaries(
     arcs: &[LoopArc],
     crossings: &[LoopCrossing],
     ends: &ArcEnds,
-) -> Result<(Vec<u32>, Vec<u32>), RegionError> {
+) -> Result<(Vec<u32>, Vec<u32>, Vec<Vec<Vec<BoundarySide>>>), RegionError> {
     let nr = arr.region_count;
     let mut cycles = vec![0u32; nr];
     let mut corners = vec![0u32; nr];
+    let mut sequences: Vec<Vec<Vec<BoundarySide>>> = vec![Vec::new(); nr];
 
     // Directed boundary edges (face orientation: the face on the left) and
     // the dual-curve ends on them.
@@ -1216,11 +1230,19 @@ fn walk_boundaries(
         let mut count = 0u32;
         let mut side = start;
         let mut steps = 0;
+        let mut sequence = Vec::new();
         loop {
             visited[side] = true;
+            sequence.push(BoundarySide::Arc {
+                arc: (side / 2) as u32,
+                left: side % 2 == 0,
+            });
             let (next, stretch) = next_side(side).ok_or_else(|| {
                 RegionError::Degenerate("a region boundary does not close".into())
             })?;
+            if stretch {
+                sequence.push(BoundarySide::MeshBoundary);
+            }
             count += 1 + stretch as u32;
             side = next;
             steps += 1;
@@ -1237,6 +1259,7 @@ fn walk_boundaries(
         if !free {
             corners[region] += count;
         }
+        sequences[region].push(sequence);
     }
 
     // Mesh-boundary loops no dual curve ends on.
@@ -1263,10 +1286,12 @@ fn walk_boundaries(
         if !has_end {
             let f = edges.faces[e0 as usize][0];
             let p = stretch_piece(mesh, edges, &arr.faces, e0 as usize, f, 0);
-            cycles[arr.region_of_piece(p) as usize] += 1;
+            let r = arr.region_of_piece(p) as usize;
+            cycles[r] += 1;
+            sequences[r].push(vec![BoundarySide::MeshBoundary]);
         }
     }
-    Ok((cycles, corners))
+    Ok((cycles, corners, sequences))
 }
 
 fn crossing_chords(arr: &Arrangement, crossings: &[LoopCrossing], c: usize) -> (u32, usize, usize) {
