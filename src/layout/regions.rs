@@ -780,8 +780,11 @@ impl Regions {
         }
 
         let (crossings, arcs, ends) = build_crossings_and_arcs(mesh, &arr, loops)?;
-        let (cycles, valence, mut boundary) =
-            walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
+        let Boundaries {
+            cycles,
+            corners: valence,
+            sequences: mut boundary,
+        } = walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
 
         let mut region_sing = vec![Vec::new(); nr];
         for (i, s) in singularities.iter().enumerate() {
@@ -1076,6 +1079,13 @@ fn crossing_point(mesh: &TriMesh, l: &EmbeddedLoop, i: usize) -> DVec3 {
     mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t)
 }
 
+/// Per region: boundary cycle count, corners, and the cycles side by side.
+struct Boundaries {
+    cycles: Vec<u32>,
+    corners: Vec<u32>,
+    sequences: Vec<Vec<Vec<BoundarySide>>>,
+}
+
 /// Boundary cycles and corners per region, by walking every region's
 /// boundary with the region on the left.
 fn walk_boundaries(
@@ -1086,7 +1096,7 @@ fn walk_boundaries(
     arcs: &[LoopArc],
     crossings: &[LoopCrossing],
     ends: &ArcEnds,
-) -> Result<(Vec<u32>, Vec<u32>, Vec<Vec<Vec<BoundarySide>>>), RegionError> {
+) -> Result<Boundaries, RegionError> {
     let nr = arr.region_count;
     let mut cycles = vec![0u32; nr];
     let mut corners = vec![0u32; nr];
@@ -1291,7 +1301,11 @@ fn walk_boundaries(
             sequences[r].push(vec![BoundarySide::MeshBoundary]);
         }
     }
-    Ok((cycles, corners, sequences))
+    Ok(Boundaries {
+        cycles,
+        corners,
+        sequences,
+    })
 }
 
 fn crossing_chords(arr: &Arrangement, crossings: &[LoopCrossing], c: usize) -> (u32, usize, usize) {
