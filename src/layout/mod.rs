@@ -19,9 +19,12 @@ pub mod elastica;
 pub mod embed;
 pub mod loops;
 pub mod parametrization;
+pub mod primal;
+pub mod regions;
 pub mod strip_field;
 pub mod strips;
 pub mod surface_graph;
+pub mod symmetry;
 
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
