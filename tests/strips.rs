@@ -558,3 +558,48 @@ fn covered_directions_make_the_next_loop_transversal() {
         }
     }
 }
+
+/// Whether {a, b} is a boundary edge (held by one triangle).
+fn is_boundary_edge(mesh: &TriMesh, a: u32, b: u32) -> bool {
+    mesh.triangles
+        .iter()
+        .filter(|t| {
+            (0..3).any(|i| (t[i], t[(i + 1) % 3]) == (a, b) || (t[i], t[(i + 1) % 3]) == (b, a))
+        })
+        .count()
+        == 1
+}
+
+/// Dual curves (§5.7) start and end at boundary vertices; embedded, they
+/// must start and end on boundary edges (the regions of §4.2 rely on it),
+/// whichever face of the end vertex's fan the first samples fall in.
+#[test]
+fn engine_dual_curves_embed_from_boundary_edge_to_boundary_edge() {
+    let mut curves = 0;
+    for mesh in [flat_grid(1.0, 16), cylinder(1.0, 3.0, 24, 12)] {
+        let mut e = engine(&mesh);
+        let n = mesh.vertex_count();
+        for v in (0..n).step_by(n / 40) {
+            let Some(l) = e.best_loop(mesh.positions[v]) else {
+                continue;
+            };
+            if l.closed {
+                continue;
+            }
+            let emb = embed_loop(&mesh, &l.points, false).expect("embeds");
+            emb.check(&mesh).expect("a valid walk");
+            let (first, last) = (emb.crossings[0], emb.crossings[emb.crossings.len() - 1]);
+            assert!(
+                is_boundary_edge(&mesh, first.a, first.b),
+                "vertex {v}: starts inside"
+            );
+            assert!(
+                is_boundary_edge(&mesh, last.a, last.b),
+                "vertex {v}: ends inside"
+            );
+            quadrille::layout::regions::Regions::compute(&mesh, &[emb], &[]).expect("regions");
+            curves += 1;
+        }
+    }
+    assert!(curves >= 20, "only {curves} dual curves");
+}

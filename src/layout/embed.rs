@@ -273,6 +273,26 @@ impl<'a> LoopEmbedder<'a> {
                 }
             }
         }
+        // An open curve starts and ends at a boundary vertex; the samples
+        // next to it may lie in a face of its fan without a boundary edge:
+        // walk the fan to the nearest boundary edge at that vertex.
+        if !closed && !path.is_empty() {
+            let (first, last) = (points[0], points[points.len() - 1]);
+            let head = self.fan_to_boundary(path[0].0, first);
+            let tail = self.fan_to_boundary(path[path.len() - 1].0, last);
+            if !head.is_empty() || !tail.is_empty() {
+                let middle = std::mem::take(&mut path);
+                for h in head {
+                    push(&mut path, (h, first, first));
+                }
+                for item in middle {
+                    push(&mut path, item);
+                }
+                for h in tail.into_iter().rev() {
+                    push(&mut path, (h, last, last));
+                }
+            }
+        }
         if path.len() < 2 {
             return Err(EmbedError::Degenerate);
         }
@@ -385,6 +405,52 @@ impl<'a> LoopEmbedder<'a> {
             }
         }
         best
+    }
+
+    /// For an open curve ending in face `f` near `p`: when `f` has no
+    /// boundary edge, the faces of the fan of `f`'s corner nearest `p` from
+    /// the nearest one with a boundary edge at that corner up to (without)
+    /// `f`, boundary face first; empty when `f` has a boundary edge or the
+    /// corner is not on the boundary.
+    fn fan_to_boundary(&self, f: u32, p: DVec3) -> Vec<u32> {
+        let mesh = self.mesh;
+        let opposite = &self.topology.opposite;
+        let boundary_edge_at = |h: u32, v: u32| {
+            let t = mesh.triangles[h as usize];
+            (0..3)
+                .any(|i| (t[i] == v || t[(i + 1) % 3] == v) && opposite[h as usize][i] == u32::MAX)
+        };
+        let t = mesh.triangles[f as usize];
+        if opposite[f as usize].contains(&u32::MAX) {
+            return Vec::new();
+        }
+        let Some(&v) = t.iter().min_by(|&&a, &&b| {
+            let d = |x: u32| mesh.positions[x as usize].distance_squared(p);
+            d(a).total_cmp(&d(b))
+        }) else {
+            return Vec::new();
+        };
+        // Breadth-first around the fan.
+        let mut previous: Vec<(u32, u32)> = vec![(f, u32::MAX)];
+        let mut queue = VecDeque::from([f]);
+        while let Some(h) = queue.pop_front() {
+            if h != f && boundary_edge_at(h, v) {
+                let mut way = Vec::new();
+                let mut x = h;
+                while x != f {
+                    way.push(x);
+                    x = previous.iter().find(|e| e.0 == x).map_or(f, |e| e.1);
+                }
+                return way;
+            }
+            for g in self.neighbours_in_fan(h, v) {
+                if !previous.iter().any(|e| e.0 == g) {
+                    previous.push((g, h));
+                    queue.push_back(g);
+                }
+            }
+        }
+        Vec::new()
     }
 
     /// The (up to two) faces across the edges of `f` at vertex `v`.
