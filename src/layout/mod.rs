@@ -15,11 +15,14 @@
 //! [`LoopEngine::best_loop`] (hover), [`LoopEngine::loops_through`]
 //! (alternatives) or [`LoopEngine::constrained_loop`].
 
+pub mod design;
 pub mod elastica;
 pub mod embed;
 pub mod loops;
+pub mod proxy;
 pub mod surface_graph;
 
+pub use design::{LayoutDesign, Mirror};
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbeddedLoop, Singularity};
 pub use loops::{Anchor, DualLoop, LoopEngine};
