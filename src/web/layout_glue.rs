@@ -1,0 +1,178 @@
+//! What the design mode draws after each change of the committed loops
+//! (Campen & Kobbelt 2014, *Dual Strip Weaving*: §4.2 region guidance, §6
+//! strips, §7 the primal layout), as flat arrays: the one place where the
+//! layout analysis meets the page. Native, so it is unit-tested.
+//!
+//! Deviation: until the strip analysis exists the strips are drawn as their
+//! spinal loops and there is no region colouring, singularities or layout
+//! (`available: false`).
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::layout::design::{LayoutDesign, Mirror};
+use crate::mesh::TriMesh;
+
+/// ColorBrewer Set1/Dark2-like distinct strip colours.
+const STRIP_COLOURS: [u32; 10] = [
+    0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0xff7f0e, 0x17becf, 0x8c564b, 0xe377c2, 0x7f7f7f,
+    0xbcbd22,
+];
+
+/// The colour of strip `i` (RGBA bytes).
+pub fn strip_colour(i: usize) -> [u8; 4] {
+    let c = STRIP_COLOURS[i % STRIP_COLOURS.len()];
+    [(c >> 16) as u8, (c >> 8) as u8, c as u8, 255]
+}
+
+/// Region categories on the `categories` colormap (0 grey … 12): a region
+/// that is fine, not a disc (red), several curvature extrema (orange),
+/// valence mismatch (yellow).
+pub const REGION_OK: f32 = 0.0;
+pub const REGION_RED: f32 = 6.0;
+pub const REGION_ORANGE: f32 = 8.0;
+pub const REGION_YELLOW: f32 = 11.0;
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Counts {
+    pub strips: usize,
+    pub regions: usize,
+    pub red: usize,
+    pub orange: usize,
+    pub yellow: usize,
+    pub singularities: usize,
+    pub layout_vertices: usize,
+    pub layout_edges: usize,
+    pub patches: usize,
+}
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Timings {
+    pub field_ms: f64,
+    pub parametrization_ms: f64,
+    pub regions_ms: f64,
+    pub layout_ms: f64,
+    pub total_ms: f64,
+}
+
+/// The analysis of one revision of the design, ready to draw.
+#[derive(Debug, Clone, Default)]
+pub struct Analysis {
+    /// Whether the strip analysis ran (false: loops only).
+    pub available: bool,
+    /// Stripe segments (six floats each) and one RGBA per segment.
+    pub stripes: Vec<f32>,
+    pub stripe_colours: Vec<u8>,
+    /// Per face of the design mesh, a region category (empty: none).
+    pub region_category: Vec<f32>,
+    /// Singularity positions (xyz) and colours (valence 3 blue, 5 red).
+    pub singularities: Vec<f32>,
+    pub singularity_colours: Vec<u8>,
+    /// Layout vertices (xyz) and edges (segments).
+    pub layout_vertices: Vec<f32>,
+    pub layout_edges: Vec<f32>,
+    pub counts: Counts,
+    pub sufficient: bool,
+    pub status: String,
+    pub timings: Timings,
+    /// The layout as OBJ lines and as JSON (empty without a layout).
+    pub obj: String,
+    pub json: String,
+}
+
+/// Runs the analysis of the committed loops on `mesh`; `clock` gives
+/// milliseconds. Feeds the covered directions back to the engine (§6.2).
+pub fn analyze(_mesh: &TriMesh, design: &mut LayoutDesign, _clock: &dyn Fn() -> f64) -> Analysis {
+    let committed = design.committed();
+    let mut a = Analysis {
+        counts: Counts {
+            strips: committed.len(),
+            ..Counts::default()
+        },
+        ..Analysis::default()
+    };
+    // Stand-in: each strip drawn as its spinal loop.
+    for (i, c) in committed.iter().enumerate() {
+        let colour = strip_colour(i);
+        for w in c.dual.points.windows(2) {
+            push_segment(&mut a.stripes, w[0], w[1]);
+            a.stripe_colours.extend(colour);
+        }
+    }
+    a.status = format!(
+        "{} strip{} · the strip analysis is not available in this build",
+        a.counts.strips,
+        plural(a.counts.strips)
+    );
+    a.obj = loops_obj(design);
+    a.json = serde_json::json!({
+        "strips": a.counts.strips,
+        "patches": a.counts.patches,
+        "loops": design.committed().iter().map(|c| c.dual.points.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+    })
+    .to_string();
+    a
+}
+
+/// A reflection plane detected on the mesh (the "auto" symmetry option).
+pub fn detect_mirror(_mesh: &TriMesh) -> Option<Mirror> {
+    None
+}
+
+/// The committed loops as OBJ polylines (`v` and `l` lines).
+pub fn loops_obj(design: &LayoutDesign) -> String {
+    let mut out = String::from("# dual loops of a quad layout design (Quadrille)\n");
+    let mut next = 1usize;
+    for c in design.committed() {
+        for p in &c.dual.points {
+            out += &format!("v {} {} {}\n", p.x, p.y, p.z);
+        }
+        let n = c.dual.points.len();
+        if n >= 2 {
+            out += "l";
+            for k in 0..n {
+                out += &format!(" {}", next + k);
+            }
+            out += "\n";
+        }
+        next += n;
+    }
+    out
+}
+
+pub fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
+
+pub fn push_point(out: &mut Vec<f32>, p: DVec3) {
+    out.extend([p.x as f32, p.y as f32, p.z as f32]);
+}
+
+pub fn push_segment(out: &mut Vec<f32>, a: DVec3, b: DVec3) {
+    push_point(out, a);
+    push_point(out, b);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::{ElasticaParams, LoopEngine};
+    use crate::mesh::generate::torus;
+
+    #[test]
+    fn stand_in_draws_each_committed_loop_in_its_colour() {
+        let mesh = torus(2.0, 0.7, 30, 12);
+        let mut d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
+        d.hover(DVec3::new(2.7, 0.0, 0.0));
+        d.commit().unwrap();
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        let n = d.committed()[0].dual.points.len() - 1;
+        assert_eq!(a.stripes.len(), 6 * n);
+        assert_eq!(a.stripe_colours.len(), 4 * n);
+        assert_eq!(a.counts.strips, 1);
+        let v = a.obj.lines().filter(|l| l.starts_with("v ")).count();
+        assert_eq!(v, n + 1);
+        let json: serde_json::Value = serde_json::from_str(&a.json).unwrap();
+        assert_eq!(json["strips"], 1);
+    }
+}
