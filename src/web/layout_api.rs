@@ -236,32 +236,24 @@ impl LayoutDesigner {
     /// Enter: returns how many strips were added (0 with a reason in
     /// `state().error` when there was no loop).
     pub fn commit(&mut self) -> u32 {
-        {
-            let r = self.design.commit().map(|n| n as u32);
-            self.result(r)
-        }
+        let r = self.design.commit().map(|n| n as u32);
+        self.result(r)
     }
 
     #[wasm_bindgen(js_name = deleteStrip)]
     pub fn delete_strip(&mut self, i: u32) -> bool {
-        {
-            let r = self.design.delete_strip(i as usize).map(|_| true);
-            self.result(r)
-        }
+        let r = self.design.delete_strip(i as usize).map(|_| true);
+        self.result(r)
     }
 
     pub fn undo(&mut self) -> bool {
-        {
-            let r = self.design.undo().map(|_| true);
-            self.result(r)
-        }
+        let r = self.design.undo().map(|_| true);
+        self.result(r)
     }
 
     pub fn redo(&mut self) -> bool {
-        {
-            let r = self.design.redo().map(|_| true);
-            self.result(r)
-        }
+        let r = self.design.redo().map(|_| true);
+        self.result(r)
     }
 
     #[wasm_bindgen(js_name = moveLayoutVertex)]
