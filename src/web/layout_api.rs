@@ -119,10 +119,12 @@ pub struct LayoutDesigner {
     mesh: TriMesh,
     input_faces: usize,
     design: LayoutDesign,
-    /// Revision of the design the last analysis was computed for.
-    analysed: Option<u64>,
+    /// Revision and layout-vertex moves the last analysis was computed for.
+    analysed: Option<(u64, Vec<(u32, DVec3)>)>,
     analysis: Option<analysis_glue::Analysis>,
     last_error: Option<String>,
+    /// The anchor inserted by the last grab, moved by the drag that follows.
+    grabbed: Option<usize>,
 }
 
 fn point(p: &[f64]) -> Result<DVec3, JsError> {
@@ -167,6 +169,7 @@ impl LayoutDesigner {
             analysed: None,
             analysis: None,
             last_error: None,
+            grabbed: None,
         })
     }
 
@@ -217,14 +220,20 @@ impl LayoutDesigner {
     /// Grab: inserts an anchor where the loop was grabbed; returns its index.
     #[wasm_bindgen(js_name = insertAnchorOnLoop)]
     pub fn insert_anchor_on_loop(&mut self, grabbed: &[f64], p: &[f64]) -> Result<u32, JsError> {
-        Ok(self
+        let i = self
             .design
-            .insert_anchor_on_loop(point(grabbed)?, point(p)?) as u32)
+            .insert_anchor_on_loop(point(grabbed)?, point(p)?);
+        self.grabbed = Some(i);
+        Ok(i as u32)
     }
 
-    #[wasm_bindgen(js_name = moveAnchor)]
-    pub fn move_anchor(&mut self, i: u32, p: &[f64]) -> Result<(), JsError> {
-        self.design.move_anchor(i as usize, point(p)?);
+    /// The drag after a grab: moves the anchor the grab inserted.
+    #[wasm_bindgen(js_name = moveGrabbedAnchor)]
+    pub fn move_grabbed_anchor(&mut self, p: &[f64]) -> Result<(), JsError> {
+        let p = point(p)?;
+        if let Some(i) = self.grabbed {
+            self.design.move_anchor(i, p);
+        }
         Ok(())
     }
 
@@ -328,7 +337,9 @@ impl LayoutDesigner {
     /// Whether the analysis is behind the committed loops.
     #[wasm_bindgen(js_name = analysisStale)]
     pub fn analysis_stale(&self) -> bool {
-        self.analysed != Some(self.design.revision())
+        self.analysed.as_ref().is_none_or(|(r, moves)| {
+            *r != self.design.revision() || moves.as_slice() != self.design.moves()
+        })
     }
 
     /// Strips, regions, singularities and the layout of the committed loops
@@ -336,10 +347,10 @@ impl LayoutDesigner {
     /// `analysis_glue`).
     pub fn analyze(&mut self) -> Result<Object, JsError> {
         let revision = self.design.revision();
-        if self.analysed != Some(revision) {
+        if self.analysis_stale() {
             let a = analysis_glue::analyze(&self.mesh, &mut self.design, &now_ms);
             self.analysis = Some(a);
-            self.analysed = Some(revision);
+            self.analysed = Some((revision, self.design.moves().to_vec()));
         }
         let out = match &self.analysis {
             Some(a) => analysis_to_js(a)?,
