@@ -68,6 +68,7 @@ self.onmessage = async (event) => {
       self.postMessage({ type: 'progress', text: `building the loop engine for ${m.name}…` });
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
+      designer.warmUp();
       const surface = designer.surface();
       self.postMessage({
         type: 'ready', faces: designer.faceCount(), inputFaces: designer.inputFaceCount(), proxy: designer.usesProxy(),

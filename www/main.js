@@ -1088,7 +1088,7 @@ function toggleDesign() {
 // while designing, also those that arrive meanwhile.
 function hideForDesign() {
   const clutter = (l) => l.visible && available.has(l.name) && l.name !== REGION_SURFACE
-    && (l.kind === 'lines' || l.kind === 'points' || l.kind === 'surface' || l.name === 'polygon edges' || l.name === 'picked');
+    && (l.kind === 'lines' || l.kind === 'points' || l.kind === 'surface' || ['polygon edges', 'picked', 'scalar'].includes(l.name));
   for (const l of LAYERS.filter(clutter)) {
     if (!hiddenForDesign.includes(l.name)) hiddenForDesign.push(l.name);
     setLayerVisible(l.name, false);

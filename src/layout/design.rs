@@ -223,6 +223,11 @@ impl LayoutDesign {
         self.proposal()
     }
 
+    /// Forgets the hover proposals (e.g. after a warm-up query).
+    pub fn clear_hover(&mut self) {
+        self.hover = None;
+    }
+
     /// The wheel: moves `delta` steps through the ranked alternatives at the
     /// hover point (computed on the first turn), wrapping around.
     pub fn browse(&mut self, delta: i32) -> Option<&DualLoop> {
@@ -482,11 +487,9 @@ impl LayoutDesign {
         } else {
             // Open curve: anchors ordered along it (increasing or decreasing).
             let increasing = sa[n - 1] >= sa[0];
-            let before = sa
-                .iter()
+            sa.iter()
                 .filter(|&&a| if increasing { a <= sp } else { a >= sp })
-                .count();
-            before
+                .count()
         }
     }
 
