@@ -92,6 +92,7 @@ export function createDesignMode(ctx) {
     stats.crashed = false;
     stats.ready = false;
     inputName = input.name;
+    stats.startedAt = performance.now();
     worker = new Worker(new URL('./layout-worker.js', import.meta.url), { type: 'module' });
     worker.onmessage = (event) => onMessage(event.data);
     worker.onerror = (event) => { event.preventDefault(); crashed(event.message || 'the layout worker stopped'); };
@@ -129,6 +130,8 @@ export function createDesignMode(ctx) {
         stats.faces = m.faces;
         stats.inputFaces = m.inputFaces;
         stats.buildMs = m.buildMs;
+        stats.wasmMs = m.wasmMs;
+        stats.readyAfterMs = performance.now() - stats.startedAt;
         surface = m.surface;
         $('design-note').textContent = (m.proxy
           ? `Designing on a proxy of ${m.faces} faces (vertex clustering of the ${m.inputFaces}-face input) so hovering stays fast. `

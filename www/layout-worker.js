@@ -18,7 +18,10 @@
 //                { type: 'error', message, fatal }              fatal: the worker must be replaced
 import init, { LayoutDesigner, takePanicMessage, panicForTesting } from './pkg/quadrille.js';
 
+const loaded = performance.now();
 const ready = init();
+let wasmMs = null;
+ready.then(() => { wasmMs = performance.now() - loaded; });
 let designer = null;
 let analysisQueued = false;
 
@@ -72,7 +75,7 @@ self.onmessage = async (event) => {
       const surface = designer.surface();
       self.postMessage({
         type: 'ready', faces: designer.faceCount(), inputFaces: designer.inputFaceCount(), proxy: designer.usesProxy(),
-        buildMs: performance.now() - started, surface,
+        buildMs: performance.now() - started, wasmMs, surface,
       }, transferables(surface));
     } else if (m.type === 'crash-for-testing') {
       panicForTesting();

@@ -515,7 +515,7 @@ async function hoverAndCommit(page, hit) {
   await page.waitForFunction((b) => window.quadrille.design.state.loops.length > b, before, { timeout: 20000 });
 }
 
-test('design mode: hovering draws the best loop fast, the wheel browses alternatives, a click adds an anchor', async (env) => {
+test('design mode: hovering draws the best loop fast; wheel, click, drag and grab edit it', async (env) => {
   const { page, errors } = await open(env, 'sample=torus');
   await waitForRun(page, 'torus.obj');
   await enterDesign(page);
@@ -540,7 +540,38 @@ test('design mode: hovering draws the best loop fast, the wheel browses alternat
   await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 3, null, { timeout: 20000 });
   const clicked = await designState(page);
   assert(clicked.anchors === 1 && clicked.proposal.length >= 9 && clicked.canUndo, `one anchor and its loop: ${clicked.anchors}`);
-  // Escape clears it (undoably).
+  // A drag from the surface: a directional anchor whose direction follows the pointer.
+  const from = path[Math.floor(path.length / 3)];
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 6; k++) await page.mouse.move(from.x + 6 * k, from.y + 3 * k);
+  await page.mouse.up();
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 6, null, { timeout: 20000 });
+  const dragged = await page.evaluate(() => [...window.quadrille.design.state.anchorDirections]);
+  assert(Math.hypot(dragged[3], dragged[4], dragged[5]) > 0.5, `the dragged anchor is directional: ${dragged}`);
+  assert(Math.hypot(dragged[0], dragged[1], dragged[2]) === 0, 'the clicked anchor is positional');
+  // Grab: press on the loop through the anchors and drag it: an anchor is inserted there.
+  await page.waitForFunction(() => window.quadrille.design.proposal.length >= 9, null, { timeout: 20000 });
+  const loop = await page.evaluate(() => [...window.quadrille.design.proposal]);
+  const anchorsNow = await page.evaluate(() => [...window.quadrille.design.state.anchors]);
+  const fine = await surfaceGrid(page, 8);
+  const d2 = (p, q) => (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
+  const onLoop = fine.filter((h) => {
+    let best = Infinity;
+    for (let i = 0; i < loop.length; i += 3) best = Math.min(best, d2(h.p, loop.slice(i, i + 3)));
+    const nearAnchor = [0, 3].some((i) => d2(h.p, anchorsNow.slice(i, i + 3)) < 0.05 ** 2);
+    return best < 0.006 ** 2 && !nearAnchor;
+  });
+  assert(onLoop.length > 0, 'some pixels lie on the drawn loop');
+  const grab = onLoop[Math.floor(onLoop.length / 2)];
+  await page.mouse.move(grab.x, grab.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 5; k++) await page.mouse.move(grab.x + 4 * k, grab.y - 4 * k);
+  await page.mouse.up();
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 9, null, { timeout: 20000 });
+  const grabbed = await designState(page);
+  assert(grabbed.proposal.length >= 9, 'the loop through three anchors exists');
+  // Escape clears them (undoably).
   await page.keyboard.press('Escape');
   await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 0, null, { timeout: 20000 });
   assert((await page.textContent('#shortcuts-close')) && !(await page.isHidden('#design-panel')), 'still in the mode');
@@ -636,11 +667,12 @@ test('design mode on real meshes: hover latency and a designed layout', async (e
     await waitForRun(page, `${sample}.obj`);
     const started = Date.now();
     await enterDesign(page, 300000);
-    const d = await page.evaluate(() => ({ faces: window.quadrille.design.faces, inputFaces: window.quadrille.design.inputFaces, proxy: window.quadrille.design.proxy, buildMs: window.quadrille.design.buildMs }));
+    const d = await page.evaluate(() => ({ faces: window.quadrille.design.faces, inputFaces: window.quadrille.design.inputFaces, proxy: window.quadrille.design.proxy, buildMs: window.quadrille.design.buildMs,
+      wasmMs: window.quadrille.design.wasmMs, readyAfterMs: window.quadrille.design.readyAfterMs }));
     const hits = await surfaceGrid(page);
     const path = hits.filter((_, i) => i % Math.max(1, Math.floor(hits.length / 25)) === 0).slice(0, 25);
     const latency = await hoverLatency(page, path);
-    console.log(`      [${env.backend}] ${sample} (${d.inputFaces} faces${d.proxy ? `, proxy ${d.faces}` : ''}): engine built in ${d.buildMs.toFixed(0)} ms (mode ready after ${Date.now() - started} ms); hover-to-draw median ${latency.median.toFixed(1)} ms (max ${latency.max.toFixed(1)}), loop query in the worker ${latency.workerMedian.toFixed(1)} ms`);
+    console.log(`      [${env.backend}] ${sample} (${d.inputFaces} faces${d.proxy ? `, proxy ${d.faces}` : ''}): engine built in ${d.buildMs.toFixed(0)} ms (worker's wasm ready in ${d.wasmMs.toFixed(0)} ms, mode ready ${d.readyAfterMs.toFixed(0)} ms after T); hover-to-draw median ${latency.median.toFixed(1)} ms (max ${latency.max.toFixed(1)}), loop query in the worker ${latency.workerMedian.toFixed(1)} ms`);
     if (d.proxy) assert((await page.textContent('#design-note')).includes('proxy'), 'the panel says the design runs on a proxy');
     if (commits) {
       const byY = [...hits].sort((a, b) => a.y - b.y);
