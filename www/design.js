@@ -335,7 +335,8 @@ export function createDesignMode(ctx) {
   // ---------------------------------------------------------------- input
 
   function onHoverMove(e) {
-    if (!stats.ready || gesture) return;
+    // With anchors the loop is theirs: hovering does not change it.
+    if (!stats.ready || gesture || (stats.state && stats.state.anchors.length)) return;
     const p = ctx.pick(e.clientX, e.clientY);
     if (p) sendHover(p, performance.now());
   }
