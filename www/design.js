@@ -67,7 +67,7 @@ export function createDesignMode(ctx) {
   const stats = {
     active: false, ready: false, crashed: false, state: null, analysis: null, proxy: false,
     faces: 0, inputFaces: 0, buildMs: null, hoverLatencies: [], hoverWorkerMs: [], hoverReplies: 0,
-    analyses: 0, lastDrawn: 0, exportCount: 0,
+    analyses: 0, lastDrawn: 0, exportCount: 0, actionMs: {},
   };
   let worker = null;
   let inputName = null;
@@ -150,6 +150,7 @@ export function createDesignMode(ctx) {
       }
       case 'state':
         actionBusy = false;
+        (stats.actionMs[m.action] ??= []).push(m.ms);
         onState(m.state, m.t);
         if (m.action === 'commit' && m.value === 0 && !m.state.error) ctx.setStatus('nothing to commit: hover over the surface first');
         if (dragNext) { const d = dragNext; dragNext = null; action(d.name, d.args, d.t); }

@@ -679,7 +679,8 @@ test('design mode on real meshes: hover latency and a designed layout', async (e
       for (let k = 0; k < commits; k++) await hoverAndCommit(page, byY[Math.floor(byY.length * (k + 0.5) / commits)]);
       await waitForAnalysis(page);
       const a = await page.evaluate(() => window.quadrille.design.analysis);
-      console.log(`      [${env.backend}] ${sample}, ${commits} strips: ${JSON.stringify(a.counts)} · ${a.status} · timings ${JSON.stringify(a.timings)}`);
+      const commitMs = await page.evaluate(() => window.quadrille.design.actionMs.commit.map((x) => Math.round(x)));
+      console.log(`      [${env.backend}] ${sample}, ${commits} strips: ${JSON.stringify(a.counts)} · ${a.status} · timings ${JSON.stringify(a.timings)} · commit ${commitMs} ms · analysis ${Math.round(await page.evaluate(() => window.quadrille.design.analysisMs))} ms`);
       await page.mouse.move(0, 0);
       await settle(page);
       await page.screenshot({ path: join(artifacts, `design-${sample}-${env.backend}.png`) });
