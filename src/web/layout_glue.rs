@@ -140,6 +140,36 @@ pub fn loops_obj(design: &LayoutDesign) -> String {
     out
 }
 
+/// The status line of §4.2: sufficient or how many regions are red, with
+/// the orange and yellow hints.
+pub fn status_line(c: &Counts) -> String {
+    let mut s = if c.red > 0 {
+        format!(
+            "{} region{} {} not {} (red): add strips to split {}",
+            c.red,
+            plural(c.red),
+            if c.red == 1 { "is" } else { "are" },
+            if c.red == 1 { "a disc" } else { "discs" },
+            if c.red == 1 { "it" } else { "them" },
+        )
+    } else {
+        format!(
+            "{} strip{} · {} region{} · topologically sufficient",
+            c.strips,
+            plural(c.strips),
+            c.regions,
+            plural(c.regions)
+        )
+    };
+    if c.orange > 0 {
+        s += &format!(" · {} orange (curvature extrema)", c.orange);
+    }
+    if c.yellow > 0 {
+        s += &format!(" · {} yellow (valence)", c.yellow);
+    }
+    s
+}
+
 pub fn plural(n: usize) -> &'static str {
     if n == 1 { "" } else { "s" }
 }
@@ -158,6 +188,28 @@ mod tests {
     use super::*;
     use crate::layout::{ElasticaParams, LoopEngine};
     use crate::mesh::generate::torus;
+
+    #[test]
+    fn status_line_says_sufficient_or_counts_red() {
+        let mut c = Counts {
+            strips: 3,
+            regions: 2,
+            ..Counts::default()
+        };
+        assert_eq!(
+            status_line(&c),
+            "3 strips · 2 regions · topologically sufficient"
+        );
+        c.red = 2;
+        assert_eq!(
+            status_line(&c),
+            "2 regions are not discs (red): add strips to split them"
+        );
+        c.red = 1;
+        c.yellow = 1;
+        assert!(status_line(&c).starts_with("1 region is not a disc (red)"));
+        assert!(status_line(&c).ends_with("1 yellow (valence)"));
+    }
 
     #[test]
     fn stand_in_draws_each_committed_loop_in_its_colour() {
