@@ -103,7 +103,7 @@ function resizeCanvas() {
   }
   if (viewer) {
     viewer.resize(w, h);
-    viewer.set_line_width(1.25 * dpr);
+    viewer.set_line_width((design.active ? 2.5 : 1.25) * dpr);
     requestRender();
   }
 }
@@ -1075,12 +1075,15 @@ const design = createDesignMode({
 function toggleDesign() {
   if (design.active) {
     design.leave();
+    if (viewer) viewer.set_line_width(1.25 * dpr());
     for (const name of hiddenForDesign) setLayerVisible(name, true);
     hiddenForDesign = [];
     return;
   }
   design.enter();
   if (!design.active) return;
+  // Loops and stripes are the content now: thicker lines.
+  if (viewer) viewer.set_line_width(2.5 * dpr());
   hideForDesign();
   if (drawnSurface !== 'input') showSurface();
 }

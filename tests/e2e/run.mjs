@@ -607,6 +607,9 @@ test('design mode: three loops on the torus give strips and a valid layout; undo
   await waitForAnalysis(page);
   const a = await page.evaluate(() => window.quadrille.design.analysis);
   console.log(`      [${env.backend}] torus, 3 strips: ${JSON.stringify(a.counts)} · ${a.status} · timings ${JSON.stringify(a.timings)}`);
+  await page.mouse.move(0, 0);
+  await settle(page);
+  await page.screenshot({ path: join(artifacts, `design-torus-${env.backend}.png`) });
   assert(a.available, `the strip analysis ran: ${a.status}`);
   assert(a.counts.strips === 3 && a.counts.red === 0 && a.sufficient, `no red regions: ${JSON.stringify(a.counts)}`);
   assert(a.stripes.length > 0, 'stripes are drawn');
@@ -614,7 +617,6 @@ test('design mode: three loops on the torus give strips and a valid layout; undo
   assert(V - E + F === 0, `V − E + F = ${V} − ${E} + ${F} = 0 on the torus`);
   assert(a.patchCorners.length === F && a.patchCorners.every((c) => c === 4), `every patch has 4 corners: ${a.patchCorners}`);
   assert((await page.textContent('#design-status')).includes('topologically sufficient'), 'the status line says sufficient');
-  await page.screenshot({ path: join(artifacts, `design-torus-${env.backend}.png`) });
   // Undo: the previous loops exactly, and the analysis follows.
   await page.keyboard.press('Control+z');
   await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, { timeout: 20000 });
