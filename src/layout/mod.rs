@@ -19,11 +19,15 @@ pub mod design;
 pub mod elastica;
 pub mod embed;
 pub mod loops;
+pub mod parametrization;
 pub mod proxy;
+pub mod strip_field;
+pub mod strips;
 pub mod surface_graph;
 
 pub use design::{LayoutDesign, Mirror};
 pub use elastica::{ElasticaGraph, ElasticaParams};
-pub use embed::{EdgeCrossing, EmbeddedLoop, Singularity};
+pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
 pub use loops::{Anchor, DualLoop, LoopEngine};
+pub use strips::{Strip, StripAnalysis, StripParams, strip_analysis};
 pub use surface_graph::SurfaceGraph;

@@ -3,14 +3,14 @@
 //! strips, §7 the primal layout), as flat arrays: the one place where the
 //! layout analysis meets the page. Native, so it is unit-tested.
 //!
-//! Deviation: until the strip analysis exists the strips are drawn as their
-//! spinal loops and there is no region colouring, singularities or layout
-//! (`available: false`).
+//! Deviation: until the regions and the primal layout exist there is no
+//! region colouring or layout.
 
 use glam::DVec3;
 use serde::Serialize;
 
 use crate::layout::design::{LayoutDesign, Mirror};
+use crate::layout::{EmbeddedLoop, LoopEmbedder, StripParams, strip_analysis};
 use crate::mesh::TriMesh;
 
 /// ColorBrewer Set1/Dark2-like distinct strip colours.
@@ -36,6 +36,9 @@ pub const REGION_YELLOW: f32 = 11.0;
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Counts {
     pub strips: usize,
+    /// Strips the analysis could grow (a loop that fails to embed or to
+    /// grow has none).
+    pub strips_grown: usize,
     pub regions: usize,
     pub red: usize,
     pub orange: usize,
@@ -50,6 +53,7 @@ pub struct Counts {
 pub struct Timings {
     pub field_ms: f64,
     pub parametrization_ms: f64,
+    pub strips_ms: f64,
     pub regions_ms: f64,
     pub layout_ms: f64,
     pub total_ms: f64,
@@ -68,6 +72,8 @@ pub struct Analysis {
     /// Singularity positions (xyz) and colours (valence 3 blue, 5 red).
     pub singularities: Vec<f32>,
     pub singularity_colours: Vec<u8>,
+    /// Their indices in quarter turns.
+    pub singularity_index: Vec<i32>,
     /// Layout vertices (xyz) and edges (segments).
     pub layout_vertices: Vec<f32>,
     pub layout_edges: Vec<f32>,
@@ -80,39 +86,88 @@ pub struct Analysis {
     pub json: String,
 }
 
-/// Runs the analysis of the committed loops on `mesh`; `clock` gives
-/// milliseconds. Feeds the covered directions back to the engine (§6.2).
-pub fn analyze(_mesh: &TriMesh, design: &mut LayoutDesign, _clock: &dyn Fn() -> f64) -> Analysis {
-    let committed = design.committed();
+/// Runs the analysis of the committed loops on `mesh`: embeds them (§6.1
+/// needs them on the triangulation), runs §6 ([`strip_analysis`]) and feeds
+/// its covered directions back to the engine (§6.2). `_clock` gives
+/// milliseconds (the analysis times itself).
+pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, _clock: &dyn Fn() -> f64) -> Analysis {
     let mut a = Analysis {
         counts: Counts {
-            strips: committed.len(),
+            strips: design.committed().len(),
             ..Counts::default()
         },
         ..Analysis::default()
     };
-    // Stand-in: each strip drawn as its spinal loop.
-    for (i, c) in committed.iter().enumerate() {
-        let colour = strip_colour(i);
-        for w in c.dual.points.windows(2) {
-            push_segment(&mut a.stripes, w[0], w[1]);
+    let mut notes = Vec::new();
+    // Committed loop index of each embedded loop.
+    let mut embedded: Vec<EmbeddedLoop> = Vec::new();
+    let mut committed_of: Vec<usize> = Vec::new();
+    if !design.committed().is_empty() {
+        match LoopEmbedder::new(mesh) {
+            Ok(embedder) => {
+                for (i, c) in design.committed().iter().enumerate() {
+                    match embedder.embed(&c.dual.points, c.dual.closed) {
+                        Ok(l) => {
+                            embedded.push(l);
+                            committed_of.push(i);
+                        }
+                        Err(e) => notes.push(format!("strip {}: {e}", i + 1)),
+                    }
+                }
+            }
+            Err(e) => notes.push(e.to_string()),
+        }
+    }
+    let strips = strip_analysis(mesh, &embedded, &StripParams::default());
+    a.available = true;
+    a.timings.field_ms = strips.field_ms;
+    a.timings.parametrization_ms = strips.parametrization_ms;
+    a.timings.strips_ms = strips.strips_ms;
+    for s in &strips.strips {
+        let colour = strip_colour(committed_of.get(s.loop_index).copied().unwrap_or(0));
+        for [p, q] in s.stripe_segments(mesh, strips.spacing) {
+            push_segment(&mut a.stripes, p, q);
             a.stripe_colours.extend(colour);
         }
     }
+    for s in &strips.singularities {
+        if let Some(&p) = mesh.positions.get(s.vertex as usize) {
+            push_point(&mut a.singularities, p);
+            a.singularity_index.push(s.index);
+            // Index +1 (valence-3-like corner) blue, −1 (valence 5) red.
+            a.singularity_colours.extend(if s.index > 0 {
+                SINGULARITY_3
+            } else {
+                SINGULARITY_5
+            });
+        }
+    }
+    a.counts.singularities = strips.singularities.len();
+    if !strips.covered.is_empty() {
+        design.apply_covered(design.revision(), &strips.covered);
+    }
+    notes.extend(strips.notes.iter().cloned());
+    a.counts.strips_grown = strips.strips.len();
     a.status = format!(
-        "{} strip{} · the strip analysis is not available in this build",
+        "{} strip{} · regions and layout are not available in this build",
         a.counts.strips,
         plural(a.counts.strips)
     );
+    if !notes.is_empty() {
+        a.status += &format!(" · {}", notes.join("; "));
+    }
+    a.timings.total_ms = a.timings.field_ms + a.timings.parametrization_ms + a.timings.strips_ms;
     a.obj = loops_obj(design);
     a.json = serde_json::json!({
         "strips": a.counts.strips,
-        "patches": a.counts.patches,
         "loops": design.committed().iter().map(|c| c.dual.points.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()).collect::<Vec<_>>(),
     })
     .to_string();
     a
 }
+
+const SINGULARITY_3: [u8; 4] = [31, 111, 221, 255];
+const SINGULARITY_5: [u8; 4] = [216, 52, 44, 255];
 
 /// A reflection plane detected on the mesh (the "auto" symmetry option).
 pub fn detect_mirror(_mesh: &TriMesh) -> Option<Mirror> {
@@ -212,18 +267,23 @@ mod tests {
     }
 
     #[test]
-    fn stand_in_draws_each_committed_loop_in_its_colour() {
+    fn one_meridian_on_the_torus_gives_one_strip_with_stripes() {
         let mesh = torus(2.0, 0.7, 30, 12);
         let mut d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
         d.hover(DVec3::new(2.7, 0.0, 0.0));
         d.commit().unwrap();
         let a = analyze(&mesh, &mut d, &|| 0.0);
-        let n = d.committed()[0].dual.points.len() - 1;
-        assert_eq!(a.stripes.len(), 6 * n);
-        assert_eq!(a.stripe_colours.len(), 4 * n);
+        assert!(a.available);
         assert_eq!(a.counts.strips, 1);
+        assert_eq!(a.counts.strips_grown, 1, "{}", a.status);
+        assert!(!a.stripes.is_empty());
+        assert_eq!(a.stripes.len() / 6, a.stripe_colours.len() / 4);
+        assert!(a.stripe_colours.chunks(4).all(|c| c == strip_colour(0)));
+        // Poincaré–Hopf: the indices sum to 4χ quarter turns, 0 on a torus.
+        assert_eq!(a.singularity_index.iter().sum::<i32>(), 0);
+        let n = d.committed()[0].dual.points.len();
         let v = a.obj.lines().filter(|l| l.starts_with("v ")).count();
-        assert_eq!(v, n + 1);
+        assert_eq!(v, n);
         let json: serde_json::Value = serde_json::from_str(&a.json).unwrap();
         assert_eq!(json["strips"], 1);
     }
