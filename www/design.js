@@ -133,6 +133,8 @@ export function createDesignMode(ctx) {
         stats.wasmMs = m.wasmMs;
         stats.readyAfterMs = performance.now() - stats.startedAt;
         surface = m.surface;
+        // On a proxy, the proxy is drawn: the loops lie on it, not on the input.
+        if (m.proxy) ctx.setRegionSurface(proxySurface());
         $('design-note').textContent = (m.proxy
           ? `Designing on a proxy of ${m.faces} faces (vertex clustering of the ${m.inputFaces}-face input) so hovering stays fast. `
           : `${m.faces} faces. `) + `Loop engine built in ${m.buildMs.toFixed(0)} ms.`;
@@ -245,9 +247,27 @@ export function createDesignMode(ctx) {
     setPoints('strip singularities', a.singularities, a.singularityColours.length ? a.singularityColours : new Uint8Array([31, 111, 221, 255]), 9);
     setLines('layout edges', a.layoutEdges, new Uint8Array(COLOURS.layoutEdge));
     setPoints('layout vertices', a.layoutVertices, new Uint8Array(COLOURS.layoutVertex), 9);
-    ctx.setRegionSurface(a.regionCategory.length && surface ? regionSurface(a.regionCategory) : null);
+    ctx.setRegionSurface(a.regionCategory.length && surface ? regionSurface(a.regionCategory) : stats.proxy ? proxySurface() : null);
     updatePanel();
     ctx.requestRender();
+  }
+
+  // The proxy as an indexed surface with area-weighted vertex normals.
+  function proxySurface() {
+    const { positions: p, triangles: t } = surface;
+    const normals = new Float32Array(p.length);
+    for (let f = 0; f < t.length; f += 3) {
+      const [a, b, c] = [t[f], t[f + 1], t[f + 2]];
+      const u = [p[3 * b] - p[3 * a], p[3 * b + 1] - p[3 * a + 1], p[3 * b + 2] - p[3 * a + 2]];
+      const v = [p[3 * c] - p[3 * a], p[3 * c + 1] - p[3 * a + 1], p[3 * c + 2] - p[3 * a + 2]];
+      const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+      for (const i of [a, b, c]) for (let k = 0; k < 3; k++) normals[3 * i + k] += n[k];
+    }
+    for (let i = 0; i < normals.length; i += 3) {
+      const len = Math.hypot(normals[i], normals[i + 1], normals[i + 2]) || 1;
+      for (let k = 0; k < 3; k++) normals[i + k] /= len;
+    }
+    return { name: REGION_SURFACE, positions: p, triangles: t, normals, scalar: null };
   }
 
   // An unindexed per-face copy of the design mesh coloured by region category.
@@ -450,6 +470,7 @@ export function createDesignMode(ctx) {
       stats.hoverWorkerMs = [];
       start();
     } else if (stats.state) {
+      if (stats.proxy && surface) ctx.setRegionSurface(proxySurface());
       onState(stats.state);
       if (stats.analysis) onAnalysis(stats.analysis, stats.analysisMs);
     }

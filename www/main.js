@@ -296,7 +296,8 @@ function showSurface() {
     drawnSurface = name;
     if (on) {
       const e = s.scalar;
-      viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
+      if (e) viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
+      else viewer.clear_scalar();
     } else {
       setScalar(scalarName);
     }
@@ -1050,7 +1051,8 @@ function setRegionSurface(surface) {
   if (surface) {
     extraSurfaces[REGION_SURFACE] = surface;
     for (const l of LAYERS) if (l.kind === 'surface') l.visible = false;
-    LAYERS.push({ name: REGION_SURFACE, label: 'Layout regions', kind: 'surface', color: '#e31a1c', color2: '#ff7f00', visible: true });
+    const label = surface.scalar ? 'Layout regions' : 'Design proxy';
+    LAYERS.push({ name: REGION_SURFACE, label, kind: 'surface', color: surface.scalar ? '#e31a1c' : '#c8cdd8', color2: surface.scalar ? '#ff7f00' : undefined, visible: true });
     available.add(REGION_SURFACE);
   }
   showSurface();

@@ -664,7 +664,7 @@ test('design mode: the page survives a crashed layout worker and the mode restar
 });
 
 test('design mode on real meshes: hover latency and a designed layout', async (env) => {
-  for (const [sample, commits] of [['rocker-arm', 3], ['stanford-bunny', 0]]) {
+  for (const [sample, commits] of [['rocker-arm', 3], ['stanford-bunny', 3]]) {
     const { page, errors } = await open(env, `sample=${sample}`);
     await waitForRun(page, `${sample}.obj`);
     const started = Date.now();
