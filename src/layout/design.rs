@@ -18,8 +18,8 @@
 //!   design runs on the whole surface and a committed loop's mirror image is
 //!   added as a second strip: the loop through the mirrored anchors (or, for a
 //!   hover proposal, through three mirrored directional samples of the loop),
-//!   unless the loop is its own mirror image (mean distance to it under 2 %
-//!   of the bounding-box diagonal), in which case no copy is added.
+//!   unless the loop is its own mirror image ([`is_self_symmetric`] within
+//!   2 % of the bounding-box diagonal), in which case no copy is added.
 //! - Wheel alternatives are those of [`LoopEngine::loops_through`] (one per
 //!   direction class); with anchors placed the wheel does nothing (the loop
 //!   is determined by the anchors).
@@ -31,6 +31,7 @@
 use glam::DVec3;
 
 use super::loops::{Anchor, DualLoop, LoopEngine};
+use super::symmetry::{MirrorPlane, is_self_symmetric};
 
 /// At most this many wheel alternatives are computed per hover point.
 pub const MAX_ALTERNATIVES: usize = 8;
@@ -41,33 +42,12 @@ pub const COVER_HALF_WIDTH: f64 = 0.04;
 /// image is self-symmetric.
 const SELF_SYMMETRIC: f64 = 0.02;
 
-/// A reflection plane {x : (x − point)·normal = 0}.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Mirror {
-    pub point: DVec3,
-    pub normal: DVec3,
-}
-
-impl Mirror {
-    /// `None` for a zero or non-finite normal.
-    pub fn new(point: DVec3, normal: DVec3) -> Option<Mirror> {
-        let normal = normal.try_normalize()?;
-        point.is_finite().then_some(Mirror { point, normal })
-    }
-
-    pub fn reflect_point(&self, p: DVec3) -> DVec3 {
-        p - 2.0 * (p - self.point).dot(self.normal) * self.normal
-    }
-
-    pub fn reflect_direction(&self, d: DVec3) -> DVec3 {
-        d - 2.0 * d.dot(self.normal) * self.normal
-    }
-
-    pub fn reflect_anchor(&self, a: &Anchor) -> Anchor {
-        Anchor {
-            position: self.reflect_point(a.position),
-            direction: self.reflect_direction(a.direction),
-        }
+/// The mirror image of an anchor (position and direction).
+fn reflect_anchor(m: &MirrorPlane, a: &Anchor) -> Anchor {
+    let d = a.direction;
+    Anchor {
+        position: m.reflect(a.position),
+        direction: d - 2.0 * d.dot(m.normal) * m.normal,
     }
 }
 
@@ -129,7 +109,7 @@ pub struct LayoutDesign {
     /// The loop through the anchors (None without anchors or when none exists).
     constrained: Option<DualLoop>,
     hover: Option<Hover>,
-    mirror: Option<Mirror>,
+    mirror: Option<MirrorPlane>,
     undo: Vec<Snapshot>,
     redo: Vec<Snapshot>,
     /// Bumped whenever the committed loops change.
@@ -180,13 +160,13 @@ impl LayoutDesign {
         self.revision
     }
 
-    pub fn mirror(&self) -> Option<Mirror> {
+    pub fn mirror(&self) -> Option<MirrorPlane> {
         self.mirror
     }
 
     /// Sets or clears the mirror plane used by later commits (a setting, not
     /// an undoable action).
-    pub fn set_mirror(&mut self, mirror: Option<Mirror>) {
+    pub fn set_mirror(&mut self, mirror: Option<MirrorPlane>) {
         self.mirror = mirror;
     }
 
@@ -497,16 +477,17 @@ impl LayoutDesign {
     /// its own mirror image or no mirrored loop exists.
     fn mirror_loop(
         &mut self,
-        m: &Mirror,
+        m: &MirrorPlane,
         dual: &DualLoop,
         anchors: &[Anchor],
     ) -> Option<CommittedLoop> {
-        let mirrored: Vec<DVec3> = dual.points.iter().map(|&p| m.reflect_point(p)).collect();
-        if mean_distance(&mirrored, &dual.points) < SELF_SYMMETRIC * self.engine.graph.g.diagonal {
+        let mirrored: Vec<DVec3> = dual.points.iter().map(|&p| m.reflect(p)).collect();
+        let tol = SELF_SYMMETRIC * self.engine.graph.g.diagonal;
+        if is_self_symmetric(&dual.points, &mirrored, tol) {
             return None;
         }
         let mut mirrored_anchors: Vec<Anchor> =
-            anchors.iter().map(|a| m.reflect_anchor(a)).collect();
+            anchors.iter().map(|a| reflect_anchor(m, a)).collect();
         if mirrored_anchors.len() < 2 {
             mirrored_anchors = samples_with_tangents(&mirrored, 3)
                 .into_iter()
@@ -556,23 +537,6 @@ fn tangent_at(l: &DualLoop, p: DVec3) -> Option<DVec3> {
         .and_then(|w| (w[1] - w[0]).try_normalize())
 }
 
-/// Mean over `a` of the distance to the nearest point of `b`'s vertices.
-fn mean_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
-    if a.is_empty() || b.is_empty() {
-        return f64::INFINITY;
-    }
-    let sum: f64 = a
-        .iter()
-        .map(|p| {
-            b.iter()
-                .map(|q| p.distance_squared(*q))
-                .fold(f64::INFINITY, f64::min)
-                .sqrt()
-        })
-        .sum();
-    sum / a.len() as f64
-}
-
 /// `count` points evenly spaced by arc length along a polyline, with unit
 /// tangents.
 fn samples_with_tangents(points: &[DVec3], count: usize) -> Vec<(DVec3, DVec3)> {
@@ -603,6 +567,23 @@ mod tests {
     use super::*;
     use crate::layout::ElasticaParams;
     use crate::mesh::generate::torus;
+
+    /// Mean over `a` of the distance to the nearest point of `b`'s vertices.
+    fn mean_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
+        if a.is_empty() || b.is_empty() {
+            return f64::INFINITY;
+        }
+        let sum: f64 = a
+            .iter()
+            .map(|p| {
+                b.iter()
+                    .map(|q| p.distance_squared(*q))
+                    .fold(f64::INFINITY, f64::min)
+                    .sqrt()
+            })
+            .sum();
+        sum / a.len() as f64
+    }
 
     fn torus_design() -> LayoutDesign {
         let mesh = torus(2.0, 0.7, 40, 16);
@@ -732,17 +713,17 @@ mod tests {
     fn a_mirror_plane_adds_the_mirror_image_unless_self_symmetric() {
         let mut d = torus_design();
         // Plane x = 0: a meridian loop at u = 0.4 has its image at u = π − 0.4.
-        d.set_mirror(Mirror::new(DVec3::ZERO, DVec3::X));
+        d.set_mirror(MirrorPlane::new(DVec3::ZERO, DVec3::X));
         d.add_anchor(on_torus(0.4, 0.0), Some(DVec3::Z));
         assert_eq!(d.commit(), Ok(2));
         let image = &d.committed()[1];
         assert!(image.mirrored);
-        let m = Mirror::new(DVec3::ZERO, DVec3::X).unwrap();
+        let m = MirrorPlane::new(DVec3::ZERO, DVec3::X).unwrap();
         let reflected: Vec<DVec3> = d.committed()[0]
             .dual
             .points
             .iter()
-            .map(|&p| m.reflect_point(p))
+            .map(|&p| m.reflect(p))
             .collect();
         assert!(
             mean_distance(&image.dual.points, &reflected) < 0.05,

@@ -1,7 +1,7 @@
 //! Dual strip weaving (Campen & Kobbelt 2014, *Dual Strip Weaving:
-//! Interactive Design of Quad Layouts using Elastica Strips*), part 1: the
-//! elastica loop engine of §5.2–§5.7 and the strip compatibility of §6.2.
+//! Interactive Design of Quad Layouts using Elastica Strips*).
 //!
+//! The loop engine (§5):
 //! - [`surface_graph`]: g, the k-ring neighbourhood graph with approximate
 //!   geodesic edges (§5.3);
 //! - [`elastica`]: g′, its line graph with curved-edge weights (§5.3),
@@ -10,6 +10,23 @@
 //! - [`loops`]: constrained dual loops through anchors via shortest paths and
 //!   a metagraph (§5.4), dual curves ending on the boundary (§5.7), ranked
 //!   alternatives for one anchor, and disabling covered nodes (§6.2).
+//!
+//! From loops to strips, regions and the layout (§4.2, §5.8, §6, §7):
+//! - [`embed`]: a loop as the sequence of mesh edges it crosses;
+//! - [`strip_field`]: the cross field aligned with all committed loops and
+//!   its singularities (§6.1);
+//! - [`parametrization`]: the global parametrization with every loop on an
+//!   isoline (§6.1);
+//! - [`strips`]: each loop's strip grown to the singularities, its stripes
+//!   and the covered directions for §6.2;
+//! - [`regions`]: the regions between loops and their guidance colours
+//!   (§4.2);
+//! - [`primal`]: the quad layout implied by the loops, and its export (§7);
+//! - [`symmetry`]: reflectional symmetry (§5.8).
+//!
+//! The design tool (§4.1): [`design`], the undoable session (hover, wheel,
+//! anchors, commit, delete, mirror copies); [`proxy`], a coarse stand-in for
+//! large meshes.
 //!
 //! Build once per mesh with [`LoopEngine::new`], then query
 //! [`LoopEngine::best_loop`] (hover), [`LoopEngine::loops_through`]
@@ -20,12 +37,15 @@ pub mod elastica;
 pub mod embed;
 pub mod loops;
 pub mod parametrization;
+pub mod primal;
 pub mod proxy;
+pub mod regions;
 pub mod strip_field;
 pub mod strips;
 pub mod surface_graph;
+pub mod symmetry;
 
-pub use design::{LayoutDesign, Mirror};
+pub use design::LayoutDesign;
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
 pub use loops::{Anchor, DualLoop, LoopEngine};

@@ -11,7 +11,8 @@ use js_sys::{Array, Float32Array, Object, Reflect, Uint8Array};
 use wasm_bindgen::prelude::*;
 
 use super::layout_glue as analysis_glue;
-use crate::layout::design::{DesignError, LayoutDesign, Mirror};
+use crate::layout::design::{DesignError, LayoutDesign};
+use crate::layout::symmetry::MirrorPlane;
 use crate::layout::{ElasticaParams, LoopEngine, proxy};
 use crate::mesh::TriMesh;
 
@@ -294,9 +295,9 @@ impl LayoutDesigner {
             .bbox()
             .map_or(DVec3::ZERO, |b| (b.min + b.max) * 0.5);
         let mirror = match mode {
-            "x" => Mirror::new(centre, DVec3::X),
-            "y" => Mirror::new(centre, DVec3::Y),
-            "z" => Mirror::new(centre, DVec3::Z),
+            "x" => MirrorPlane::new(centre, DVec3::X),
+            "y" => MirrorPlane::new(centre, DVec3::Y),
+            "z" => MirrorPlane::new(centre, DVec3::Z),
             "auto" => analysis_glue::detect_mirror(&self.mesh),
             _ => None,
         };
@@ -384,6 +385,9 @@ impl LayoutDesigner {
             .ok_or_else(|| JsError::new("nothing designed yet"))?;
         match format {
             "obj" => Ok(a.obj.clone()),
+            "json" if a.json.is_empty() => Err(JsError::new(
+                "there is no layout yet: every region must be a disc (no red)",
+            )),
             "json" => Ok(a.json.clone()),
             _ => Err(JsError::new(&format!("unknown layout format {format}"))),
         }

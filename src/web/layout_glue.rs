@@ -3,13 +3,17 @@
 //! strips, §7 the primal layout), as flat arrays: the one place where the
 //! layout analysis meets the page. Native, so it is unit-tested.
 //!
-//! Deviation: until the regions and the primal layout exist there is no
-//! region colouring or layout.
+//! The layout's OBJ and JSON are [`QuadLayout::to_obj`] and
+//! [`QuadLayout::to_json`]; without a layout (regions not all discs) the
+//! OBJ holds the committed loops as polylines and the JSON is empty.
 
 use glam::DVec3;
 use serde::Serialize;
 
-use crate::layout::design::{LayoutDesign, Mirror};
+use crate::layout::design::LayoutDesign;
+use crate::layout::primal::QuadLayout;
+use crate::layout::regions::{Guidance, Regions};
+use crate::layout::symmetry::{MirrorPlane, detect};
 use crate::layout::{EmbeddedLoop, LoopEmbedder, StripParams, strip_analysis};
 use crate::mesh::TriMesh;
 
@@ -88,9 +92,10 @@ pub struct Analysis {
 
 /// Runs the analysis of the committed loops on `mesh`: embeds them (§6.1
 /// needs them on the triangulation), runs §6 ([`strip_analysis`]) and feeds
-/// its covered directions back to the engine (§6.2). `_clock` gives
-/// milliseconds (the analysis times itself).
-pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, _clock: &dyn Fn() -> f64) -> Analysis {
+/// its covered directions back to the engine (§6.2), then finds the regions
+/// (§4.2) and, when they are all discs, the primal layout (§7) with the
+/// user's vertex moves. `clock` gives milliseconds.
+pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f64) -> Analysis {
     let mut a = Analysis {
         counts: Counts {
             strips: design.committed().len(),
@@ -98,6 +103,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, _clock: &dyn Fn() -> f
         },
         ..Analysis::default()
     };
+    a.obj = loops_obj(design);
     let mut notes = Vec::new();
     // Committed loop index of each embedded loop.
     let mut embedded: Vec<EmbeddedLoop> = Vec::new();
@@ -148,21 +154,82 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, _clock: &dyn Fn() -> f
     }
     notes.extend(strips.notes.iter().cloned());
     a.counts.strips_grown = strips.strips.len();
-    a.status = format!(
-        "{} strip{} · regions and layout are not available in this build",
-        a.counts.strips,
-        plural(a.counts.strips)
-    );
+
+    // §4.2: the regions between the loops and their guidance colours.
+    let started = clock();
+    let mut layout = None;
+    match Regions::compute(mesh, &embedded, &strips.singularities) {
+        Ok(regions) => {
+            a.counts.regions = regions.regions.len();
+            for r in &regions.regions {
+                match r.guidance {
+                    Guidance::NonDisc => a.counts.red += 1,
+                    Guidance::CurvatureExtrema => a.counts.orange += 1,
+                    Guidance::ValenceMismatch => a.counts.yellow += 1,
+                    Guidance::Ok => {}
+                }
+            }
+            a.region_category = regions
+                .face_region
+                .iter()
+                .map(
+                    |&r| match regions.regions.get(r as usize).map(|r| r.guidance) {
+                        Some(Guidance::NonDisc) => REGION_RED,
+                        Some(Guidance::CurvatureExtrema) => REGION_ORANGE,
+                        Some(Guidance::ValenceMismatch) => REGION_YELLOW,
+                        _ => REGION_OK,
+                    },
+                )
+                .collect();
+            a.sufficient = regions.sufficient && !embedded.is_empty();
+            a.timings.regions_ms = clock() - started;
+            // §7: the primal layout, with the user's vertex moves.
+            if a.sufficient {
+                let started = clock();
+                match QuadLayout::build(mesh, &embedded, &regions, &strips.singularities) {
+                    Ok(mut l) => {
+                        for &(v, p) in design.moves() {
+                            if let Err(e) = l.move_vertex(v as usize, p) {
+                                notes.push(format!("vertex {v} not moved: {e}"));
+                            }
+                        }
+                        layout = Some(l);
+                    }
+                    Err(e) => notes.push(format!("no layout: {e}")),
+                }
+                a.timings.layout_ms = clock() - started;
+            }
+        }
+        Err(e) => notes.push(format!("no regions: {e}")),
+    }
+    if let Some(l) = &layout {
+        for v in &l.vertices {
+            push_point(&mut a.layout_vertices, v.position);
+        }
+        for e in &l.edges {
+            for w in e.polyline.windows(2) {
+                push_segment(&mut a.layout_edges, w[0], w[1]);
+            }
+        }
+        a.counts.layout_vertices = l.vertices.len();
+        a.counts.layout_edges = l.edges.len();
+        a.counts.patches = l.patches.len();
+        a.obj = l.to_obj();
+        a.json = l.to_json().unwrap_or_default();
+    }
+    a.status = if a.counts.strips == 0 {
+        "no strips yet: hover over the surface and press Enter".to_string()
+    } else {
+        status_line(&a.counts)
+    };
     if !notes.is_empty() {
         a.status += &format!(" · {}", notes.join("; "));
     }
-    a.timings.total_ms = a.timings.field_ms + a.timings.parametrization_ms + a.timings.strips_ms;
-    a.obj = loops_obj(design);
-    a.json = serde_json::json!({
-        "strips": a.counts.strips,
-        "loops": design.committed().iter().map(|c| c.dual.points.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>()).collect::<Vec<_>>(),
-    })
-    .to_string();
+    a.timings.total_ms = a.timings.field_ms
+        + a.timings.parametrization_ms
+        + a.timings.strips_ms
+        + a.timings.regions_ms
+        + a.timings.layout_ms;
     a
 }
 
@@ -170,8 +237,8 @@ const SINGULARITY_3: [u8; 4] = [31, 111, 221, 255];
 const SINGULARITY_5: [u8; 4] = [216, 52, 44, 255];
 
 /// A reflection plane detected on the mesh (the "auto" symmetry option).
-pub fn detect_mirror(_mesh: &TriMesh) -> Option<Mirror> {
-    None
+pub fn detect_mirror(mesh: &TriMesh) -> Option<MirrorPlane> {
+    detect(mesh).map(|(plane, _)| plane)
 }
 
 /// The committed loops as OBJ polylines (`v` and `l` lines).
@@ -266,12 +333,27 @@ mod tests {
         assert!(status_line(&c).ends_with("1 yellow (valence)"));
     }
 
+    fn torus_design() -> (TriMesh, LayoutDesign) {
+        let mesh = torus(2.0, 0.7, 48, 20);
+        let d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
+        (mesh, d)
+    }
+
+    /// A point on the torus at angles (u, v) (see `generate::torus`).
+    fn on_torus(u: f64, v: f64) -> DVec3 {
+        let ring = 2.0 + 0.7 * v.cos();
+        DVec3::new(ring * u.cos(), ring * u.sin(), 0.7 * v.sin())
+    }
+
+    fn commit_through(d: &mut LayoutDesign, p: DVec3, direction: DVec3) {
+        d.add_anchor(p, Some(direction));
+        d.commit().expect("a loop through the anchor");
+    }
+
     #[test]
-    fn one_meridian_on_the_torus_gives_one_strip_with_stripes() {
-        let mesh = torus(2.0, 0.7, 30, 12);
-        let mut d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
-        d.hover(DVec3::new(2.7, 0.0, 0.0));
-        d.commit().unwrap();
+    fn one_meridian_on_the_torus_gives_a_strip_and_a_red_annulus() {
+        let (mesh, mut d) = torus_design();
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
         let a = analyze(&mesh, &mut d, &|| 0.0);
         assert!(a.available);
         assert_eq!(a.counts.strips, 1);
@@ -281,10 +363,60 @@ mod tests {
         assert!(a.stripe_colours.chunks(4).all(|c| c == strip_colour(0)));
         // Poincaré–Hopf: the indices sum to 4χ quarter turns, 0 on a torus.
         assert_eq!(a.singularity_index.iter().sum::<i32>(), 0);
+        // Cut once, the torus is an annulus: one region, not a disc.
+        assert_eq!((a.counts.regions, a.counts.red), (1, 1), "{}", a.status);
+        assert!(!a.sufficient && a.json.is_empty());
+        assert!(a.region_category.iter().all(|&c| c == REGION_RED));
+        assert_eq!(a.region_category.len(), mesh.face_count());
         let n = d.committed()[0].dual.points.len();
-        let v = a.obj.lines().filter(|l| l.starts_with("v ")).count();
-        assert_eq!(v, n);
-        let json: serde_json::Value = serde_json::from_str(&a.json).unwrap();
-        assert_eq!(json["strips"], 1);
+        assert_eq!(a.obj.lines().filter(|l| l.starts_with("v ")).count(), n);
+        assert!(
+            a.status.starts_with("1 region is not a disc (red)"),
+            "{}",
+            a.status
+        );
+    }
+
+    #[test]
+    fn two_meridians_and_a_longitude_give_a_valid_torus_layout() {
+        let (mesh, mut d) = torus_design();
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
+        commit_through(&mut d, on_torus(std::f64::consts::PI, 0.0), DVec3::Z);
+        let u = std::f64::consts::FRAC_PI_2;
+        commit_through(&mut d, on_torus(u, 0.0), DVec3::new(-u.sin(), u.cos(), 0.0));
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        assert_eq!(a.counts.strips, 3);
+        assert_eq!(a.counts.red, 0, "{}", a.status);
+        assert!(a.sufficient, "{}", a.status);
+        let c = &a.counts;
+        // Two crossings: two patches; two disc regions; four loop arcs.
+        assert_eq!(
+            (c.layout_vertices, c.layout_edges, c.patches),
+            (2, 4, 2),
+            "{c:?}"
+        );
+        assert_eq!(
+            c.layout_vertices as i64 - c.layout_edges as i64 + c.patches as i64,
+            0,
+            "Euler characteristic of the torus"
+        );
+        let json = crate::layout::primal::LayoutExport::from_json(&a.json).unwrap();
+        for p in &json.patches {
+            for i in 0..4 {
+                let e = &json.edges[p.edges[i] as usize];
+                let (x, y) = (p.corners[i], p.corners[(i + 1) % 4]);
+                assert!(
+                    e.ends == [x, y] || e.ends == [y, x],
+                    "patch edge {i} joins its corners"
+                );
+            }
+        }
+        assert!(
+            a.status.contains("topologically sufficient"),
+            "{}",
+            a.status
+        );
+        assert_eq!(a.layout_vertices.len(), 3 * c.layout_vertices);
+        assert!(!a.layout_edges.is_empty());
     }
 }
