@@ -13,7 +13,7 @@ const COLOURS = {
   directional: [59, 111, 216, 255],
   loop: [29, 35, 48, 255],
   layoutEdge: [17, 17, 17, 255],
-  layoutVertex: [216, 52, 44, 255],
+  layoutVertex: [106, 61, 154, 255],
 };
 // Layers this mode draws (line and point layers of the viewer).
 const LAYER_NAMES = ['design proposal', 'design anchors', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices'];
@@ -234,7 +234,13 @@ export function createDesignMode(ctx) {
     setPoints('design anchors', state.anchors, colours, 10);
     // Committed loops (spines): drawn at once; the stripes follow with the analysis.
     const loops = state.loops.map((l) => segmentsOf(l.points));
-    setLines('design loops', concat(loops), new Uint8Array(COLOURS.loop));
+    const loopColours = new Uint8Array(loops.reduce((n, l) => n + l.length / 6, 0) * 4);
+    let k = 0;
+    loops.forEach((l, i) => {
+      const c = STRIP_RGBA[i % STRIP_RGBA.length];
+      for (let j = 0; j < l.length / 6; j++, k++) loopColours.set(c, 4 * k);
+    });
+    setLines('design loops', concat(loops), loopColours.length ? loopColours : new Uint8Array(COLOURS.loop));
     updatePanel();
     ctx.requestRender();
   }
@@ -246,7 +252,7 @@ export function createDesignMode(ctx) {
     setLines('strips', a.stripes, a.stripeColours.length ? a.stripeColours : new Uint8Array(COLOURS.loop));
     setPoints('strip singularities', a.singularities, a.singularityColours.length ? a.singularityColours : new Uint8Array([31, 111, 221, 255]), 9);
     setLines('layout edges', a.layoutEdges, new Uint8Array(COLOURS.layoutEdge));
-    setPoints('layout vertices', a.layoutVertices, new Uint8Array(COLOURS.layoutVertex), 9);
+    setPoints('layout vertices', a.layoutVertices, new Uint8Array(COLOURS.layoutVertex), 13);
     ctx.setRegionSurface(a.regionCategory.length && surface ? regionSurface(a.regionCategory) : stats.proxy ? proxySurface() : null);
     updatePanel();
     ctx.requestRender();
@@ -273,30 +279,23 @@ export function createDesignMode(ctx) {
   // An unindexed per-face copy of the design mesh coloured by region category.
   function regionSurface(category) {
     const { positions: p, triangles: t } = surface;
+    const smooth = proxySurface().normals;
     const nf = t.length / 3;
     const positions = new Float32Array(nf * 9);
     const normals = new Float32Array(nf * 9);
     const values = new Float32Array(nf * 3);
     for (let f = 0; f < nf; f++) {
-      const [a, b, c] = [t[3 * f], t[3 * f + 1], t[3 * f + 2]];
-      const pa = p.subarray(3 * a, 3 * a + 3);
-      const pb = p.subarray(3 * b, 3 * b + 3);
-      const pc = p.subarray(3 * c, 3 * c + 3);
-      const u = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
-      const v = [pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]];
-      let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-      const len = Math.hypot(...n) || 1;
-      n = n.map((x) => x / len);
-      for (const [k, q] of [pa, pb, pc].entries()) {
-        positions.set(q, 9 * f + 3 * k);
-        normals.set(n, 9 * f + 3 * k);
+      for (let k = 0; k < 3; k++) {
+        const vertex = t[3 * f + k];
+        positions.set(p.subarray(3 * vertex, 3 * vertex + 3), 9 * f + 3 * k);
+        normals.set(smooth.subarray(3 * vertex, 3 * vertex + 3), 9 * f + 3 * k);
         values[3 * f + k] = category[f] ?? 0;
       }
     }
     const triangles = new Uint32Array(nf * 3).map((_, i) => i);
     return {
       name: REGION_SURFACE, positions, triangles, normals,
-      scalar: { name: 'layout regions (red: not a disc · orange: curvature extrema · yellow: valence)', values, min: 0, max: 12, colormap: 'categories' },
+      scalar: { name: 'layout regions: red not a disc · orange curvature extrema · yellow valence off', values, min: 0, max: 12, colormap: 'categories' },
     };
   }
 
@@ -409,7 +408,7 @@ export function createDesignMode(ctx) {
       const a = stats.analysis;
       const moved = new Float32Array(a.layoutVertices);
       moved.set(p, 3 * g.vertex);
-      setPoints('layout vertices', moved, new Uint8Array(COLOURS.layoutVertex), 9);
+      setPoints('layout vertices', moved, new Uint8Array(COLOURS.layoutVertex), 13);
       ctx.requestRender();
       return;
     }
@@ -544,4 +543,6 @@ export function createDesignMode(ctx) {
   };
 }
 
+// The strip colours of src/web/layout_glue.rs (STRIP_COLOURS).
 const STRIP_CSS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2', '#7f7f7f', '#bcbd22'];
+const STRIP_RGBA = STRIP_CSS.map((c) => [1, 3, 5].map((i) => parseInt(c.slice(i, i + 2), 16)).concat(255));

@@ -263,9 +263,10 @@ function updateLegend() {
   el.querySelector('.mid').textContent = legend.colormap === 'face-degree' ? '4 · 5' : formatNumber((legend.min + legend.max) / 2);
   if (legend.colormap === 'face-degree') el.querySelector('.max').textContent = '6+';
   if (legend.colormap === 'categories') {
-    el.querySelector('.min').textContent = 'grey: discarded';
+    const layout = legend.name.startsWith('layout regions');
+    el.querySelector('.min').textContent = layout ? 'grey: fine' : 'grey: discarded';
     el.querySelector('.mid').textContent = '';
-    el.querySelector('.max').textContent = 'colour: one per region';
+    el.querySelector('.max').textContent = layout ? '' : 'colour: one per region';
   }
 }
 
@@ -373,7 +374,7 @@ function onStage(job, result) {
     available.add(name);
     if (visible || drawnSurface === name) showSurface();
   }
-  if (result.scalars && !scalarName) setScalar(Object.keys(result.scalars)[0]);
+  if (result.scalars && !scalarName && !design.active) setScalar(Object.keys(result.scalars)[0]);
   if (design.active) hideForDesign();
   // The result is what matters once it exists: the input's edges and the field recede.
   if (result.lines && result.lines['quad mesh']) {
@@ -1044,6 +1045,7 @@ document.addEventListener('keydown', (e) => {
 
 // Layers hidden while designing (restored when leaving the mode).
 let hiddenForDesign = [];
+let scalarBeforeDesign = null;
 function setRegionSurface(surface) {
   LAYERS = LAYERS.filter((l) => l.name !== REGION_SURFACE);
   delete extraSurfaces[REGION_SURFACE];
@@ -1078,12 +1080,16 @@ function toggleDesign() {
   if (design.active) {
     design.leave();
     if (viewer) viewer.set_line_width(1.25 * dpr());
+    setScalar(scalarBeforeDesign);
     for (const name of hiddenForDesign) setLayerVisible(name, true);
     hiddenForDesign = [];
     return;
   }
   design.enter();
   if (!design.active) return;
+  // The input's scalar colouring would compete with the loops: plain while designing.
+  scalarBeforeDesign = scalarName;
+  setScalar(null);
   // Loops and stripes are the content now: thicker lines.
   if (viewer) viewer.set_line_width(2.5 * dpr());
   hideForDesign();
@@ -1093,7 +1099,7 @@ function toggleDesign() {
 // while designing, also those that arrive meanwhile.
 function hideForDesign() {
   const clutter = (l) => l.visible && available.has(l.name) && l.name !== REGION_SURFACE
-    && (l.kind === 'lines' || l.kind === 'points' || l.kind === 'surface' || ['polygon edges', 'picked', 'scalar'].includes(l.name));
+    && (l.kind === 'lines' || l.kind === 'points' || l.kind === 'surface' || ['polygon edges', 'picked'].includes(l.name));
   for (const l of LAYERS.filter(clutter)) {
     if (!hiddenForDesign.includes(l.name)) hiddenForDesign.push(l.name);
     setLayerVisible(l.name, false);
