@@ -390,7 +390,7 @@ export function createDesignMode(ctx) {
     let best = null;
     for (let i = 0; i < a.layoutVertices.length / 3; i++) {
       const d2 = dist2(p, a.layoutVertices.subarray(3 * i, 3 * i + 3));
-      if (d2 < 0.02 ** 2 && (!best || d2 < best.d2)) best = { i, d2 };
+      if (d2 < 0.03 ** 2 && (!best || d2 < best.d2)) best = { i, d2 };
     }
     return best ? best.i : null;
   }

@@ -158,6 +158,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
     // §4.2: the regions between the loops and their guidance colours.
     let started = clock();
     let mut layout = None;
+    let mut regions_failed = None;
     match Regions::compute(mesh, &embedded, &strips.singularities) {
         Ok(regions) => {
             a.counts.regions = regions.regions.len();
@@ -200,7 +201,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
                 a.timings.layout_ms = clock() - started;
             }
         }
-        Err(e) => notes.push(format!("no regions: {e}")),
+        Err(e) => regions_failed = Some(e.to_string()),
     }
     if let Some(l) = &layout {
         for v in &l.vertices {
@@ -219,6 +220,8 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
     }
     a.status = if a.counts.strips == 0 {
         "no strips yet: hover over the surface and press Enter".to_string()
+    } else if let Some(e) = regions_failed {
+        format!("the regions could not be found ({e}): no guidance and no layout")
     } else {
         status_line(&a.counts)
     };

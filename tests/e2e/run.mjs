@@ -578,7 +578,7 @@ test('design mode: hovering draws the best loop fast; wheel, click, drag and gra
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
-test('design mode: three loops on the torus give strips and a valid layout; undo restores; the export parses', async (env) => {
+test('design mode: three loops on the torus give strips and a valid layout; undo restores; a vertex drags; the export parses', async (env) => {
   const { page, errors } = await open(env, 'sample=torus');
   await waitForRun(page, 'torus.obj');
   await enterDesign(page);
@@ -633,6 +633,39 @@ test('design mode: three loops on the torus give strips and a valid layout; undo
   await page.click('#design-undo');
   await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, { timeout: 20000 });
   await waitForAnalysis(page);
+  // Dragging a layout vertex moves it (its edges re-routed); undo puts it back.
+  const before = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices]);
+  let target = null;
+  for (let turn = 0; turn < 6 && !target; turn++) {
+    const grid = await surfaceGrid(page, 8);
+    for (let v = 0; v < before.length / 3 && !target; v++) {
+      const q = before.slice(3 * v, 3 * v + 3);
+      const near = grid.filter((h) => Math.hypot(h.p[0] - q[0], h.p[1] - q[1], h.p[2] - q[2]) < 0.02).sort((a, b) => Math.hypot(a.p[0] - q[0], a.p[1] - q[1], a.p[2] - q[2]) - Math.hypot(b.p[0] - q[0], b.p[1] - q[1], b.p[2] - q[2]));
+      if (near.length) target = { v, hit: near[0] };
+    }
+    if (!target) { // turn the view (right-drag) and look again
+      const box = await page.locator('#canvas').boundingBox();
+      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+      await page.mouse.down({ button: 'right' });
+      await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2, { steps: 4 });
+      await page.mouse.up({ button: 'right' });
+      await settle(page);
+    }
+  }
+  assert(target, 'a layout vertex is visible');
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  await page.mouse.move(target.hit.x, target.hit.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 5; k++) await page.mouse.move(target.hit.x + 5 * k, target.hit.y + 2 * k);
+  await page.mouse.up();
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, { timeout: 60000 });
+  const moved = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices]);
+  const shift = Math.hypot(...[0, 1, 2].map((k) => moved[3 * target.v + k] - before[3 * target.v + k]));
+  assert(shift > 0.005, `the vertex moved by ${shift}: ${await page.textContent('#design-status')}`);
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n + 1, analyses, { timeout: 60000 });
+  const back = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices]);
+  assert(JSON.stringify(back) === JSON.stringify(before), 'undo puts the vertex back');
   // The JSON export parses and has the counts shown.
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#design-export-json')]);
   const json = JSON.parse(readFileSync(await download.path(), 'utf8'));
