@@ -687,6 +687,28 @@ test('design mode: three loops on the torus give strips and a valid layout; undo
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('design mode: with the mirror plane detected, a committed strip gets its mirror image', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  await page.selectOption('#design-mirror', 'auto');
+  await page.waitForFunction(() => window.quadrille.design.actionMs.setMirror, null, { timeout: 20000 });
+  const hits = await surfaceGrid(page);
+  // Off every axis plane: a point whose mirror images are elsewhere.
+  const off = hits.filter((h) => Math.abs(h.p[0]) > 0.15 && Math.abs(h.p[1]) > 0.15);
+  assert(off.length > 0, 'a point away from the symmetry planes');
+  await hoverAndCommit(page, off[0]);
+  const s = await page.evaluate(() => window.quadrille.design.state.loops.map((l) => ({ mirrored: l.mirrored, n: l.points.length })));
+  assert(s.length === 2 && !s[0].mirrored && s[1].mirrored, `the strip and its mirror image: ${JSON.stringify(s)}`);
+  assert((await page.textContent('#design-strips')).includes('mirror image'), 'the list names the mirror image');
+  // Deleting the copy deletes the pair; undo brings both back.
+  await page.click('#design-strips li:nth-child(2) button');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 0, null, { timeout: 20000 });
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, { timeout: 20000 });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('design mode: the page survives a crashed layout worker and the mode restarts', async (env) => {
   const { page } = await open(env, 'sample=torus');
   await waitForRun(page, 'torus.obj');
