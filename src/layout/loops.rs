@@ -24,7 +24,9 @@
 //!   the exact search through the best few. Likewise the distance *to*
 //!   ∂ is the distance *from* ∂ of the reversed node: one Dijkstra from all
 //!   boundary g-edges per mesh (cached until the covered strips change)
-//!   serves every dual-curve query.
+//!   serves every dual-curve query; it is settled lazily, only as far as
+//!   the queries' cost bounds need (the hover query doubles a radius until
+//!   a dual curve or a loop below it exists).
 //! - §5.7 connects ∂ to "all g-edges incident to a boundary vertex" (E∂).
 //!   Taken literally, every g-edge within k rings of the boundary is at
 //!   distance 0 from ∂ in both directions, so an anchor near the boundary
@@ -66,6 +68,9 @@ const NONE: u32 = u32::MAX;
 const REFINE_DIRECTIONS: usize = 4;
 /// … among those whose labelled loop is within this factor of the best.
 const REFINE_RATIO: f32 = 1.25;
+/// The first radius (normalised cost) to which the hover query settles the
+/// distances from ∂ before looking for dual curves; it doubles as needed.
+const BOUNDARY_RADIUS: f32 = 0.25;
 
 /// A constraint point φ = (p, d) of §5.4: the loop passes near `position`,
 /// and, when `direction` is non-zero, with its tangent parallel to it.
@@ -212,13 +217,37 @@ impl ElasticaGraph {
     }
 }
 
+/// The distances from ∂ (§5.7) of the g′-nodes, by one Dijkstra from all
+/// boundary g-edges that is resumed only as far as the queries need
+/// (`LoopEngine::settle_boundary`); dropped when the covered strips change.
+#[derive(Debug, Clone, Default)]
+struct BoundaryField {
+    dist: Vec<f32>,
+    parent: Vec<u32>,
+    settled: Vec<bool>,
+    heap: BinaryHeap<Reverse<u64>>,
+}
+
+impl BoundaryField {
+    /// The settled distance from ∂, or ∞ (not closer than the settled
+    /// radius).
+    fn distance(&self, node: u32) -> f32 {
+        let n = node as usize;
+        if self.settled[n] {
+            self.dist[n]
+        } else {
+            f32::INFINITY
+        }
+    }
+}
+
 /// The loop engine: g and g′ built once per mesh, then queries.
 pub struct LoopEngine {
     pub graph: ElasticaGraph,
     index: Option<SurfaceIndex>,
     disabled: Vec<bool>,
     covered: Vec<(u32, DVec3)>,
-    boundary_field: Option<(Vec<f32>, Vec<u32>)>,
+    boundary_field: Option<BoundaryField>,
     has_boundary: bool,
     ws: Workspace,
 }
@@ -251,7 +280,7 @@ impl LoopEngine {
         let n = self.graph.node_count();
         self.graph.memory_bytes()
             + n * (std::mem::size_of::<Slot>() + 1)
-            + self.boundary_field.as_ref().map_or(0, |f| f.0.len() * 8)
+            + self.boundary_field.as_ref().map_or(0, |f| f.dist.len() * 9)
     }
 
     /// Number of g′-nodes settled by the hover and loop searches since the
@@ -306,7 +335,7 @@ impl LoopEngine {
         for b in self.out_sources(v) {
             let angle = self.graph.g.angle_out[b as usize];
             let mut kind_best: Option<(f32, Kind)> = None;
-            if let Some((c, k)) = self.open_curve(b) {
+            if let Some((c, k)) = self.open_curve(b, bound) {
                 kind_best = Some((c, k));
             }
             let limit = kind_best.as_ref().map_or(bound, |(c, _)| c.min(bound));
@@ -394,9 +423,11 @@ impl LoopEngine {
             }
         }
         if self.has_boundary {
-            self.ensure_boundary_field();
-            let (f, _) = self.boundary_field.as_ref()?;
-            let enter: Vec<f32> = layers[0].iter().map(|&b| f[b as usize]).collect();
+            // A dual curve beats the best loop only if it enters and leaves
+            // ∂ cheaper than that loop: the field is settled that far.
+            self.settle_boundary(best.0);
+            let f = self.boundary_field.as_ref()?;
+            let enter: Vec<f32> = layers[0].iter().map(|&b| f.distance(b)).collect();
             let leave: Vec<f32> = layers[n - 1]
                 .iter()
                 .map(|&a| {
@@ -404,7 +435,7 @@ impl LoopEngine {
                     if r == NONE {
                         f32::INFINITY
                     } else {
-                        f[r as usize]
+                        f.distance(r)
                     }
                 })
                 .collect();
@@ -564,19 +595,47 @@ impl LoopEngine {
 
     /// Best cost over all directions through `v` (closed loops and, with a
     /// boundary, dual curves), pruned by `bound`.
+    ///
+    /// With a boundary, the distances from ∂ are settled only as far as the
+    /// answer needs: a radius r doubles (from [`BOUNDARY_RADIUS`]) until a
+    /// dual curve or a loop cheaper than r exists. Exact: a dual curve of
+    /// cost c < r has both halves < r, hence settled, and a loop found below
+    /// r beats every dual curve not found (all ≥ r).
     fn best_through(&mut self, v: usize, bound: f32) -> Option<(f32, Kind)> {
-        let mut best: Option<(f32, Kind)> = None;
-        let mut limit = bound;
-        if self.has_boundary {
+        if !self.has_boundary {
+            return self.best_loop_through(v, bound);
+        }
+        let mut r = BOUNDARY_RADIUS.min(bound);
+        loop {
+            let mut best: Option<(f32, Kind)> = None;
+            let mut limit = r;
             for b in self.out_sources(v) {
-                if let Some((c, k)) = self.open_curve(b) {
-                    if c < limit {
-                        limit = c;
-                        best = Some((c, k));
-                    }
+                if let Some((c, k)) = self.open_curve(b, limit) {
+                    limit = c;
+                    best = Some((c, k));
                 }
             }
+            if let Some(closed) = self.best_loop_through(v, limit) {
+                best = Some(closed);
+            }
+            if best.is_some() || r >= bound {
+                return best;
+            }
+            let complete = self
+                .boundary_field
+                .as_ref()
+                .is_some_and(|f| f.heap.is_empty());
+            r = if complete {
+                bound
+            } else {
+                (2.0 * r).min(bound)
+            };
         }
+    }
+
+    /// The best closed loop through `v` cheaper than `limit`.
+    fn best_loop_through(&mut self, v: usize, limit: f32) -> Option<(f32, Kind)> {
+        let mut best: Option<(f32, Kind)> = None;
         // One labelled bidirectional search from all out-edges of `v` ranks
         // the closing directions (approximately: each node keeps only its
         // cheapest source), then exact bidirectional searches through the
@@ -816,53 +875,66 @@ impl LoopEngine {
         Some(best)
     }
 
-    /// The dual curve ∂ → … → b → … → ∂ through node `b` (§5.7).
-    fn open_curve(&mut self, b: u32) -> Option<(f32, Kind)> {
+    /// The dual curve ∂ → … → b → … → ∂ through node `b` (§5.7), if it
+    /// costs less than `bound`.
+    fn open_curve(&mut self, b: u32, bound: f32) -> Option<(f32, Kind)> {
         if !self.has_boundary {
             return None;
         }
-        self.ensure_boundary_field();
         let r = self.graph.g.reverse[b as usize];
-        let (f, _) = self.boundary_field.as_ref()?;
         if r == NONE {
             return None;
         }
-        let c = f[b as usize] + f[r as usize];
-        c.is_finite().then_some((c, Kind::Open(b)))
+        self.settle_boundary(bound);
+        let f = self.boundary_field.as_ref()?;
+        let c = f.distance(b) + f.distance(r);
+        (c < bound).then_some((c, Kind::Open(b)))
     }
 
-    fn ensure_boundary_field(&mut self) {
-        if self.boundary_field.is_some() || !self.has_boundary {
+    /// Settles the distances from ∂ of every node closer than `bound`
+    /// (resuming the cached Dijkstra; all of them for an infinite bound).
+    fn settle_boundary(&mut self, bound: f32) {
+        if !self.has_boundary {
             return;
         }
         let g = &self.graph.g;
         let nodes = self.graph.node_count();
-        let mut dist = vec![f32::INFINITY; nodes];
-        let mut parent = vec![NONE; nodes];
-        let mut heap = BinaryHeap::new();
-        for e in 0..nodes {
-            if self.disabled[e] {
-                continue;
+        let field = self.boundary_field.get_or_insert_with(|| {
+            let mut f = BoundaryField {
+                dist: vec![f32::INFINITY; nodes],
+                parent: vec![NONE; nodes],
+                settled: vec![false; nodes],
+                heap: BinaryHeap::new(),
+            };
+            for e in 0..nodes {
+                if self.disabled[e] {
+                    continue;
+                }
+                // E∂ in the direction of travel: g-edges that leave a
+                // boundary vertex into the interior (a curve's first node).
+                // Their reverses, arriving at the boundary from the interior,
+                // are the last nodes.
+                if g.boundary[g.source[e] as usize] && !g.boundary[g.target[e] as usize] {
+                    f.dist[e] = 0.0;
+                    f.heap.push(Reverse(key(0.0, e as u32)));
+                }
             }
-            // E∂ in the direction of travel: g-edges that leave a boundary
-            // vertex into the interior (a curve's first node). Their reverses,
-            // arriving at the boundary from the interior, are the last nodes.
-            if g.boundary[g.source[e] as usize] && !g.boundary[g.target[e] as usize] {
-                dist[e] = 0.0;
-                heap.push(Reverse(key(0.0, e as u32)));
+            f
+        });
+        while let Some(&Reverse(k)) = field.heap.peek() {
+            if f32::from_bits((k >> 32) as u32) >= bound {
+                break;
             }
-        }
-        let mut done = vec![false; nodes];
-        while let Some(Reverse(k)) = heap.pop() {
+            field.heap.pop();
             let x = (k & 0xffff_ffff) as usize;
-            if done[x] {
+            if field.settled[x] {
                 continue;
             }
-            done[x] = true;
-            let d = dist[x];
-            let graph = &self.graph;
+            field.settled[x] = true;
+            let d = field.dist[x];
             let disabled = &self.disabled;
-            graph.for_each_arc(x, |y, w| {
+            let (dist, parent, heap) = (&mut field.dist, &mut field.parent, &mut field.heap);
+            self.graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
                     return;
                 }
@@ -874,13 +946,12 @@ impl LoopEngine {
                 }
             });
         }
-        self.boundary_field = Some((dist, parent));
     }
 
     /// Seed … `node` along the boundary field's parents.
     fn boundary_path(&self, node: u32) -> Vec<u32> {
         let mut out = Vec::new();
-        if let Some((_, parent)) = &self.boundary_field {
+        if let Some(BoundaryField { parent, .. }) = &self.boundary_field {
             let mut x = node;
             while x != NONE && out.len() <= parent.len() {
                 out.push(x);
@@ -1274,6 +1345,51 @@ mod tests {
             worst < 1.001,
             "hover loop up to {worst} × the optimum: {ratios:?}"
         );
+    }
+
+    /// On open meshes the distances from ∂ are settled lazily; the answers
+    /// (hover, alternatives, two-anchor loops) equal those of an engine whose
+    /// field was settled completely before the first query.
+    #[test]
+    fn lazy_boundary_field_gives_the_eager_answers() {
+        let meshes = [cylinder(1.0, 3.0, 24, 12), flat_grid(1.0, 12)];
+        let mut open_curves = 0;
+        for mesh in &meshes {
+            let mut lazy = LoopEngine::new(mesh, &ElasticaParams::default());
+            let mut eager = LoopEngine::new(mesh, &ElasticaParams::default());
+            eager.settle_boundary(f32::INFINITY);
+            let n = mesh.vertex_count();
+            for v in (0..n).step_by(n / 12) {
+                let p = lazy.vertex_position(v);
+                let (a, b) = (lazy.best_loop(p), eager.best_loop(p));
+                assert_eq!(a.is_some(), b.is_some(), "vertex {v}");
+                if let (Some(a), Some(b)) = (a, b) {
+                    assert!(
+                        (a.cost - b.cost).abs() <= 1e-5 * b.cost.max(1.0),
+                        "vertex {v}: {} vs {}",
+                        a.cost,
+                        b.cost
+                    );
+                    assert_eq!(a.closed, b.closed, "vertex {v}");
+                    open_curves += usize::from(!a.closed);
+                }
+                let (a, b) = (lazy.loops_through(p, 4), eager.loops_through(p, 4));
+                let costs = |l: &[DualLoop]| l.iter().map(|l| l.cost).collect::<Vec<_>>();
+                assert_eq!(costs(&a), costs(&b), "vertex {v}: alternatives");
+                let q = lazy.vertex_position((v + n / 3) % n);
+                let anchors = [Anchor::positional(p), Anchor::positional(q)];
+                let (a, b) = (
+                    lazy.constrained_loop(&anchors),
+                    eager.constrained_loop(&anchors),
+                );
+                assert_eq!(
+                    a.map(|l| l.cost),
+                    b.map(|l| l.cost),
+                    "vertex {v}: two anchors"
+                );
+            }
+        }
+        assert!(open_curves > 0, "no dual curve was the best answer");
     }
 
     #[test]
