@@ -174,9 +174,10 @@ impl LayoutDesigner {
         })
     }
 
-    /// One hover query at the first vertex, forgotten: builds the engine's
-    /// lazily computed parts (the boundary distance field of §5.7) before
-    /// the first real hover. Returns its milliseconds.
+    /// One hover query at the first vertex, forgotten: settles the engine's
+    /// lazily computed parts (the distances from the boundary node ∂ of
+    /// §5.7, as far as that query needed) before the first real hover.
+    /// Returns its milliseconds.
     #[wasm_bindgen(js_name = warmUp)]
     pub fn warm_up(&mut self) -> f64 {
         let started = now_ms();
