@@ -277,6 +277,19 @@ fn sphere_octants_with_singularities() {
             .count(),
         1
     );
+    // A +1/−1 pair (a wiggle of the field) next to the corner is no second
+    // extremum: still fine.
+    let mut pair = sing.clone();
+    pair.push(Singularity {
+        vertex: pair[0].vertex,
+        index: 1,
+    });
+    pair.push(Singularity {
+        vertex: pair[0].vertex,
+        index: -1,
+    });
+    let r3 = Regions::compute(&mesh, &loops, &pair).unwrap();
+    assert!(r3.regions.iter().all(|g| g.guidance == Guidance::Ok));
 }
 
 #[test]

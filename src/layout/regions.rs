@@ -34,15 +34,19 @@
 //! - Total Gaussian curvature: angle defects of interior mesh vertices. No
 //!   vertex lies on a loop (crossings have 0 < t < 1), so each vertex's
 //!   defect belongs wholly to the one region that holds it.
-//! - Orange (several pronounced Gaussian-curvature extrema): ≥ 2 cross-field
+//! - Orange (several pronounced Gaussian-curvature extrema): the cross-field
 //!   singularities in the region — the paper's remark in §6 ("the field
-//!   singularity constellation can also be exploited") — or ≥ 2 pronounced
-//!   extrema found on the mesh itself, so the colour works before a field
-//!   exists: greedy non-maximum suppression over vertices by |angle
-//!   defect|; a seed is pronounced when the geodesic ball of radius
-//!   ρ = [`EXTREMUM_RADIUS`] × bbox diagonal around it (Dijkstra over mesh
-//!   edges) holds |K| ≥ π/4 (half the curvature of a valence-3 or -5
-//!   corner); a pronounced seed suppresses other seeds within 2ρ.
+//!   singularity constellation can also be exploited") — add up to at
+//!   least two quarter turns of one sign (|Σ index| ≥ 2: a ± pair is a
+//!   wiggle of the field, not an extremum; two +1 or two −1 are two corners
+//!   the layout should give their own vertices). Before a field exists (no
+//!   singularities given) the extrema are found on the mesh itself and
+//!   counted the same way (positive minus negative, |·| ≥ 2): greedy
+//!   non-maximum suppression over vertices by |angle defect|; a seed is
+//!   pronounced when the geodesic ball of radius ρ = [`EXTREMUM_RADIUS`] ×
+//!   bbox diagonal around it (Dijkstra over mesh edges) holds |K| ≥ π/4
+//!   (half the curvature of a valence-3 or -5 corner), its sign is the
+//!   ball's; a pronounced seed suppresses other seeds within 2ρ.
 //! - Yellow (|v − v_expected| > 1 with K = (4 − v)π/2) only for regions not
 //!   touching the mesh boundary: the relation ignores boundary turning.
 //! - Meshes are assumed consistently oriented (left/right of a loop).
@@ -624,9 +628,9 @@ pub(crate) fn angle_defects(mesh: &TriMesh) -> Vec<f64> {
     defect
 }
 
-/// Pronounced Gaussian-curvature extrema (see the module doc): mesh
-/// vertices, interior ones only.
-pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) -> Vec<u32> {
+/// Pronounced Gaussian-curvature extrema (see the module doc): interior
+/// mesh vertices with the sign (±1) of the curvature around them.
+pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) -> Vec<(u32, i32)> {
     let Some(bbox) = mesh.bbox() else {
         return Vec::new();
     };
@@ -673,7 +677,7 @@ pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) 
         }
         let pronounced = ball.abs() >= EXTREMUM_CURVATURE;
         if pronounced {
-            extrema.push(seed);
+            extrema.push((seed, if ball > 0.0 { 1 } else { -1 }));
         }
         let reach = if pronounced { 2.0 * rho } else { rho };
         for &(v, d) in &reached {
@@ -802,8 +806,19 @@ impl Regions {
         }
 
         let mut region_extrema = vec![Vec::new(); nr];
-        for v in curvature_extrema(mesh, &defects, &on_boundary) {
-            region_extrema[vertex_region[v as usize] as usize].push(v);
+        let mut net_extrema = vec![0i32; nr];
+        for (v, sign) in curvature_extrema(mesh, &defects, &on_boundary) {
+            let r = vertex_region[v as usize] as usize;
+            region_extrema[r].push(v);
+            net_extrema[r] += sign;
+        }
+        if !singularities.is_empty() {
+            // The field's singularities, when there is a field, are the
+            // extrema (see the module doc).
+            net_extrema.fill(0);
+            for (r, sings) in region_sing.iter().enumerate() {
+                net_extrema[r] = sings.iter().map(|&i| singularities[i as usize].index).sum();
+            }
         }
 
         let regions: Vec<Region> = (0..nr)
@@ -811,7 +826,7 @@ impl Regions {
                 let expected = 4.0 - curvature[r] / FRAC_PI_2;
                 let guidance = if euler[r] != 1 {
                     Guidance::NonDisc
-                } else if region_sing[r].len() >= 2 || region_extrema[r].len() >= 2 {
+                } else if net_extrema[r].abs() >= 2 {
                     Guidance::CurvatureExtrema
                 } else if !touches[r] && (valence[r] as f64 - expected).abs() > 1.0 + 1e-9 {
                     Guidance::ValenceMismatch
