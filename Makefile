@@ -63,4 +63,5 @@ bench: web browser-tools
 
 clean:
 	cargo clean
-	rm -rf www/pkg www/samples
+	rm -rf www/pkg
+	find www/samples -type f ! -name torus.obj -delete 2>/dev/null || true

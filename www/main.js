@@ -2,8 +2,9 @@
 // this thread), file input, drag and drop, samples, layers, keys. No mesh
 // work happens here, and the user's mesh is never sent anywhere.
 import init, { Viewer } from './pkg/quadrille.js';
+import { createDesignMode, REGION_SURFACE } from './design.js';
 
-const SAMPLES = ['stanford-bunny', 'fandisk', 'rocker-arm', 'spot', 'cow', 'teapot', 'suzanne', 'beetle'];
+const SAMPLES = ['stanford-bunny', 'fandisk', 'rocker-arm', 'spot', 'cow', 'teapot', 'suzanne', 'beetle', 'torus'];
 const DEFAULT_SAMPLE = 'stanford-bunny';
 // A step that overruns this after Cancel gets its worker terminated.
 const CANCEL_DEADLINE_MS = 400;
@@ -69,6 +70,7 @@ const hideProgress = () => { progressEl.hidden = true; };
 
 let viewer = null;
 let renderQueued = false;
+let afterFrame = []; // callbacks run once the next frame is drawn
 
 function requestRender() {
   if (!viewer || renderQueued) return;
@@ -76,6 +78,9 @@ function requestRender() {
   requestAnimationFrame(() => {
     renderQueued = false;
     renderNow();
+    const callbacks = afterFrame;
+    afterFrame = [];
+    for (const f of callbacks) f();
   });
 }
 
@@ -98,7 +103,7 @@ function resizeCanvas() {
   }
   if (viewer) {
     viewer.resize(w, h);
-    viewer.set_line_width(1.25 * dpr);
+    viewer.set_line_width((design.active ? 2.5 : 1.25) * dpr);
     requestRender();
   }
 }
@@ -258,9 +263,10 @@ function updateLegend() {
   el.querySelector('.mid').textContent = legend.colormap === 'face-degree' ? '4 · 5' : formatNumber((legend.min + legend.max) / 2);
   if (legend.colormap === 'face-degree') el.querySelector('.max').textContent = '6+';
   if (legend.colormap === 'categories') {
-    el.querySelector('.min').textContent = 'grey: discarded';
+    const layout = legend.name.startsWith('layout regions');
+    el.querySelector('.min').textContent = layout ? 'grey: fine' : 'grey: discarded';
     el.querySelector('.mid').textContent = '';
-    el.querySelector('.max').textContent = 'colour: one per region';
+    el.querySelector('.max').textContent = layout ? '' : 'colour: one per region';
   }
 }
 
@@ -291,7 +297,8 @@ function showSurface() {
     drawnSurface = name;
     if (on) {
       const e = s.scalar;
-      viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
+      if (e) viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
+      else viewer.clear_scalar();
     } else {
       setScalar(scalarName);
     }
@@ -367,7 +374,8 @@ function onStage(job, result) {
     available.add(name);
     if (visible || drawnSurface === name) showSurface();
   }
-  if (result.scalars && !scalarName) setScalar(Object.keys(result.scalars)[0]);
+  if (result.scalars && !scalarName && !design.active) setScalar(Object.keys(result.scalars)[0]);
+  if (design.active) hideForDesign();
   // The result is what matters once it exists: the input's edges and the field recede.
   if (result.lines && result.lines['quad mesh']) {
     for (const name of ['polygon edges', 'cross field']) {
@@ -499,6 +507,8 @@ function finishJob(message, isError = false) {
 
 function run(name, bytes, sample = null) {
   if (current) cancel({ quiet: true });
+  if (design.active) toggleDesign();
+  design.reset();
   lastInput = { name, bytes: bytes.slice(0), sample };
   window.quadrille.progressGapsMs = {};
   workerHasInput = false;
@@ -603,20 +613,29 @@ function attachInput() {
   let press = null; // { x, y, time, moved } of a single-pointer press, for click-to-pick
   const scale = () => canvas.width / canvas.getBoundingClientRect().width;
 
+  // In the design mode the left button places anchors (design.js); the
+  // view turns with the right button or Alt+drag, Shift+right-drag pans.
+  let designing = false; // the current press belongs to the design mode
   canvas.addEventListener('pointerdown', (e) => {
     canvas.setPointerCapture(e.pointerId);
+    designing = design.active && pointers.size === 0 && e.button === 0 && !e.altKey && design.onDown(e);
+    if (designing) return;
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
     press = pointers.size === 1 ? { x: e.clientX, y: e.clientY, time: performance.now(), moved: false } : null;
   });
   canvas.addEventListener('pointermove', (e) => {
+    if (designing) { design.onDrag(e); return; }
     const last = pointers.get(e.pointerId);
-    if (!last) return;
+    if (!last) {
+      if (design.active && pointers.size === 0) design.onHoverMove(e);
+      return;
+    }
     const k = scale();
     if (pointers.size === 1) {
       const dx = (e.clientX - last.x) * k;
       const dy = (e.clientY - last.y) * k;
       if (press && Math.hypot(e.clientX - press.x, e.clientY - press.y) > 4) press.moved = true;
-      if (e.buttons & 6 || e.shiftKey) viewer.pan(dx, dy);
+      if (design.active ? e.shiftKey : e.buttons & 6 || e.shiftKey) viewer.pan(dx, dy);
       else viewer.orbit(dx, dy);
     } else if (pointers.size === 2) {
       const [a, b] = [...pointers.values()];
@@ -630,8 +649,9 @@ function attachInput() {
     requestRender();
   });
   const release = (e) => {
+    if (designing) { designing = false; design.onUp(e); return; }
     if (!pointers.delete(e.pointerId)) return;
-    if (press && !press.moved && e.type === 'pointerup' && e.button === 0 && performance.now() - press.time < 600) {
+    if (press && !design.active && !press.moved && e.type === 'pointerup' && e.button === 0 && performance.now() - press.time < 600) {
       pickAt(e.clientX, e.clientY);
     }
     press = null;
@@ -641,8 +661,11 @@ function attachInput() {
   canvas.addEventListener('contextmenu', (e) => e.preventDefault());
   canvas.addEventListener('wheel', (e) => {
     e.preventDefault();
+    if (design.active && !e.shiftKey) { design.onWheel(e); return; }
     const lines = e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? 400 : 1;
-    viewer.zoom(Math.exp(Math.max(-200, Math.min(200, e.deltaY * lines)) * 0.0015));
+    // Shift turns the wheel sideways in some browsers.
+    const delta = e.deltaY || (e.shiftKey ? e.deltaX : 0);
+    viewer.zoom(Math.exp(Math.max(-200, Math.min(200, delta * lines)) * 0.0015));
     requestRender();
   }, { passive: false });
   canvas.addEventListener('dblclick', () => fitView());
@@ -935,7 +958,10 @@ async function share() {
 
 // ---------------------------------------------------------------- shortcuts help
 
-const OTHER_KEYS = [['F', 'fit view'], ['P', 'PNG screenshot'], ['O', 'open a file'], ['Esc', 'cancel / close'], ['?', 'this list']];
+const OTHER_KEYS = [['F', 'fit view'], ['P', 'PNG screenshot'], ['O', 'open a file'], ['T', 'design layout mode (dual strip weaving)'],
+  ['Enter', 'design mode: commit the loop as a strip'], ['Esc', 'cancel / close · design mode: clear the anchors'],
+  ['Ctrl+Z · Ctrl+Shift+Z', 'design mode: undo · redo'], ['Wheel', 'design mode: browse alternative loops'],
+  ['Shift+wheel', 'design mode: zoom'], ['Right-drag · Alt+drag', 'design mode: turn the view'], ['?', 'this list']];
 function toggleShortcuts(show) {
   const el = $('shortcuts');
   el.hidden = show === undefined ? !el.hidden : !show;
@@ -999,18 +1025,100 @@ document.addEventListener('drop', (e) => {
 });
 
 document.addEventListener('keydown', (e) => {
-  if (e.ctrlKey || e.metaKey || e.altKey || e.target.matches('input, textarea, select')) return;
+  if (e.target.matches('input, textarea, select')) return;
+  if (design.active && $('shortcuts').hidden && design.onKey(e)) { e.preventDefault(); return; }
+  if (e.ctrlKey || e.metaKey || e.altKey) return;
   const key = e.key.toLowerCase();
   const layers = LAYERS.filter((l) => l.key === key && available.has(l.name));
   if (layers.length) layers.forEach((l) => setLayerVisible(l.name, !l.visible));
   else if (key === 'f') fitView();
   else if (key === 'p') saveScreenshot();
   else if (key === 'o') $('file').click();
+  else if (key === 't') toggleDesign();
   else if (key === '?') toggleShortcuts();
   else if (key === 'escape') { if (!$('shortcuts').hidden) toggleShortcuts(false); else cancel(); }
   else return;
   e.preventDefault();
 });
+
+// ---------------------------------------------------------------- design mode
+
+// Layers hidden while designing (restored when leaving the mode).
+let hiddenForDesign = [];
+let scalarBeforeDesign = null;
+function setRegionSurface(surface) {
+  LAYERS = LAYERS.filter((l) => l.name !== REGION_SURFACE);
+  delete extraSurfaces[REGION_SURFACE];
+  available.delete(REGION_SURFACE);
+  if (surface) {
+    extraSurfaces[REGION_SURFACE] = surface;
+    for (const l of LAYERS) if (l.kind === 'surface') l.visible = false;
+    const label = surface.scalar ? 'Layout regions' : 'Design proxy';
+    LAYERS.push({ name: REGION_SURFACE, label, kind: 'surface', color: surface.scalar ? '#e31a1c' : '#c8cdd8', color2: surface.scalar ? '#ff7f00' : undefined, visible: true });
+    available.add(REGION_SURFACE);
+  }
+  showSurface();
+}
+const design = createDesignMode({
+  $,
+  viewer: () => viewer,
+  requestRender,
+  afterNextFrame: (f) => { afterFrame.push(f); requestRender(); },
+  pick: (clientX, clientY) => {
+    if (!viewer) return null;
+    const rect = canvas.getBoundingClientRect();
+    const hit = viewer.pick((clientX - rect.left) * (canvas.width / rect.width), (clientY - rect.top) * (canvas.height / rect.height));
+    return hit ? [...hit.point] : null;
+  },
+  input: () => (lastInput && inputSurface ? lastInput : null),
+  setRegionSurface,
+  setStatus,
+  showError,
+  dpr,
+});
+function toggleDesign() {
+  if (design.active) {
+    design.leave();
+    if (viewer) viewer.set_line_width(1.25 * dpr());
+    setScalar(scalarBeforeDesign);
+    for (const name of hiddenForDesign) setLayerVisible(name, true);
+    hiddenForDesign = [];
+    return;
+  }
+  design.enter();
+  if (!design.active) return;
+  // The input's scalar colouring would compete with the loops: plain while designing.
+  scalarBeforeDesign = scalarName;
+  setScalar(null);
+  // Loops and stripes are the content now: thicker lines.
+  if (viewer) viewer.set_line_width(2.5 * dpr());
+  hideForDesign();
+  if (drawnSurface !== 'input') showSurface();
+}
+// The pipeline's results (and the input's edges) would hide the loops: off
+// while designing, also those that arrive meanwhile.
+function hideForDesign() {
+  const clutter = (l) => l.visible && available.has(l.name) && l.name !== REGION_SURFACE
+    && (l.kind === 'lines' || l.kind === 'points' || l.kind === 'surface' || ['polygon edges', 'picked'].includes(l.name));
+  for (const l of LAYERS.filter(clutter)) {
+    if (!hiddenForDesign.includes(l.name)) hiddenForDesign.push(l.name);
+    setLayerVisible(l.name, false);
+  }
+}
+$('design-toggle').addEventListener('click', toggleDesign);
+window.quadrille.design = design.stats;
+window.quadrille.toggleDesign = toggleDesign;
+window.quadrille.exportLayout = (format) => design.exportLayout(format);
+window.quadrille.designAction = (name, args = []) => design.action(name, args);
+window.quadrille.crashLayoutWorker = () => design.crashForTesting();
+window.quadrille.hoverMedianMs = () => design.hoverMedianMs();
+// The surface point (local coordinates) under a client position, for tests.
+window.quadrille.surfacePoint = (clientX, clientY) => {
+  if (!viewer) return null;
+  const rect = canvas.getBoundingClientRect();
+  const hit = viewer.pick((clientX - rect.left) * (canvas.width / rect.width), (clientY - rect.top) * (canvas.height / rect.height));
+  return hit ? [...hit.point] : null;
+};
 
 updateLayersPanel();
 startWorker();

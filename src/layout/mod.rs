@@ -24,21 +24,28 @@
 //! - [`primal`]: the quad layout implied by the loops, and its export (§7);
 //! - [`symmetry`]: reflectional symmetry (§5.8).
 //!
+//! The design tool (§4.1): [`design`], the undoable session (hover, wheel,
+//! anchors, commit, delete, mirror copies); [`proxy`], a coarse stand-in for
+//! large meshes.
+//!
 //! Build once per mesh with [`LoopEngine::new`], then query
 //! [`LoopEngine::best_loop`] (hover), [`LoopEngine::loops_through`]
 //! (alternatives) or [`LoopEngine::constrained_loop`].
 
+pub mod design;
 pub mod elastica;
 pub mod embed;
 pub mod loops;
 pub mod parametrization;
 pub mod primal;
+pub mod proxy;
 pub mod regions;
 pub mod strip_field;
 pub mod strips;
 pub mod surface_graph;
 pub mod symmetry;
 
+pub use design::LayoutDesign;
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
 pub use loops::{Anchor, DualLoop, LoopEngine};

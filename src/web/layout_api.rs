@@ -2,10 +2,18 @@
 //! (Campen & Kobbelt 2014, §5.2–§5.7; [`crate::layout`]) in a JS engine:
 //! build g and g′ for one mesh, then answer hover queries (the best loop
 //! through one vertex). `tests/e2e/bench_layout.mjs` times it under Node.
+//!
+//! [`LayoutDesigner`]: the design mode's session (§4.1) that lives in the
+//! layout worker (`www/layout-worker.js`).
 
+use glam::DVec3;
+use js_sys::{Array, Float32Array, Object, Reflect, Uint8Array};
 use wasm_bindgen::prelude::*;
 
-use crate::layout::{ElasticaParams, LoopEngine};
+use super::layout_glue as analysis_glue;
+use crate::layout::design::{DesignError, LayoutDesign};
+use crate::layout::symmetry::MirrorPlane;
+use crate::layout::{ElasticaParams, LoopEngine, proxy};
 use crate::mesh::TriMesh;
 
 /// One mesh's loop engine, built once.
@@ -100,4 +108,372 @@ impl LayoutEngine {
     pub fn last_was_closed(&self) -> bool {
         self.last_closed
     }
+}
+
+/// The design mode's session (Campen & Kobbelt 2014 §4.1, [`LayoutDesign`])
+/// in the layout worker: the mesh (or its proxy above
+/// [`proxy::PROXY_ABOVE_FACES`] faces), its loop engine and the undoable
+/// design state. Points cross as `[x, y, z]` in the page's (local)
+/// coordinates; polylines as flat `Float32Array`s.
+#[wasm_bindgen]
+pub struct LayoutDesigner {
+    mesh: TriMesh,
+    input_faces: usize,
+    design: LayoutDesign,
+    /// Revision and layout-vertex moves the last analysis was computed for.
+    analysed: Option<(u64, Vec<(u32, DVec3)>)>,
+    analysis: Option<analysis_glue::Analysis>,
+    last_error: Option<String>,
+    /// The anchor inserted by the last grab, moved by the drag that follows.
+    grabbed: Option<usize>,
+}
+
+fn point(p: &[f64]) -> Result<DVec3, JsError> {
+    match p {
+        [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(DVec3::new(*x, *y, *z)),
+        _ => Err(JsError::new("a point needs three finite coordinates")),
+    }
+}
+
+fn polyline(points: &[DVec3]) -> Float32Array {
+    let flat: Vec<f32> = points
+        .iter()
+        .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+        .collect();
+    Float32Array::from(&flat[..])
+}
+
+fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsError> {
+    Reflect::set(target, &JsValue::from_str(key), &value.into())
+        .map(|_| ())
+        .map_err(|_| JsError::new(&format!("could not set {key}")))
+}
+
+#[wasm_bindgen]
+impl LayoutDesigner {
+    /// Imports a mesh file and builds the loop engine (on a vertex-clustered
+    /// proxy of about [`proxy::PROXY_FACES`] faces for large meshes).
+    #[wasm_bindgen(constructor)]
+    pub fn new(bytes: &[u8], name: &str) -> Result<LayoutDesigner, JsError> {
+        let imported = crate::io::import(bytes, name).map_err(|e| JsError::new(&e.to_string()))?;
+        let input_faces = imported.mesh.face_count();
+        let mesh = if input_faces > proxy::PROXY_ABOVE_FACES {
+            proxy::decimate(&imported.mesh, proxy::PROXY_FACES)
+        } else {
+            imported.mesh
+        };
+        let engine = LoopEngine::new(&mesh, &ElasticaParams::default());
+        Ok(LayoutDesigner {
+            mesh,
+            input_faces,
+            design: LayoutDesign::new(engine),
+            analysed: None,
+            analysis: None,
+            last_error: None,
+            grabbed: None,
+        })
+    }
+
+    /// One hover query at the first vertex, forgotten: settles the engine's
+    /// lazily computed parts (the distances from the boundary node ∂ of
+    /// §5.7, as far as that query needed) before the first real hover.
+    /// Returns its milliseconds.
+    #[wasm_bindgen(js_name = warmUp)]
+    pub fn warm_up(&mut self) -> f64 {
+        let started = now_ms();
+        if let Some(&p) = self.mesh.positions.first() {
+            self.design.hover(p);
+        }
+        self.design.clear_hover();
+        now_ms() - started
+    }
+
+    /// Faces of the mesh the design runs on (the proxy's when there is one).
+    #[wasm_bindgen(js_name = faceCount)]
+    pub fn face_count(&self) -> u32 {
+        self.mesh.face_count() as u32
+    }
+
+    #[wasm_bindgen(js_name = inputFaceCount)]
+    pub fn input_face_count(&self) -> u32 {
+        self.input_faces as u32
+    }
+
+    #[wasm_bindgen(js_name = usesProxy)]
+    pub fn uses_proxy(&self) -> bool {
+        self.mesh.face_count() != self.input_faces
+    }
+
+    /// The hover query: the proposal polyline at `p` (empty: none).
+    pub fn hover(&mut self, p: &[f64]) -> Result<Float32Array, JsError> {
+        let p = point(p)?;
+        Ok(self
+            .design
+            .hover(p)
+            .map_or_else(|| Float32Array::new_with_length(0), |l| polyline(&l.points)))
+    }
+
+    /// The wheel: `delta` steps through the alternatives.
+    pub fn browse(&mut self, delta: i32) {
+        self.design.browse(delta);
+    }
+
+    /// A click (`direction` empty or zero) or the start of a drag.
+    #[wasm_bindgen(js_name = addAnchor)]
+    pub fn add_anchor(&mut self, p: &[f64], direction: &[f64]) -> Result<(), JsError> {
+        let d = point(direction).ok();
+        self.design.add_anchor(point(p)?, d);
+        Ok(())
+    }
+
+    #[wasm_bindgen(js_name = setLastAnchorDirection)]
+    pub fn set_last_anchor_direction(&mut self, direction: &[f64]) -> Result<(), JsError> {
+        self.design.set_last_anchor_direction(point(direction)?);
+        Ok(())
+    }
+
+    /// Grab: inserts an anchor where the loop was grabbed; returns its index.
+    #[wasm_bindgen(js_name = insertAnchorOnLoop)]
+    pub fn insert_anchor_on_loop(&mut self, grabbed: &[f64], p: &[f64]) -> Result<u32, JsError> {
+        let i = self
+            .design
+            .insert_anchor_on_loop(point(grabbed)?, point(p)?);
+        self.grabbed = Some(i);
+        Ok(i as u32)
+    }
+
+    /// The drag after a grab: moves the anchor the grab inserted.
+    #[wasm_bindgen(js_name = moveGrabbedAnchor)]
+    pub fn move_grabbed_anchor(&mut self, p: &[f64]) -> Result<(), JsError> {
+        let p = point(p)?;
+        if let Some(i) = self.grabbed {
+            self.design.move_anchor(i, p);
+        }
+        Ok(())
+    }
+
+    #[wasm_bindgen(js_name = clearAnchors)]
+    pub fn clear_anchors(&mut self) {
+        self.design.clear_anchors();
+    }
+
+    /// Enter: returns how many strips were added (0 with a reason in
+    /// `state().error` when there was no loop).
+    pub fn commit(&mut self) -> u32 {
+        let r = self.design.commit().map(|n| n as u32);
+        self.result(r)
+    }
+
+    #[wasm_bindgen(js_name = deleteStrip)]
+    pub fn delete_strip(&mut self, i: u32) -> bool {
+        let r = self.design.delete_strip(i as usize).map(|_| true);
+        self.result(r)
+    }
+
+    pub fn undo(&mut self) -> bool {
+        let r = self.design.undo().map(|_| true);
+        self.result(r)
+    }
+
+    pub fn redo(&mut self) -> bool {
+        let r = self.design.redo().map(|_| true);
+        self.result(r)
+    }
+
+    #[wasm_bindgen(js_name = moveLayoutVertex)]
+    pub fn move_layout_vertex(&mut self, vertex: u32, p: &[f64]) -> Result<(), JsError> {
+        self.design.move_layout_vertex(vertex, point(p)?);
+        Ok(())
+    }
+
+    /// The symmetry option: "off", "auto" (detected), "x", "y" or "z"
+    /// (planes through the bounding-box centre). Returns the plane as
+    /// `[px, py, pz, nx, ny, nz]`, empty when off or none was detected.
+    #[wasm_bindgen(js_name = setMirror)]
+    pub fn set_mirror(&mut self, mode: &str) -> Vec<f64> {
+        let centre = self
+            .mesh
+            .bbox()
+            .map_or(DVec3::ZERO, |b| (b.min + b.max) * 0.5);
+        let mirror = match mode {
+            "x" => MirrorPlane::new(centre, DVec3::X),
+            "y" => MirrorPlane::new(centre, DVec3::Y),
+            "z" => MirrorPlane::new(centre, DVec3::Z),
+            "auto" => analysis_glue::detect_mirror(&self.mesh),
+            _ => None,
+        };
+        self.design.set_mirror(mirror);
+        mirror.map_or_else(Vec::new, |m| {
+            vec![
+                m.point.x, m.point.y, m.point.z, m.normal.x, m.normal.y, m.normal.z,
+            ]
+        })
+    }
+
+    /// The design state: `{ revision, loops: [{ points, mirrored, closed }],
+    /// anchors: Float32Array (xyz), anchorDirections: Float32Array (xyz,
+    /// zero = positional), proposal: Float32Array, browse: [index, count],
+    /// canUndo, canRedo, error }`.
+    pub fn state(&mut self) -> Result<Object, JsError> {
+        let d = &self.design;
+        let out = Object::new();
+        set(&out, "revision", d.revision() as f64)?;
+        let loops = Array::new();
+        for c in d.committed() {
+            let l = Object::new();
+            set(&l, "points", polyline(&c.dual.points))?;
+            set(&l, "mirrored", c.mirrored)?;
+            set(&l, "closed", c.dual.closed)?;
+            loops.push(&l);
+        }
+        set(&out, "loops", loops)?;
+        let positions: Vec<DVec3> = d.anchors().iter().map(|a| a.position).collect();
+        let directions: Vec<DVec3> = d.anchors().iter().map(|a| a.direction).collect();
+        set(&out, "anchors", polyline(&positions))?;
+        set(&out, "anchorDirections", polyline(&directions))?;
+        let proposal = d.proposal().map_or_else(Vec::new, |l| l.points.clone());
+        set(&out, "proposal", polyline(&proposal))?;
+        let (i, n) = d.browse_position();
+        set(
+            &out,
+            "browse",
+            Array::of2(&(i as u32).into(), &(n as u32).into()),
+        )?;
+        set(&out, "canUndo", d.can_undo())?;
+        set(&out, "canRedo", d.can_redo())?;
+        set(
+            &out,
+            "error",
+            self.last_error.take().map_or(JsValue::NULL, JsValue::from),
+        )?;
+        Ok(out)
+    }
+
+    /// Whether the analysis is behind the committed loops.
+    #[wasm_bindgen(js_name = analysisStale)]
+    pub fn analysis_stale(&self) -> bool {
+        self.analysed.as_ref().is_none_or(|(r, moves)| {
+            *r != self.design.revision() || moves.as_slice() != self.design.moves()
+        })
+    }
+
+    /// Strips, regions, singularities and the layout of the committed loops
+    /// (§4.2, §6, §7), computed when stale; `{ revision, ... }` (see
+    /// `analysis_glue`).
+    pub fn analyze(&mut self) -> Result<Object, JsError> {
+        let revision = self.design.revision();
+        if self.analysis_stale() {
+            let a = analysis_glue::analyze(&self.mesh, &mut self.design, &now_ms);
+            self.analysis = Some(a);
+            self.analysed = Some((revision, self.design.moves().to_vec()));
+        }
+        let out = match &self.analysis {
+            Some(a) => analysis_to_js(a)?,
+            None => Object::new(),
+        };
+        set(&out, "revision", revision as f64)?;
+        Ok(out)
+    }
+
+    /// The layout as "obj" (lines) or "json" text.
+    pub fn export(&mut self, format: &str) -> Result<String, JsError> {
+        if self.analysis_stale() {
+            self.analyze()?;
+        }
+        let a = self
+            .analysis
+            .as_ref()
+            .ok_or_else(|| JsError::new("nothing designed yet"))?;
+        match format {
+            "obj" => Ok(a.obj.clone()),
+            "json" if a.json.is_empty() => Err(JsError::new(
+                "there is no layout yet: every region must be a disc (no red)",
+            )),
+            "json" => Ok(a.json.clone()),
+            _ => Err(JsError::new(&format!("unknown layout format {format}"))),
+        }
+    }
+
+    /// The design mesh as flat arrays (positions xyz, triangles), for the
+    /// page to draw per-face colourings of the proxy.
+    pub fn surface(&self) -> Result<Object, JsError> {
+        let out = Object::new();
+        let positions: Vec<f32> = self
+            .mesh
+            .positions
+            .iter()
+            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect();
+        let triangles: Vec<u32> = self.mesh.triangles.iter().flatten().copied().collect();
+        set(&out, "positions", Float32Array::from(&positions[..]))?;
+        set(&out, "triangles", js_sys::Uint32Array::from(&triangles[..]))?;
+        Ok(out)
+    }
+}
+
+impl LayoutDesigner {
+    fn result<T: Default>(&mut self, r: Result<T, DesignError>) -> T {
+        r.unwrap_or_else(|e| {
+            self.last_error = Some(e.to_string());
+            T::default()
+        })
+    }
+}
+
+/// Milliseconds from the worker's `performance.now()` (0 without one).
+fn now_ms() -> f64 {
+    let performance = Reflect::get(&js_sys::global(), &JsValue::from_str("performance")).ok();
+    let now = performance
+        .as_ref()
+        .and_then(|p| Reflect::get(p, &JsValue::from_str("now")).ok())
+        .and_then(|f| f.dyn_into::<js_sys::Function>().ok());
+    match (performance, now) {
+        (Some(p), Some(f)) => f.call0(&p).ok().and_then(|v| v.as_f64()).unwrap_or(0.0),
+        _ => 0.0,
+    }
+}
+
+fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
+    let json = serde_json::to_string(value).map_err(|e| JsError::new(&e.to_string()))?;
+    js_sys::JSON::parse(&json).map_err(|_| JsError::new("could not encode a result"))
+}
+
+/// `{ available, stripes, stripeColours, regionCategory, singularities,
+/// singularityColours, layoutVertices, layoutEdges, counts, sufficient,
+/// status, timings }`.
+fn analysis_to_js(a: &analysis_glue::Analysis) -> Result<Object, JsError> {
+    let out = Object::new();
+    set(&out, "available", a.available)?;
+    set(&out, "stripes", Float32Array::from(&a.stripes[..]))?;
+    set(
+        &out,
+        "stripeColours",
+        Uint8Array::from(&a.stripe_colours[..]),
+    )?;
+    set(
+        &out,
+        "regionCategory",
+        Float32Array::from(&a.region_category[..]),
+    )?;
+    set(
+        &out,
+        "singularities",
+        Float32Array::from(&a.singularities[..]),
+    )?;
+    set(
+        &out,
+        "singularityColours",
+        Uint8Array::from(&a.singularity_colours[..]),
+    )?;
+    set(
+        &out,
+        "layoutVertices",
+        Float32Array::from(&a.layout_vertices[..]),
+    )?;
+    set(&out, "layoutEdges", Float32Array::from(&a.layout_edges[..]))?;
+    set(&out, "counts", to_js(&a.counts)?)?;
+    set(&out, "sufficient", a.sufficient)?;
+    set(&out, "status", a.status.as_str())?;
+    set(&out, "timings", to_js(&a.timings)?)?;
+    Ok(out)
 }

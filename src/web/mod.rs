@@ -11,6 +11,7 @@
 //! panic is logged, its message kept for `takePanicMessage`, and surfaces
 //! in JS as a `RuntimeError` the caller turns into a visible error.
 
+pub mod layout_glue;
 pub mod mesh_arrays;
 pub mod viewer;
 

@@ -449,6 +449,313 @@ test('cancelling a parameter re-run keeps the cached stages when the worker stop
   assert(run.complete && run.limit_surface.iterations <= 4, `the fit ran with the new parameter: ${JSON.stringify(run.limit_surface?.iterations)}`);
 });
 
+// ---------------------------------------------------------------- design mode (dual strip weaving)
+
+// Client positions over the canvas where the surface is hit, on a grid.
+async function surfaceGrid(page, step = 24) {
+  const box = await page.locator('#canvas').boundingBox();
+  return page.evaluate(({ box, step }) => {
+    const hits = [];
+    for (let y = box.y + step / 2; y < box.y + box.height; y += step) {
+      for (let x = box.x + step / 2; x < box.x + box.width; x += step) {
+        const p = window.quadrille.surfacePoint(x, y);
+        if (p) hits.push({ x, y, p });
+      }
+    }
+    return hits;
+  }, { box, step });
+}
+
+// Enters the design mode (T) on the sample on screen and waits for the loop engine.
+async function enterDesign(page, timeout = 120000) {
+  await page.keyboard.press('t');
+  await page.waitForFunction(() => window.quadrille.design.ready && window.quadrille.design.state, null, { timeout });
+}
+
+const designState = (page) => page.evaluate(() => {
+  const s = window.quadrille.design.state;
+  return { revision: s.revision, anchors: s.anchors.length / 3, browse: s.browse, canUndo: s.canUndo, canRedo: s.canRedo,
+    loops: s.loops.map((l) => [...l.points]), proposal: [...window.quadrille.design.proposal] };
+});
+
+const polylineLength = (p) => {
+  let s = 0;
+  for (let i = 3; i < p.length; i += 3) s += Math.hypot(p[i] - p[i - 3], p[i + 1] - p[i - 2], p[i + 2] - p[i - 1]);
+  return s;
+};
+
+// Moves the pointer over `points` one by one, waiting for each hover's loop
+// to be drawn; returns the median pointer-move → drawn latency (ms).
+async function hoverLatency(page, points) {
+  for (const { x, y } of points) {
+    const before = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
+    await page.mouse.move(x, y);
+    await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, before, { timeout: 20000 });
+  }
+  return page.evaluate((n) => {
+    const xs = window.quadrille.design.hoverLatencies.slice(-n).sort((a, b) => a - b);
+    return { median: xs[Math.floor(xs.length / 2)], max: xs[xs.length - 1],
+      workerMedian: [...window.quadrille.design.hoverWorkerMs].sort((a, b) => a - b)[Math.floor(window.quadrille.design.hoverWorkerMs.length / 2)] };
+  }, points.length);
+}
+
+// Waits for the analysis of the current design revision.
+const waitForAnalysis = (page) => page.waitForFunction(() => {
+  const d = window.quadrille.design;
+  return d.analysis && d.state && d.analysis.revision === d.state.revision;
+}, null, { timeout: 120000 });
+
+// Hovers at a grid point and commits the proposal with Enter.
+async function hoverAndCommit(page, hit) {
+  const before = await page.evaluate(() => window.quadrille.design.state.loops.length);
+  const n = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
+  await page.mouse.move(hit.x, hit.y);
+  await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, n, { timeout: 20000 });
+  await page.keyboard.press('Enter');
+  await page.waitForFunction((b) => window.quadrille.design.state.loops.length > b, before, { timeout: 20000 });
+}
+
+test('design mode: hovering draws the best loop fast; wheel, click, drag and grab edit it', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  assert(!(await page.isHidden('#design-panel')), 'the design panel is shown');
+  const hits = await surfaceGrid(page);
+  assert(hits.length > 50, `the torus is under the pointer: ${hits.length} grid hits`);
+  const path = hits.filter((_, i) => i % Math.max(1, Math.floor(hits.length / 25)) === 0).slice(0, 25);
+  const latency = await hoverLatency(page, path);
+  console.log(`      [${env.backend}] torus (7680 faces): hover-to-draw median ${latency.median.toFixed(1)} ms (max ${latency.max.toFixed(1)}), loop query in the worker ${latency.workerMedian.toFixed(1)} ms`);
+  const hovered = await designState(page);
+  assert(hovered.proposal.length >= 9, 'a loop is drawn under the pointer');
+  assert(hovered.loops.length === 0 && hovered.anchors === 0, 'nothing committed by hovering');
+  // The wheel: the next alternative through the same point.
+  await page.mouse.wheel(0, 120);
+  await page.waitForFunction(() => window.quadrille.design.state.browse[0] === 1, null, { timeout: 20000 });
+  const browsed = await designState(page);
+  assert(browsed.browse[1] >= 2, `several alternatives: ${browsed.browse}`);
+  assert(JSON.stringify(browsed.proposal) !== JSON.stringify(hovered.proposal), 'the wheel changed the proposal');
+  // A click: an anchor; the loop through it is drawn.
+  const last = path[path.length - 1];
+  await page.mouse.click(last.x, last.y);
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 3, null, { timeout: 20000 });
+  const clicked = await designState(page);
+  assert(clicked.anchors === 1 && clicked.proposal.length >= 9 && clicked.canUndo, `one anchor and its loop: ${clicked.anchors}`);
+  // A drag from the surface: a directional anchor whose direction follows the pointer.
+  const from = path[Math.floor(path.length / 3)];
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 6; k++) await page.mouse.move(from.x + 6 * k, from.y + 3 * k);
+  await page.mouse.up();
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 6, null, { timeout: 20000 });
+  const dragged = await page.evaluate(() => [...window.quadrille.design.state.anchorDirections]);
+  assert(Math.hypot(dragged[3], dragged[4], dragged[5]) > 0.5, `the dragged anchor is directional: ${dragged}`);
+  assert(Math.hypot(dragged[0], dragged[1], dragged[2]) === 0, 'the clicked anchor is positional');
+  // Grab: press on the loop through the anchors and drag it: an anchor is inserted there.
+  await page.waitForFunction(() => window.quadrille.design.proposal.length >= 9, null, { timeout: 20000 });
+  const loop = await page.evaluate(() => [...window.quadrille.design.proposal]);
+  const anchorsNow = await page.evaluate(() => [...window.quadrille.design.state.anchors]);
+  const fine = await surfaceGrid(page, 8);
+  const d2 = (p, q) => (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
+  const onLoop = fine.filter((h) => {
+    let best = Infinity;
+    for (let i = 0; i < loop.length; i += 3) best = Math.min(best, d2(h.p, loop.slice(i, i + 3)));
+    const nearAnchor = [0, 3].some((i) => d2(h.p, anchorsNow.slice(i, i + 3)) < 0.05 ** 2);
+    return best < 0.006 ** 2 && !nearAnchor;
+  });
+  assert(onLoop.length > 0, 'some pixels lie on the drawn loop');
+  const grab = onLoop[Math.floor(onLoop.length / 2)];
+  await page.mouse.move(grab.x, grab.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 5; k++) await page.mouse.move(grab.x + 4 * k, grab.y - 4 * k);
+  await page.mouse.up();
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 9, null, { timeout: 20000 });
+  const grabbed = await designState(page);
+  assert(grabbed.proposal.length >= 9, 'the loop through three anchors exists');
+  // Escape clears them (undoably).
+  await page.keyboard.press('Escape');
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 0, null, { timeout: 20000 });
+  assert((await page.textContent('#shortcuts-close')) && !(await page.isHidden('#design-panel')), 'still in the mode');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: three loops on the torus give strips and a valid layout; undo restores; a vertex drags; the export parses', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  const hits = await surfaceGrid(page);
+  // Two meridians (the best loops) far apart, then the longest alternative (around the hole).
+  const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.95)]);
+  const two = await designState(page);
+  assert(two.loops.length === 2, `two strips: ${two.loops.length}`);
+  const meridian = polylineLength(two.loops[0]);
+  const mid = byX[Math.floor(byX.length * 0.5)];
+  await page.mouse.move(mid.x, mid.y);
+  await page.waitForFunction(() => window.quadrille.design.proposal.length > 0, null, { timeout: 20000 });
+  let found = false;
+  for (let k = 0; k < 8 && !found; k++) {
+    await page.mouse.wheel(0, 120);
+    await page.waitForFunction((k) => window.quadrille.design.state.browse[0] !== k, k, { timeout: 20000 });
+    const s = await designState(page);
+    found = polylineLength(s.proposal) > 1.6 * meridian;
+  }
+  assert(found, 'the wheel offers a loop around the hole');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, { timeout: 20000 });
+  const three = await designState(page);
+  await waitForAnalysis(page);
+  const a = await page.evaluate(() => window.quadrille.design.analysis);
+  console.log(`      [${env.backend}] torus, 3 strips: ${JSON.stringify(a.counts)} · ${a.status} · timings ${JSON.stringify(a.timings)}`);
+  await page.mouse.move(0, 0);
+  await settle(page);
+  await page.screenshot({ path: join(artifacts, `design-torus-${env.backend}.png`) });
+  assert(a.available, `the strip analysis ran: ${a.status}`);
+  assert(a.counts.strips === 3 && a.counts.red === 0 && a.sufficient, `no red regions: ${JSON.stringify(a.counts)}`);
+  assert(a.stripes.length > 0, 'stripes are drawn');
+  const { layout_vertices: V, layout_edges: E, patches: F } = a.counts;
+  assert(V - E + F === 0, `V − E + F = ${V} − ${E} + ${F} = 0 on the torus`);
+  assert((await page.textContent('#design-status')).includes('topologically sufficient'), 'the status line says sufficient');
+  // Undo: the previous loops exactly, and the analysis follows.
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, { timeout: 20000 });
+  const undone = await designState(page);
+  assert(JSON.stringify(undone.loops) === JSON.stringify(two.loops), 'undo restores the previous loops');
+  await waitForAnalysis(page);
+  assert(await page.evaluate(() => window.quadrille.design.analysis.counts.strips) === 2, 'the analysis follows the undo');
+  await page.keyboard.press('Control+Shift+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, { timeout: 20000 });
+  assert(JSON.stringify((await designState(page)).loops) === JSON.stringify(three.loops), 'redo restores the third loop');
+  await waitForAnalysis(page);
+  // Delete from the list, then undo.
+  await page.click('#design-strips li:nth-child(1) button');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, { timeout: 20000 });
+  await page.click('#design-undo');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, { timeout: 20000 });
+  await waitForAnalysis(page);
+  // Dragging a layout vertex moves it (its edges re-routed); undo puts it back.
+  const before = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices]);
+  let target = null;
+  for (let turn = 0; turn < 6 && !target; turn++) {
+    const grid = await surfaceGrid(page, 8);
+    for (let v = 0; v < before.length / 3 && !target; v++) {
+      const q = before.slice(3 * v, 3 * v + 3);
+      const near = grid.filter((h) => Math.hypot(h.p[0] - q[0], h.p[1] - q[1], h.p[2] - q[2]) < 0.02).sort((a, b) => Math.hypot(a.p[0] - q[0], a.p[1] - q[1], a.p[2] - q[2]) - Math.hypot(b.p[0] - q[0], b.p[1] - q[1], b.p[2] - q[2]));
+      if (near.length) target = { v, hit: near[0] };
+    }
+    if (!target) { // turn the view (right-drag) and look again
+      const box = await page.locator('#canvas').boundingBox();
+      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+      await page.mouse.down({ button: 'right' });
+      await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2, { steps: 4 });
+      await page.mouse.up({ button: 'right' });
+      await settle(page);
+    }
+  }
+  assert(target, 'a layout vertex is visible');
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  await page.mouse.move(target.hit.x, target.hit.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 5; k++) await page.mouse.move(target.hit.x + 5 * k, target.hit.y + 2 * k);
+  await page.mouse.up();
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, { timeout: 60000 });
+  const moved = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices]);
+  const shift = Math.hypot(...[0, 1, 2].map((k) => moved[3 * target.v + k] - before[3 * target.v + k]));
+  assert(shift > 0.005, `the vertex moved by ${shift}: ${await page.textContent('#design-status')}`);
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n + 1, analyses, { timeout: 60000 });
+  const back = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices]);
+  assert(JSON.stringify(back) === JSON.stringify(before), 'undo puts the vertex back');
+  // The JSON export parses and has the counts shown.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#design-export-json')]);
+  const json = JSON.parse(readFileSync(await download.path(), 'utf8'));
+  const shown = await page.evaluate(() => window.quadrille.design.analysis.counts);
+  assert(json.patches.length === shown.patches && json.vertices.length === shown.layout_vertices && json.edges.length === shown.layout_edges,
+    `exported ${json.vertices.length} / ${json.edges.length} / ${json.patches.length}, shown ${JSON.stringify(shown)}`);
+  // Every patch: 4 corners, and its i-th edge joins corners i and i + 1.
+  for (const p of json.patches) {
+    assert(p.corners.length === 4 && p.edges.length === 4, `a patch with ${p.corners.length} corners`);
+    for (let i = 0; i < 4; i++) {
+      const ends = json.edges[p.edges[i]].ends;
+      const [x, y] = [p.corners[i], p.corners[(i + 1) % 4]];
+      assert((ends[0] === x && ends[1] === y) || (ends[0] === y && ends[1] === x), `patch edge ${i} joins its corners`);
+    }
+  }
+  assert((await page.textContent('#design-counts')).includes(String(shown.patches)), 'the panel shows the patch count');
+  const obj = await page.evaluate(() => window.quadrille.exportLayout('obj'));
+  assert(/^l /m.test(obj) && /^v /m.test(obj), 'the OBJ export has vertices and lines');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: with the mirror plane detected, a committed strip gets its mirror image', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  await page.selectOption('#design-mirror', 'auto');
+  await page.waitForFunction(() => window.quadrille.design.actionMs.setMirror, null, { timeout: 20000 });
+  const hits = await surfaceGrid(page);
+  // Off every axis plane: a point whose mirror images are elsewhere.
+  const off = hits.filter((h) => Math.abs(h.p[0]) > 0.15 && Math.abs(h.p[1]) > 0.15);
+  assert(off.length > 0, 'a point away from the symmetry planes');
+  await hoverAndCommit(page, off[0]);
+  const s = await page.evaluate(() => window.quadrille.design.state.loops.map((l) => ({ mirrored: l.mirrored, n: l.points.length })));
+  assert(s.length === 2 && !s[0].mirrored && s[1].mirrored, `the strip and its mirror image: ${JSON.stringify(s)}`);
+  assert((await page.textContent('#design-strips')).includes('mirror image'), 'the list names the mirror image');
+  // Deleting the copy deletes the pair; undo brings both back.
+  await page.click('#design-strips li:nth-child(2) button');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 0, null, { timeout: 20000 });
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, { timeout: 20000 });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: the page survives a crashed layout worker and the mode restarts', async (env) => {
+  const { page } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  await page.evaluate(() => window.quadrille.crashLayoutWorker());
+  await page.waitForFunction(() => !document.getElementById('design-crash').hidden, null, { timeout: 20000 });
+  assert((await page.textContent('#design-crash')).includes('crashed'), 'the page says the worker crashed');
+  await page.click('#design-restart');
+  await page.waitForFunction(() => window.quadrille.design.ready && !window.quadrille.design.crashed, null, { timeout: 60000 });
+  const hits = await surfaceGrid(page, 48);
+  await hoverLatency(page, hits.slice(0, 3));
+  assert(await page.evaluate(() => window.quadrille.design.proposal.length) > 0, 'hovering works after the restart');
+  // The rest of the page still works.
+  await page.keyboard.press('t');
+  await page.click('#sample-buttons >> text=spot');
+  await waitForRun(page, 'spot.obj');
+});
+
+test('design mode on real meshes: hover latency and a designed layout', async (env) => {
+  for (const [sample, commits] of [['rocker-arm', 3], ['stanford-bunny', 3]]) {
+    const { page, errors } = await open(env, `sample=${sample}`);
+    await waitForRun(page, `${sample}.obj`);
+    const started = Date.now();
+    await enterDesign(page, 300000);
+    const d = await page.evaluate(() => ({ faces: window.quadrille.design.faces, inputFaces: window.quadrille.design.inputFaces, proxy: window.quadrille.design.proxy, buildMs: window.quadrille.design.buildMs,
+      wasmMs: window.quadrille.design.wasmMs, readyAfterMs: window.quadrille.design.readyAfterMs }));
+    const hits = await surfaceGrid(page);
+    const path = hits.filter((_, i) => i % Math.max(1, Math.floor(hits.length / 25)) === 0).slice(0, 25);
+    const latency = await hoverLatency(page, path);
+    console.log(`      [${env.backend}] ${sample} (${d.inputFaces} faces${d.proxy ? `, proxy ${d.faces}` : ''}): engine built in ${d.buildMs.toFixed(0)} ms (worker's wasm ready in ${d.wasmMs.toFixed(0)} ms, mode ready ${d.readyAfterMs.toFixed(0)} ms after T); hover-to-draw median ${latency.median.toFixed(1)} ms (max ${latency.max.toFixed(1)}), loop query in the worker ${latency.workerMedian.toFixed(1)} ms`);
+    if (d.proxy) assert((await page.textContent('#design-note')).includes('proxy'), 'the panel says the design runs on a proxy');
+    if (commits) {
+      const byY = [...hits].sort((a, b) => a.y - b.y);
+      for (let k = 0; k < commits; k++) await hoverAndCommit(page, byY[Math.floor(byY.length * (k + 0.5) / commits)]);
+      await waitForAnalysis(page);
+      const a = await page.evaluate(() => window.quadrille.design.analysis);
+      const commitMs = await page.evaluate(() => window.quadrille.design.actionMs.commit.map((x) => Math.round(x)));
+      console.log(`      [${env.backend}] ${sample}, ${commits} strips: ${JSON.stringify(a.counts)} · ${a.status} · timings ${JSON.stringify(a.timings)} · commit ${commitMs} ms · analysis ${Math.round(await page.evaluate(() => window.quadrille.design.analysisMs))} ms`);
+      await page.mouse.move(0, 0);
+      await settle(page);
+      await page.screenshot({ path: join(artifacts, `design-${sample}-${env.backend}.png`) });
+    }
+    assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+    await page.close();
+  }
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();

@@ -1,0 +1,425 @@
+//! What the design mode draws after each change of the committed loops
+//! (Campen & Kobbelt 2014, *Dual Strip Weaving*: §4.2 region guidance, §6
+//! strips, §7 the primal layout), as flat arrays: the one place where the
+//! layout analysis meets the page. Native, so it is unit-tested.
+//!
+//! The layout's OBJ and JSON are [`QuadLayout::to_obj`] and
+//! [`QuadLayout::to_json`]; without a layout (regions not all discs) the
+//! OBJ holds the committed loops as polylines and the JSON is empty.
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::layout::design::LayoutDesign;
+use crate::layout::primal::QuadLayout;
+use crate::layout::regions::{Guidance, Regions};
+use crate::layout::symmetry::{MirrorPlane, detect};
+use crate::layout::{EmbeddedLoop, LoopEmbedder, StripParams, strip_analysis};
+use crate::mesh::TriMesh;
+
+/// ColorBrewer Set1/Dark2-like distinct strip colours.
+const STRIP_COLOURS: [u32; 10] = [
+    0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0xff7f0e, 0x17becf, 0x8c564b, 0xe377c2, 0x7f7f7f,
+    0xbcbd22,
+];
+
+/// The colour of strip `i` (RGBA bytes).
+pub fn strip_colour(i: usize) -> [u8; 4] {
+    let c = STRIP_COLOURS[i % STRIP_COLOURS.len()];
+    [(c >> 16) as u8, (c >> 8) as u8, c as u8, 255]
+}
+
+/// Region categories on the `categories` colormap (0 grey … 12): a region
+/// that is fine, not a disc (red), several curvature extrema (orange),
+/// valence mismatch (yellow).
+pub const REGION_OK: f32 = 0.0;
+pub const REGION_RED: f32 = 6.0;
+pub const REGION_ORANGE: f32 = 8.0;
+pub const REGION_YELLOW: f32 = 11.0;
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Counts {
+    pub strips: usize,
+    /// Strips the analysis could grow (a loop that fails to embed or to
+    /// grow has none).
+    pub strips_grown: usize,
+    pub regions: usize,
+    pub red: usize,
+    pub orange: usize,
+    pub yellow: usize,
+    pub singularities: usize,
+    pub layout_vertices: usize,
+    pub layout_edges: usize,
+    pub patches: usize,
+}
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Timings {
+    pub field_ms: f64,
+    pub parametrization_ms: f64,
+    pub strips_ms: f64,
+    pub regions_ms: f64,
+    pub layout_ms: f64,
+    pub total_ms: f64,
+}
+
+/// The analysis of one revision of the design, ready to draw.
+#[derive(Debug, Clone, Default)]
+pub struct Analysis {
+    /// Whether the strip analysis ran (false: loops only).
+    pub available: bool,
+    /// Stripe segments (six floats each) and one RGBA per segment.
+    pub stripes: Vec<f32>,
+    pub stripe_colours: Vec<u8>,
+    /// Per face of the design mesh, a region category (empty: none).
+    pub region_category: Vec<f32>,
+    /// Singularity positions (xyz) and colours (valence 3 blue, 5 red).
+    pub singularities: Vec<f32>,
+    pub singularity_colours: Vec<u8>,
+    /// Their indices in quarter turns.
+    pub singularity_index: Vec<i32>,
+    /// Layout vertices (xyz) and edges (segments).
+    pub layout_vertices: Vec<f32>,
+    pub layout_edges: Vec<f32>,
+    pub counts: Counts,
+    pub sufficient: bool,
+    pub status: String,
+    pub timings: Timings,
+    /// The layout as OBJ lines and as JSON (empty without a layout).
+    pub obj: String,
+    pub json: String,
+}
+
+/// Runs the analysis of the committed loops on `mesh`: embeds them (§6.1
+/// needs them on the triangulation), runs §6 ([`strip_analysis`]) and feeds
+/// its covered directions back to the engine (§6.2), then finds the regions
+/// (§4.2) and, when they are all discs, the primal layout (§7) with the
+/// user's vertex moves. `clock` gives milliseconds.
+pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f64) -> Analysis {
+    let mut a = Analysis {
+        counts: Counts {
+            strips: design.committed().len(),
+            ..Counts::default()
+        },
+        ..Analysis::default()
+    };
+    a.obj = loops_obj(design);
+    let mut notes = Vec::new();
+    // Committed loop index of each embedded loop.
+    let mut embedded: Vec<EmbeddedLoop> = Vec::new();
+    let mut committed_of: Vec<usize> = Vec::new();
+    if !design.committed().is_empty() {
+        match LoopEmbedder::new(mesh) {
+            Ok(embedder) => {
+                for (i, c) in design.committed().iter().enumerate() {
+                    match embedder.embed(&c.dual.points, c.dual.closed) {
+                        Ok(l) => {
+                            embedded.push(l);
+                            committed_of.push(i);
+                        }
+                        Err(e) => notes.push(format!("strip {}: {e}", i + 1)),
+                    }
+                }
+            }
+            Err(e) => notes.push(e.to_string()),
+        }
+    }
+    let strips = strip_analysis(mesh, &embedded, &StripParams::default());
+    a.available = true;
+    a.timings.field_ms = strips.field_ms;
+    a.timings.parametrization_ms = strips.parametrization_ms;
+    a.timings.strips_ms = strips.strips_ms;
+    for s in &strips.strips {
+        let colour = strip_colour(committed_of.get(s.loop_index).copied().unwrap_or(0));
+        for [p, q] in s.stripe_segments(mesh, strips.spacing) {
+            push_segment(&mut a.stripes, p, q);
+            a.stripe_colours.extend(colour);
+        }
+    }
+    for s in &strips.singularities {
+        if let Some(&p) = mesh.positions.get(s.vertex as usize) {
+            push_point(&mut a.singularities, p);
+            a.singularity_index.push(s.index);
+            // Index +1 (valence-3-like corner) blue, −1 (valence 5) red.
+            a.singularity_colours.extend(if s.index > 0 {
+                SINGULARITY_3
+            } else {
+                SINGULARITY_5
+            });
+        }
+    }
+    a.counts.singularities = strips.singularities.len();
+    if !strips.covered.is_empty() {
+        design.apply_covered(design.revision(), &strips.covered);
+    }
+    notes.extend(strips.notes.iter().cloned());
+    a.counts.strips_grown = strips.strips.len();
+
+    // §4.2: the regions between the loops and their guidance colours.
+    let started = clock();
+    let mut layout = None;
+    let mut regions_failed = None;
+    match Regions::compute(mesh, &embedded, &strips.singularities) {
+        Ok(regions) => {
+            a.counts.regions = regions.regions.len();
+            for r in &regions.regions {
+                match r.guidance {
+                    Guidance::NonDisc => a.counts.red += 1,
+                    Guidance::CurvatureExtrema => a.counts.orange += 1,
+                    Guidance::ValenceMismatch => a.counts.yellow += 1,
+                    Guidance::Ok => {}
+                }
+            }
+            a.region_category = regions
+                .face_region
+                .iter()
+                .map(
+                    |&r| match regions.regions.get(r as usize).map(|r| r.guidance) {
+                        Some(Guidance::NonDisc) => REGION_RED,
+                        Some(Guidance::CurvatureExtrema) => REGION_ORANGE,
+                        Some(Guidance::ValenceMismatch) => REGION_YELLOW,
+                        _ => REGION_OK,
+                    },
+                )
+                .collect();
+            a.sufficient = regions.sufficient && !embedded.is_empty();
+            a.timings.regions_ms = clock() - started;
+            // §7: the primal layout, with the user's vertex moves.
+            if a.sufficient {
+                let started = clock();
+                match QuadLayout::build(mesh, &embedded, &regions, &strips.singularities) {
+                    Ok(mut l) => {
+                        for &(v, p) in design.moves() {
+                            if let Err(e) = l.move_vertex(v as usize, p) {
+                                notes.push(format!("vertex {v} not moved: {e}"));
+                            }
+                        }
+                        layout = Some(l);
+                    }
+                    Err(e) => notes.push(format!("no layout: {e}")),
+                }
+                a.timings.layout_ms = clock() - started;
+            }
+        }
+        Err(e) => regions_failed = Some(e.to_string()),
+    }
+    if let Some(l) = &layout {
+        for v in &l.vertices {
+            push_point(&mut a.layout_vertices, v.position);
+        }
+        for e in &l.edges {
+            for w in e.polyline.windows(2) {
+                push_segment(&mut a.layout_edges, w[0], w[1]);
+            }
+        }
+        a.counts.layout_vertices = l.vertices.len();
+        a.counts.layout_edges = l.edges.len();
+        a.counts.patches = l.patches.len();
+        a.obj = l.to_obj();
+        a.json = l.to_json().unwrap_or_default();
+    }
+    a.status = if a.counts.strips == 0 {
+        "no strips yet: hover over the surface and press Enter".to_string()
+    } else if let Some(e) = regions_failed {
+        format!("the regions could not be found ({e}): no guidance and no layout")
+    } else {
+        status_line(&a.counts)
+    };
+    if !notes.is_empty() {
+        a.status += &format!(" · {}", notes.join("; "));
+    }
+    a.timings.total_ms = a.timings.field_ms
+        + a.timings.parametrization_ms
+        + a.timings.strips_ms
+        + a.timings.regions_ms
+        + a.timings.layout_ms;
+    a
+}
+
+const SINGULARITY_3: [u8; 4] = [31, 111, 221, 255];
+const SINGULARITY_5: [u8; 4] = [216, 52, 44, 255];
+
+/// A reflection plane detected on the mesh (the "auto" symmetry option).
+pub fn detect_mirror(mesh: &TriMesh) -> Option<MirrorPlane> {
+    detect(mesh).map(|(plane, _)| plane)
+}
+
+/// The committed loops as OBJ polylines (`v` and `l` lines).
+pub fn loops_obj(design: &LayoutDesign) -> String {
+    let mut out = String::from("# dual loops of a quad layout design (Quadrille)\n");
+    let mut next = 1usize;
+    for c in design.committed() {
+        for p in &c.dual.points {
+            out += &format!("v {} {} {}\n", p.x, p.y, p.z);
+        }
+        let n = c.dual.points.len();
+        if n >= 2 {
+            out += "l";
+            for k in 0..n {
+                out += &format!(" {}", next + k);
+            }
+            out += "\n";
+        }
+        next += n;
+    }
+    out
+}
+
+/// The status line of §4.2: sufficient or how many regions are red, with
+/// the orange and yellow hints.
+pub fn status_line(c: &Counts) -> String {
+    let mut s = if c.red > 0 {
+        format!(
+            "{} region{} {} not {} (red): add strips to split {}",
+            c.red,
+            plural(c.red),
+            if c.red == 1 { "is" } else { "are" },
+            if c.red == 1 { "a disc" } else { "discs" },
+            if c.red == 1 { "it" } else { "them" },
+        )
+    } else {
+        format!(
+            "{} strip{} · {} region{} · topologically sufficient",
+            c.strips,
+            plural(c.strips),
+            c.regions,
+            plural(c.regions)
+        )
+    };
+    if c.orange > 0 {
+        s += &format!(" · {} orange (curvature extrema)", c.orange);
+    }
+    if c.yellow > 0 {
+        s += &format!(" · {} yellow (valence)", c.yellow);
+    }
+    s
+}
+
+pub fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
+
+pub fn push_point(out: &mut Vec<f32>, p: DVec3) {
+    out.extend([p.x as f32, p.y as f32, p.z as f32]);
+}
+
+pub fn push_segment(out: &mut Vec<f32>, a: DVec3, b: DVec3) {
+    push_point(out, a);
+    push_point(out, b);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::{ElasticaParams, LoopEngine};
+    use crate::mesh::generate::torus;
+
+    #[test]
+    fn status_line_says_sufficient_or_counts_red() {
+        let mut c = Counts {
+            strips: 3,
+            regions: 2,
+            ..Counts::default()
+        };
+        assert_eq!(
+            status_line(&c),
+            "3 strips · 2 regions · topologically sufficient"
+        );
+        c.red = 2;
+        assert_eq!(
+            status_line(&c),
+            "2 regions are not discs (red): add strips to split them"
+        );
+        c.red = 1;
+        c.yellow = 1;
+        assert!(status_line(&c).starts_with("1 region is not a disc (red)"));
+        assert!(status_line(&c).ends_with("1 yellow (valence)"));
+    }
+
+    fn torus_design() -> (TriMesh, LayoutDesign) {
+        let mesh = torus(2.0, 0.7, 48, 20);
+        let d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
+        (mesh, d)
+    }
+
+    /// A point on the torus at angles (u, v) (see `generate::torus`).
+    fn on_torus(u: f64, v: f64) -> DVec3 {
+        let ring = 2.0 + 0.7 * v.cos();
+        DVec3::new(ring * u.cos(), ring * u.sin(), 0.7 * v.sin())
+    }
+
+    fn commit_through(d: &mut LayoutDesign, p: DVec3, direction: DVec3) {
+        d.add_anchor(p, Some(direction));
+        d.commit().expect("a loop through the anchor");
+    }
+
+    #[test]
+    fn one_meridian_on_the_torus_gives_a_strip_and_a_red_annulus() {
+        let (mesh, mut d) = torus_design();
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        assert!(a.available);
+        assert_eq!(a.counts.strips, 1);
+        assert_eq!(a.counts.strips_grown, 1, "{}", a.status);
+        assert!(!a.stripes.is_empty());
+        assert_eq!(a.stripes.len() / 6, a.stripe_colours.len() / 4);
+        assert!(a.stripe_colours.chunks(4).all(|c| c == strip_colour(0)));
+        // Poincaré–Hopf: the indices sum to 4χ quarter turns, 0 on a torus.
+        assert_eq!(a.singularity_index.iter().sum::<i32>(), 0);
+        // Cut once, the torus is an annulus: one region, not a disc.
+        assert_eq!((a.counts.regions, a.counts.red), (1, 1), "{}", a.status);
+        assert!(!a.sufficient && a.json.is_empty());
+        assert!(a.region_category.iter().all(|&c| c == REGION_RED));
+        assert_eq!(a.region_category.len(), mesh.face_count());
+        let n = d.committed()[0].dual.points.len();
+        assert_eq!(a.obj.lines().filter(|l| l.starts_with("v ")).count(), n);
+        assert!(
+            a.status.starts_with("1 region is not a disc (red)"),
+            "{}",
+            a.status
+        );
+    }
+
+    #[test]
+    fn two_meridians_and_a_longitude_give_a_valid_torus_layout() {
+        let (mesh, mut d) = torus_design();
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
+        commit_through(&mut d, on_torus(std::f64::consts::PI, 0.0), DVec3::Z);
+        let u = std::f64::consts::FRAC_PI_2;
+        commit_through(&mut d, on_torus(u, 0.0), DVec3::new(-u.sin(), u.cos(), 0.0));
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        assert_eq!(a.counts.strips, 3);
+        assert_eq!(a.counts.red, 0, "{}", a.status);
+        assert!(a.sufficient, "{}", a.status);
+        let c = &a.counts;
+        // Two crossings: two patches; two disc regions; four loop arcs.
+        assert_eq!(
+            (c.layout_vertices, c.layout_edges, c.patches),
+            (2, 4, 2),
+            "{c:?}"
+        );
+        assert_eq!(
+            c.layout_vertices as i64 - c.layout_edges as i64 + c.patches as i64,
+            0,
+            "Euler characteristic of the torus"
+        );
+        let json = crate::layout::primal::LayoutExport::from_json(&a.json).unwrap();
+        for p in &json.patches {
+            for i in 0..4 {
+                let e = &json.edges[p.edges[i] as usize];
+                let (x, y) = (p.corners[i], p.corners[(i + 1) % 4]);
+                assert!(
+                    e.ends == [x, y] || e.ends == [y, x],
+                    "patch edge {i} joins its corners"
+                );
+            }
+        }
+        assert!(
+            a.status.contains("topologically sufficient"),
+            "{}",
+            a.status
+        );
+        assert_eq!(a.layout_vertices.len(), 3 * c.layout_vertices);
+        assert!(!a.layout_edges.is_empty());
+    }
+}
