@@ -4,9 +4,8 @@
 //! `cargo run --release --example bench_layout [mesh-file[@faces] …]`
 //! (default: stanford-bunny, stanford-bunny decimated to ~30k faces,
 //! fandisk and rocker-arm from `../shared/meshes/`). `file@N` decimates the mesh to about N
-//! faces by uniform-grid vertex clustering (Rossignac & Borrel 1993: vertices
-//! in one grid cell are merged at their mean; collapsed and duplicate
-//! triangles are dropped) — crude, but enough for a timing proxy.
+//! faces with the design tool's proxy (`layout::proxy::decimate`, manifold
+//! edge collapse).
 //!
 //! Each query is timed three times and the fastest kept (the machine is
 //! shared; the query is deterministic). `BENCH_VERBOSE=1` lists the slowest
@@ -55,7 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     std::fs::write(&out, text)?;
                     println!("wrote {}", out.display());
                 }
-                name = format!("{name} (vertex clustering to ~{n} faces)");
+                name = format!("{name} (decimated to ~{n} faces)");
                 m
             }
             None => imported.mesh,

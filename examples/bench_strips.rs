@@ -7,93 +7,15 @@
 //! engine (§6.2) so the next loops cross transversally.
 //! `cargo run --release --example bench_strips [mesh-file[@faces] …]`
 //! (default: stanford-bunny decimated to ~30k faces and rocker-arm from
-//! `../shared/meshes/`; `file@N` decimates by vertex clustering, copied
-//! from `bench_layout.rs`). `BENCH_LOOPS=n` commits n loops (default 6).
+//! `../shared/meshes/`; `file@N` decimates to about N faces with the design
+//! tool's proxy, `layout::proxy::decimate`). `BENCH_LOOPS=n` commits n loops (default 6).
 
-use std::collections::HashMap;
 use std::time::Instant;
 
-use glam::DVec3;
+use quadrille::layout::proxy::decimate;
 use quadrille::layout::{ElasticaParams, LoopEmbedder, LoopEngine, StripParams, strip_analysis};
 use quadrille::mesh::TriMesh;
 use rand_core::{RngCore, SeedableRng};
-
-/// Vertex clustering on a grid of cell size `h`.
-fn cluster(mesh: &TriMesh, h: f64) -> TriMesh {
-    let Some(b) = mesh.bbox() else {
-        return mesh.clone();
-    };
-    let mut cell_of: HashMap<(i64, i64, i64), u32> = HashMap::new();
-    let mut sum: Vec<(DVec3, f64)> = Vec::new();
-    let mut remap = Vec::with_capacity(mesh.vertex_count());
-    for p in &mesh.positions {
-        let c = ((*p - b.min) / h).floor();
-        let id = *cell_of
-            .entry((c.x as i64, c.y as i64, c.z as i64))
-            .or_insert_with(|| {
-                sum.push((DVec3::ZERO, 0.0));
-                sum.len() as u32 - 1
-            });
-        sum[id as usize].0 += *p;
-        sum[id as usize].1 += 1.0;
-        remap.push(id);
-    }
-    let positions: Vec<DVec3> = sum.iter().map(|(s, n)| *s / *n).collect();
-    let mut seen = std::collections::HashSet::new();
-    let mut triangles = Vec::new();
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|v| remap[v as usize]);
-        if a == b || b == c || a == c {
-            continue;
-        }
-        let mut key = [a, b, c];
-        key.sort_unstable();
-        if seen.insert(key) {
-            triangles.push([a, b, c]);
-        }
-    }
-    // Drop vertices no triangle uses.
-    let mut used = vec![u32::MAX; positions.len()];
-    let mut kept = Vec::new();
-    for t in &mut triangles {
-        for v in t.iter_mut() {
-            if used[*v as usize] == u32::MAX {
-                used[*v as usize] = kept.len() as u32;
-                kept.push(positions[*v as usize]);
-            }
-            *v = used[*v as usize];
-        }
-    }
-    TriMesh::new(kept, triangles).unwrap_or_else(|_| mesh.clone())
-}
-
-/// Vertex clustering with the cell size bisected to about `faces` faces.
-fn decimate(mesh: &TriMesh, faces: usize) -> TriMesh {
-    if mesh.face_count() <= faces {
-        return mesh.clone();
-    }
-    let diag = mesh.bbox().map_or(1.0, |b| b.diagonal());
-    let (mut lo, mut hi) = (1e-5 * diag, 0.1 * diag);
-    let mut best = mesh.clone();
-    for _ in 0..30 {
-        let h = (lo * hi).sqrt();
-        let m = cluster(mesh, h);
-        if m.face_count() > faces {
-            lo = h;
-        } else {
-            hi = h;
-        }
-        if best.face_count() > faces
-            || m.face_count().abs_diff(faces) < best.face_count().abs_diff(faces)
-        {
-            best = m;
-        }
-        if best.face_count().abs_diff(faces) * 100 < faces {
-            break;
-        }
-    }
-    best
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut specs: Vec<String> = std::env::args().skip(1).collect();

@@ -136,7 +136,7 @@ export function createDesignMode(ctx) {
         // On a proxy, the proxy is drawn: the loops lie on it, not on the input.
         if (m.proxy) ctx.setRegionSurface(proxySurface());
         $('design-note').textContent = (m.proxy
-          ? `Designing on a proxy of ${m.faces} faces (vertex clustering of the ${m.inputFaces}-face input) so hovering stays fast. `
+          ? `Designing on a proxy of ${m.faces} faces (decimated from the ${m.inputFaces}-face input) so hovering stays fast. `
           : `${m.faces} faces. `) + `Loop engine built in ${m.buildMs.toFixed(0)} ms.`;
         // Apply the mirror option chosen before the engine was ready.
         if ($('design-mirror').value !== 'off') action('setMirror', [$('design-mirror').value]);

@@ -151,7 +151,7 @@ fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsEr
 
 #[wasm_bindgen]
 impl LayoutDesigner {
-    /// Imports a mesh file and builds the loop engine (on a vertex-clustered
+    /// Imports a mesh file and builds the loop engine (on a decimated
     /// proxy of about [`proxy::PROXY_FACES`] faces for large meshes).
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<LayoutDesigner, JsError> {
