@@ -264,9 +264,15 @@ function updateLegend() {
   if (legend.colormap === 'face-degree') el.querySelector('.max').textContent = '6+';
   if (legend.colormap === 'categories') {
     const layout = legend.name.startsWith('layout regions');
-    el.querySelector('.min').textContent = layout ? 'grey: fine' : 'grey: discarded';
+    el.querySelector('.min').textContent = layout ? 'fine' : 'grey: discarded';
     el.querySelector('.mid').textContent = '';
     el.querySelector('.max').textContent = layout ? '' : 'colour: one per region';
+    if (layout) {
+      // Four swatches: fine, red, orange, yellow (categories 0, 6, 8, 11;
+      // src/web/layout_glue.rs REGION_*).
+      const swatches = [0, 6, 8, 11].map((c, i) => `${legend.stops[c]} ${25 * i}% ${25 * (i + 1)}%`);
+      el.querySelector('.legend-bar').style.background = `linear-gradient(to right, ${swatches.join(', ')})`;
+    }
   }
 }
 
