@@ -13,12 +13,18 @@
 //! get `t` = 0.02 or 0.98). Immediate back-and-forth across one edge is
 //! removed.
 
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
 
 use glam::DVec3;
 
 use crate::mesh::{TriMesh, VertexFaces};
 use crate::spatial::SurfaceIndex;
+
+/// Dual-graph steps within which two consecutive samples' faces are joined.
+const CONNECT_DEPTH: u32 = 16;
+/// A sample whose closest face is farther than that is re-snapped to the
+/// closest face within this many steps of the previous sample's face.
+const RESNAP_DEPTH: u32 = 8;
 
 /// Where a loop crosses a mesh edge: the point `(1 − t)·p[a] + t·p[b]` on
 /// the undirected edge `{a, b}` with `a < b`, `t` strictly inside (0, 1).
@@ -254,8 +260,20 @@ impl<'a> LoopEmbedder<'a> {
         push(&mut path, (visits[0].0, visits[0].1, visits[0].1));
         for i in 0..links {
             let (f, p) = visits[i];
-            let (g, q) = visits[(i + 1) % m];
-            for h in self.connect(f, g)? {
+            let (mut g, q) = visits[(i + 1) % m];
+            let between = match self.connect(f, g) {
+                Ok(between) => between,
+                // The sample's closest face lies across a thin part of the
+                // surface (the chord passed through it): take the closest
+                // face near the previous one instead.
+                Err(e) if (i + 1) % m != 0 => {
+                    g = self.nearest_face_near(f, q).ok_or(e)?;
+                    visits[i + 1].0 = g;
+                    self.connect(f, g)?
+                }
+                Err(e) => return Err(e),
+            };
+            for h in between {
                 push(&mut path, (h, p, q));
             }
             push(&mut path, (g, q, q));
@@ -353,23 +371,23 @@ impl<'a> LoopEmbedder<'a> {
             }
         }
         // Breadth-first search in the dual graph.
-        let mut parent: Vec<(u32, u32)> = vec![(f, f)];
+        let mut parent: HashMap<u32, u32> = HashMap::from([(f, f)]);
         let mut queue = VecDeque::from([(f, 0)]);
         while let Some((h, depth)) = queue.pop_front() {
-            if depth >= 8 {
+            if depth >= CONNECT_DEPTH {
                 continue;
             }
             for &k in &self.topology.opposite[h as usize] {
-                if k == u32::MAX || parent.iter().any(|p| p.0 == k) {
+                if k == u32::MAX || parent.contains_key(&k) {
                     continue;
                 }
-                parent.push((k, h));
+                parent.insert(k, h);
                 if k == g {
                     let mut out = Vec::new();
                     let mut cur = h;
                     while cur != f {
                         out.push(cur);
-                        cur = parent.iter().find(|p| p.0 == cur).map_or(f, |p| p.1);
+                        cur = parent.get(&cur).copied().unwrap_or(f);
                     }
                     out.reverse();
                     return Ok(out);
@@ -378,6 +396,31 @@ impl<'a> LoopEmbedder<'a> {
             }
         }
         Err(EmbedError::Gap(f, g))
+    }
+
+    /// The face closest to `q` among the faces within `RESNAP_DEPTH` dual
+    /// steps of `f`.
+    fn nearest_face_near(&self, f: u32, q: DVec3) -> Option<u32> {
+        use parry3d_f64::query::PointQuery;
+        let mut seen: HashMap<u32, ()> = HashMap::from([(f, ())]);
+        let mut queue = VecDeque::from([(f, 0)]);
+        let mut best: Option<(f64, u32)> = None;
+        while let Some((h, depth)) = queue.pop_front() {
+            let [a, b, c] = self.mesh.corners(h as usize);
+            let d = parry3d_f64::shape::Triangle::new(a, b, c).distance_to_local_point(q, true);
+            if best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, h));
+            }
+            if depth >= RESNAP_DEPTH {
+                continue;
+            }
+            for &k in &self.topology.opposite[h as usize] {
+                if k != u32::MAX && seen.insert(k, ()).is_none() {
+                    queue.push_back((k, depth + 1));
+                }
+            }
+        }
+        best.map(|(_, h)| h)
     }
 
     /// Faces strictly between `f` and `g` around vertex `v`, the shorter
@@ -407,11 +450,10 @@ impl<'a> LoopEmbedder<'a> {
         best
     }
 
-    /// For an open curve ending in face `f` near `p`: when `f` has no
-    /// boundary edge, the faces of the fan of `f`'s corner nearest `p` from
-    /// the nearest one with a boundary edge at that corner up to (without)
-    /// `f`, boundary face first; empty when `f` has a boundary edge or the
-    /// corner is not on the boundary.
+    /// For an open curve ending in face `f` whose end point `p` is a mesh
+    /// vertex on the boundary: when `f` has no boundary edge at that vertex,
+    /// the faces from a face of the vertex's fan that has one up to
+    /// (without) `f`, boundary face first; empty otherwise.
     fn fan_to_boundary(&self, f: u32, p: DVec3) -> Vec<u32> {
         let mesh = self.mesh;
         let opposite = &self.topology.opposite;
@@ -420,37 +462,28 @@ impl<'a> LoopEmbedder<'a> {
             (0..3)
                 .any(|i| (t[i] == v || t[(i + 1) % 3] == v) && opposite[h as usize][i] == u32::MAX)
         };
-        let t = mesh.triangles[f as usize];
-        if opposite[f as usize].contains(&u32::MAX) {
-            return Vec::new();
-        }
-        let Some(&v) = t.iter().min_by(|&&a, &&b| {
+        // The end vertex: the corner of the face closest to p nearest to p.
+        let c = self.index.closest(p);
+        let Some(&v) = mesh.triangles[c.face as usize].iter().min_by(|&&a, &&b| {
             let d = |x: u32| mesh.positions[x as usize].distance_squared(p);
             d(a).total_cmp(&d(b))
         }) else {
             return Vec::new();
         };
-        // Breadth-first around the fan.
-        let mut previous: Vec<(u32, u32)> = vec![(f, u32::MAX)];
-        let mut queue = VecDeque::from([f]);
-        while let Some(h) = queue.pop_front() {
-            if h != f && boundary_edge_at(h, v) {
-                let mut way = Vec::new();
-                let mut x = h;
-                while x != f {
-                    way.push(x);
-                    x = previous.iter().find(|e| e.0 == x).map_or(f, |e| e.1);
-                }
-                return way;
-            }
-            for g in self.neighbours_in_fan(h, v) {
-                if !previous.iter().any(|e| e.0 == g) {
-                    previous.push((g, h));
-                    queue.push_back(g);
-                }
-            }
+        if boundary_edge_at(f, v) || opposite[f as usize].contains(&u32::MAX) {
+            return Vec::new();
         }
-        Vec::new()
+        let around = self.vertex_faces.faces(v as usize);
+        let Some(&start) = around.iter().find(|&&h| boundary_edge_at(h, v)) else {
+            return Vec::new();
+        };
+        let mut way = vec![start];
+        way.extend(self.connect(start, f).unwrap_or_default());
+        if way.len() > 1 || self.topology.shared_edge(start, f).is_some() {
+            way
+        } else {
+            Vec::new()
+        }
     }
 
     /// The (up to two) faces across the edges of `f` at vertex `v`.

@@ -17,7 +17,8 @@
 //! against the O(1) area-normalized gradient rows) instead of being
 //! eliminated exactly; seams constrain edge vectors only, so charts may be
 //! translated against each other (no integer translations: no rounding);
-//! the gauge is a 1e-8 Tikhonov term instead of one fixed vertex.
+//! the gauge is a 1e-8 Tikhonov term instead of one fixed vertex (1e-6,
+//! then 1e-4 when the factorization fails).
 
 use std::collections::VecDeque;
 use std::f64::consts::FRAC_PI_2;
@@ -482,11 +483,14 @@ pub(crate) fn parametrize_with(
             }
         }
     }
-    let eps = 1e-8 / (mean_edge * mean_edge);
-    for i in 0..n {
-        normal.triplets.push((i, i, eps));
-    }
-    let x = solve_spd(n, &normal.triplets, &[normal.rhs])?.pop()?;
+    // The gauge term; raised when the factorization fails (near-singular
+    // systems on small or irregular meshes).
+    let x = [1e-8, 1e-6, 1e-4].iter().find_map(|&relative| {
+        let eps = relative / (mean_edge * mean_edge);
+        let mut triplets = normal.triplets.clone();
+        triplets.extend((0..n).map(|i| (i, i, eps)));
+        solve_spd(n, &triplets, std::slice::from_ref(&normal.rhs))?.pop()
+    })?;
     let uv: Vec<[DVec2; 3]> = (0..nf)
         .map(|f| std::array::from_fn(|i| DVec2::new(x[var(f, i, 0)], x[var(f, i, 1)])))
         .collect();
