@@ -248,6 +248,9 @@ pub struct LoopEngine {
     disabled: Vec<bool>,
     covered: Vec<(u32, DVec3)>,
     boundary_field: Option<BoundaryField>,
+    /// The radius the next hover query starts from: a little above the
+    /// last answer's cost (consecutive hovers cost about the same).
+    hover_radius: f32,
     has_boundary: bool,
     ws: Workspace,
 }
@@ -267,6 +270,7 @@ impl LoopEngine {
             disabled: vec![false; nodes],
             covered: Vec::new(),
             boundary_field: None,
+            hover_radius: BOUNDARY_RADIUS,
             has_boundary,
             ws: Workspace {
                 slot: vec![Slot::default(); nodes],
@@ -597,15 +601,16 @@ impl LoopEngine {
     /// boundary, dual curves), pruned by `bound`.
     ///
     /// With a boundary, the distances from ∂ are settled only as far as the
-    /// answer needs: a radius r doubles (from [`BOUNDARY_RADIUS`]) until a
-    /// dual curve or a loop cheaper than r exists. Exact: a dual curve of
+    /// answer needs: a radius r doubles (from a little above the previous
+    /// answer's cost, at least [`BOUNDARY_RADIUS`]) until a dual curve or a
+    /// loop cheaper than r exists. Exact: a dual curve of
     /// cost c < r has both halves < r, hence settled, and a loop found below
     /// r beats every dual curve not found (all ≥ r).
     fn best_through(&mut self, v: usize, bound: f32) -> Option<(f32, Kind)> {
         if !self.has_boundary {
             return self.best_loop_through(v, bound);
         }
-        let mut r = BOUNDARY_RADIUS.min(bound);
+        let mut r = self.hover_radius.min(bound);
         loop {
             let mut best: Option<(f32, Kind)> = None;
             let mut limit = r;
@@ -619,6 +624,9 @@ impl LoopEngine {
                 best = Some(closed);
             }
             if best.is_some() || r >= bound {
+                if let Some((c, _)) = &best {
+                    self.hover_radius = (1.25 * c).max(BOUNDARY_RADIUS);
+                }
                 return best;
             }
             let complete = self
