@@ -27,7 +27,7 @@ use glam::{DVec2, DVec3};
 
 use super::embed::{EdgeTopology, EmbeddedLoop};
 use super::strip_field::{StripField, face_frames, solve_spd};
-use crate::mesh::TriMesh;
+use crate::mesh::{TriMesh, UnionFind};
 
 /// Weight of seam and isoline rows.
 const HARD: f64 = 1e4;
@@ -187,25 +187,6 @@ pub struct LoopChart {
     pub values: Vec<DVec2>,
     /// The transversal coordinate (0: u, 1: v) in the reference chart.
     pub comp: usize,
-}
-
-struct UnionFind(Vec<u32>);
-
-impl UnionFind {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let p = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = p;
-            x = p;
-        }
-        x
-    }
-    fn union(&mut self, a: u32, b: u32) {
-        let (a, b) = (self.find(a), self.find(b));
-        if a != b {
-            self.0[a as usize] = b;
-        }
-    }
 }
 
 /// Accumulates the normal equations of weighted least-squares rows.
@@ -369,7 +350,7 @@ pub(crate) fn parametrize_with(
         }
     }
     // Wedges: corners joined across non-seam interior edges.
-    let mut uf = UnionFind((0..3 * nf as u32).collect());
+    let mut uf = UnionFind::new(3 * nf);
     for f in 0..nf {
         for e in 0..3 {
             let g = topology.opposite[f][e];

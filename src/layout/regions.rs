@@ -57,7 +57,7 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 use glam::{DVec2, DVec3};
 
 use super::embed::{EmbeddedLoop, Singularity};
-use crate::mesh::TriMesh;
+use crate::mesh::{TriMesh, UnionFind};
 
 /// Radius of the geodesic balls that decide pronounced curvature extrema,
 /// relative to the bounding-box diagonal.
@@ -207,25 +207,6 @@ impl Edges {
 
     pub(crate) fn find(&self, a: u32, b: u32) -> Option<u32> {
         self.index.get(&(a.min(b), a.max(b))).copied()
-    }
-}
-
-struct UnionFind(Vec<u32>);
-
-impl UnionFind {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let p = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = p;
-            x = p;
-        }
-        x
-    }
-    fn union(&mut self, a: u32, b: u32) {
-        let (a, b) = (self.find(a), self.find(b));
-        if a != b {
-            self.0[a.max(b) as usize] = a.min(b);
-        }
     }
 }
 
@@ -532,7 +513,7 @@ impl Arrangement {
         }
 
         // Glue pieces across the stretches of shared edges.
-        let mut uf = UnionFind((0..piece_count).collect());
+        let mut uf = UnionFind::new(piece_count as usize);
         for (e, fs) in edges.faces.iter().enumerate() {
             if fs.len() < 2 {
                 continue;

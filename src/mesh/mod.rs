@@ -21,6 +21,7 @@ pub use face_list::FaceList;
 pub use frame::{Aabb, Frame};
 pub use poly::{NONE, PolyMesh};
 pub use topology::Topology;
+pub(crate) use topology::UnionFind;
 pub use tri::TriMesh;
 
 /// A broken mesh invariant. Produced by `validate()` and by constructors that
