@@ -40,6 +40,7 @@ use std::collections::BinaryHeap;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use super::OrdF64;
 use super::embed::{EmbeddedLoop, Singularity};
 use super::regions::{Edges, RegionError, Regions};
 use crate::mesh::TriMesh;
@@ -139,14 +140,14 @@ impl Router {
                     touched.push(v);
                 }
                 self.dist[v as usize] = d;
-                heap.push((Reverse(OrdF(d)), v));
+                heap.push((Reverse(OrdF64(d)), v));
                 if record_parent {
                     self.parent[v as usize] = v;
                 }
             }
         }
         let mut done = Vec::new();
-        while let Some((Reverse(OrdF(d)), v)) = heap.pop() {
+        while let Some((Reverse(OrdF64(d)), v)) = heap.pop() {
             if d > self.dist[v as usize] {
                 continue;
             }
@@ -159,7 +160,7 @@ impl Router {
                         touched.push(w);
                     }
                     self.dist[w as usize] = nd;
-                    heap.push((Reverse(OrdF(nd)), w));
+                    heap.push((Reverse(OrdF64(nd)), w));
                     if record_parent {
                         self.parent[w as usize] = v;
                     }
@@ -228,20 +229,6 @@ impl Router {
             }
         }
         pts
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct OrdF(f64);
-impl Eq for OrdF {}
-impl PartialOrd for OrdF {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for OrdF {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
     }
 }
 

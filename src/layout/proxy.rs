@@ -14,6 +14,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use super::OrdF64;
 use crate::mesh::TriMesh;
 
 /// Meshes with more faces than this are designed on a proxy.
@@ -41,23 +42,7 @@ pub fn decimate(mesh: &TriMesh, faces: usize) -> TriMesh {
         }
     }
     let mut removed_vertex = vec![false; positions.len()];
-    // Boundary vertices: on an edge held by one triangle.
-    let mut boundary = vec![false; positions.len()];
-    {
-        let mut count = std::collections::HashMap::new();
-        for t in &triangles {
-            for i in 0..3 {
-                let (a, b) = (t[i].min(t[(i + 1) % 3]), t[i].max(t[(i + 1) % 3]));
-                *count.entry((a, b)).or_insert(0u32) += 1;
-            }
-        }
-        for ((a, b), c) in count {
-            if c == 1 {
-                boundary[a as usize] = true;
-                boundary[b as usize] = true;
-            }
-        }
-    }
+    let mut boundary = crate::mesh::boundary_vertices(mesh);
     let key = |len: f64, a: u32, b: u32| (Reverse(OrdF64(len)), a, b);
     let mut heap = BinaryHeap::new();
     for t in &triangles {
@@ -188,21 +173,6 @@ pub fn decimate(mesh: &TriMesh, faces: usize) -> TriMesh {
         }));
     }
     TriMesh::new(kept, out).unwrap_or_else(|_| mesh.clone())
-}
-
-/// An f64 ordered by `total_cmp`, for the heap.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct OrdF64(f64);
-impl Eq for OrdF64 {}
-impl PartialOrd for OrdF64 {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for OrdF64 {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
 }
 
 #[cfg(test)]

@@ -56,6 +56,7 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 
 use glam::{DVec2, DVec3};
 
+use super::OrdF64;
 use super::embed::{EmbeddedLoop, Singularity};
 use crate::mesh::{TriMesh, UnionFind};
 
@@ -638,9 +639,9 @@ pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) 
         let mut heap = std::collections::BinaryHeap::new();
         let mut reached = Vec::new();
         dist[seed as usize] = 0.0;
-        heap.push((std::cmp::Reverse(Dist(0.0)), seed));
+        heap.push((std::cmp::Reverse(OrdF64(0.0)), seed));
         let mut ball = 0.0;
-        while let Some((std::cmp::Reverse(Dist(d)), v)) = heap.pop() {
+        while let Some((std::cmp::Reverse(OrdF64(d)), v)) = heap.pop() {
             if d > dist[v as usize] {
                 continue;
             }
@@ -652,7 +653,7 @@ pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) 
                 let nd = d + mesh.positions[v as usize].distance(mesh.positions[w as usize]);
                 if nd <= 2.0 * rho && nd < dist[w as usize] {
                     dist[w as usize] = nd;
-                    heap.push((std::cmp::Reverse(Dist(nd)), w));
+                    heap.push((std::cmp::Reverse(OrdF64(nd)), w));
                 }
             }
         }
@@ -673,21 +674,6 @@ pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) 
     }
     extrema.sort_unstable();
     extrema
-}
-
-/// A distance ordered by `total_cmp`, for the heap.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Dist(f64);
-impl Eq for Dist {}
-impl PartialOrd for Dist {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Dist {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
 }
 
 /// One end of a loop crossing as seen from one of its loops.
