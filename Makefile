@@ -9,7 +9,7 @@ TOOLS := $(CURDIR)/.tools
 # Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
 WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
-.PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench
+.PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench quality
 
 run: web
 	cargo run --release --example serve -- www $(PORT)
@@ -60,6 +60,15 @@ browser-test: web browser-tools
 bench: web browser-tools
 	cargo build --release --bin quadrille --example subdivide --example serve
 	QUADRILLE_MESHES="$(MESHES)" python3 scripts/bench.py $(BENCH_ARGS)
+
+## The ablation table (not part of `make test`): Instant Meshes, QuadriFlow,
+## Quadrille in an Instant-Meshes-equivalent configuration, that plus each
+## thesis/paper modification alone, and the defaults, on every shared mesh,
+## measured by the same code. Writes docs/QUALITY.md. QUALITY_ARGS passes
+## options to scripts/quality.py (e.g. QUALITY_ARGS="--names fandisk").
+quality:
+	cargo build --release --bin quadrille
+	QUADRILLE_MESHES="$(MESHES)" python3 scripts/quality.py $(QUALITY_ARGS)
 
 clean:
 	cargo clean

@@ -68,6 +68,10 @@ pub struct QuadMetrics {
     pub opposite_edge_ratio: f64,
     /// Mean adapted Marinov–Kobbelt quad quality (0 is best).
     pub quad_quality: f64,
+    /// Share of quads with a corner below 45° or above 135°, percent.
+    pub distorted_quad_percent: f64,
+    /// The largest quad corner angle, degrees (above 180°: a non-convex quad).
+    pub max_corner_angle_degrees: f64,
 }
 
 /// Distances to the input.
@@ -110,6 +114,18 @@ fn angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     u.angle_between(v)
 }
 
+/// The interior angle at `b` of a polygon with normal `normal` whose
+/// corners run counter-clockwise about it (`a` before `b`, `c` after): a
+/// reflex corner (a non-convex quad) reads above π.
+fn interior_angle(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> f64 {
+    let alpha = angle(a, b, c);
+    if (c - b).cross(a - b).dot(normal) < 0.0 {
+        std::f64::consts::TAU - alpha
+    } else {
+        alpha
+    }
+}
+
 /// Topology and quad-shape metrics (no distances).
 pub fn shape_metrics(
     mesh: &PolyMesh,
@@ -122,6 +138,7 @@ pub fn shape_metrics(
     let mut quad = QuadMetrics::default();
     let (mut planarity, mut dev, mut mean_angle, mut ratio, mut quality) =
         (0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut distorted = 0usize;
     for f in 0..nf as u32 {
         let vs: Vec<u32> = mesh.face_vertices(f).collect();
         let d = vs.len();
@@ -135,8 +152,9 @@ pub fn shape_metrics(
         quad.quads += 1;
         let p: Vec<DVec3> = vs.iter().map(|&v| mesh.positions[v as usize]).collect();
         planarity += (0.5 * (p[0] + p[2])).distance(0.5 * (p[1] + p[3]));
+        let normal = (p[2] - p[0]).cross(p[3] - p[1]);
         let a: Vec<f64> = (0..4)
-            .map(|i| angle(p[(i + 3) % 4], p[i], p[(i + 1) % 4]))
+            .map(|i| interior_angle(p[(i + 3) % 4], p[i], p[(i + 1) % 4], normal))
             .collect();
         let l: Vec<f64> = (0..4).map(|i| p[i].distance(p[(i + 1) % 4])).collect();
         let half_pi = std::f64::consts::FRAC_PI_2;
@@ -156,6 +174,11 @@ pub fn shape_metrics(
         ratio += 0.5 * (mm(l[0], l[2]) + mm(l[1], l[3]));
         dev += a.iter().map(|x| (x.to_degrees() - 90.0).abs()).sum::<f64>() / 4.0;
         mean_angle += a.iter().map(|x| x.to_degrees()).sum::<f64>() / 4.0;
+        let degrees = a.iter().map(|x| x.to_degrees());
+        if degrees.clone().any(|x| !(45.0..=135.0).contains(&x)) {
+            distorted += 1;
+        }
+        quad.max_corner_angle_degrees = degrees.fold(quad.max_corner_angle_degrees, f64::max);
     }
     if quad.quads > 0 {
         let q = quad.quads as f64;
@@ -164,6 +187,7 @@ pub fn shape_metrics(
         quad.mean_corner_angle_degrees = mean_angle / q;
         quad.opposite_edge_ratio = ratio / q;
         quad.quad_quality = quality / q;
+        quad.distorted_quad_percent = 100.0 * distorted as f64 / q;
     }
     let mut ev = 0;
     let mut boundary_vertices = 0;
@@ -326,5 +350,36 @@ mod tests {
         // Corners (valence 2) and the centre (interior valence 4): corner
         // valence 2 ≠ 3 → 4 EVs of 9.
         assert!((t.extraordinary_vertex_percent - 100.0 * 4.0 / 9.0).abs() < 1e-9);
+        assert_eq!(q.distorted_quad_percent, 0.0);
+        assert!((q.max_corner_angle_degrees - 90.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_dart_reads_as_reflex_and_a_rhombus_as_distorted() {
+        // Dart (arrowhead): the corner at (1, 0.5) is reflex, 360° − 2·atan2(…).
+        let dart = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+        ];
+        let mut f = FaceList::new();
+        f.push(&[0, 1, 2, 3]);
+        let (_, q, _) = shape_metrics(&PolyMesh::from_faces(dart, &f).unwrap(), 4);
+        let reflex = 360.0 - 2.0 * 45.0;
+        assert!((q.max_corner_angle_degrees - reflex).abs() < 1e-9, "{q:?}");
+        assert_eq!(q.distorted_quad_percent, 100.0);
+        // Rhombus with 40° and 140° corners: convex, but distorted.
+        let (c, s) = (40f64.to_radians().cos(), 40f64.to_radians().sin());
+        let rhombus = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(1.0 + c, s, 0.0),
+            DVec3::new(c, s, 0.0),
+        ];
+        let (_, q, _) = shape_metrics(&PolyMesh::from_faces(rhombus, &f).unwrap(), 4);
+        assert!((q.max_corner_angle_degrees - 140.0).abs() < 1e-9, "{q:?}");
+        assert_eq!(q.distorted_quad_percent, 100.0);
+        assert!((q.corner_angle_deviation_degrees - 50.0).abs() < 1e-9);
     }
 }

@@ -105,15 +105,28 @@ pub fn quad_score(pos: &[DVec3], q: [u32; 4]) -> f64 {
         .sum()
 }
 
+/// Instant Meshes' quad score (digest §5.9): Σ |90° − angle| at the ring
+/// corners `i+1 … i+4`, i.e. the quad's two inner corners and the two ring
+/// corners beyond it.
+fn ring_score(pos: &[DVec3], ring: &[u32], i: usize) -> f64 {
+    let m = ring.len();
+    let p = |k: usize| pos[ring[k % m] as usize];
+    (0..4)
+        .map(|k| (90.0 - corner_angle(p(i + k), p(i + k + 1), p(i + k + 2))).abs())
+        .sum()
+}
+
 /// Splits polygon `ring` into quads until at most 5 corners remain, taking
-/// the best-scoring quad of four consecutive corners each time; `is_edge`
-/// tells which chords already exist elsewhere (those candidates are taken
-/// only when nothing else is left). Triangles, quads and pentagons are
-/// emitted as they are.
+/// the best-scoring quad of four consecutive corners each time (the
+/// thesis' score, [`quad_score`], when `thesis_score`, else Instant Meshes'
+/// ring score); `is_edge` tells which chords already exist elsewhere (those
+/// candidates are taken only when nothing else is left). Triangles, quads
+/// and pentagons are emitted as they are.
 pub fn fill_polygon(
     pos: &[DVec3],
     ring: &[u32],
     is_edge: &dyn Fn(u32, u32) -> bool,
+    thesis_score: bool,
     out: &mut Vec<Vec<u32>>,
 ) {
     let mut ring = ring.to_vec();
@@ -127,7 +140,11 @@ pub fn fill_polygon(
                 ring[(i + 2) % m],
                 ring[(i + 3) % m],
             ];
-            let mut score = quad_score(pos, q);
+            let mut score = if thesis_score {
+                quad_score(pos, q)
+            } else {
+                ring_score(pos, &ring, i)
+            };
             if is_edge(q[0], q[3]) {
                 score += 1e6;
             }
@@ -292,7 +309,7 @@ mod tests {
             DVec3::new(0.0, 1.0, 0.0),
         ];
         let mut out = Vec::new();
-        fill_polygon(&pos, &[0, 1, 2, 3, 4, 5], &|_, _| false, &mut out);
+        fill_polygon(&pos, &[0, 1, 2, 3, 4, 5], &|_, _| false, true, &mut out);
         assert_eq!(out.len(), 2);
         for q in &out {
             assert_eq!(q.len(), 4);

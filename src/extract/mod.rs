@@ -41,6 +41,10 @@ pub struct ExtractionParams {
     pub min_cluster_fraction: f64,
     /// Snap thin triangles (thesis 3.5.2). Default on.
     pub snap: bool,
+    /// Split long faces by the thesis' quad score (§3.5.3: the candidate
+    /// quad's own four corners) instead of Instant Meshes' (two of its
+    /// corners and two beyond). Default on.
+    pub thesis_quad_score: bool,
     /// Holes up to this many corners are filled (thesis: 30).
     pub max_hole: usize,
     /// Close larger holes that are not the input's with a centroid fan.
@@ -66,6 +70,7 @@ impl Default for ExtractionParams {
         ExtractionParams {
             min_cluster_fraction: 0.05,
             snap: true,
+            thesis_quad_score: true,
             max_hole: 30,
             fan_large_holes: true,
             vertex_count_correction: true,
@@ -154,6 +159,7 @@ pub fn extract(
                 &g.pos,
                 &l,
                 &|a, b| edges.contains(&(a.min(b), a.max(b))),
+                params.thesis_quad_score,
                 &mut face_list,
             );
         } else {
@@ -166,6 +172,7 @@ pub fn extract(
     let rules = repair::HoleRules {
         max_hole: params.max_hole,
         fan_large_holes: params.fan_large_holes,
+        thesis_quad_score: params.thesis_quad_score,
         surface,
     };
     let (mesh, map) = repair::repair(face_list, &mut g, &rules, &mut report.repair);
@@ -241,6 +248,7 @@ pub fn post_process(
     let rules = repair::HoleRules {
         max_hole: params.max_hole,
         fan_large_holes: params.fan_large_holes,
+        thesis_quad_score: params.thesis_quad_score,
         surface,
     };
     let mut repair_report = RepairReport::default();

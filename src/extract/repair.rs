@@ -64,6 +64,8 @@ pub struct RepairReport {
 pub struct HoleRules<'a> {
     pub max_hole: usize,
     pub fan_large_holes: bool,
+    /// Split holes by the thesis' quad score (see [`fill_polygon`]).
+    pub thesis_quad_score: bool,
     pub surface: Option<&'a SurfaceIndex>,
 }
 
@@ -484,6 +486,7 @@ fn fill_holes(
                 &g.pos,
                 &ring,
                 &|a, b| edges.contains_key(&key(a, b)),
+                rules.thesis_quad_score,
                 &mut out,
             );
         }

@@ -1,0 +1,300 @@
+#!/usr/bin/env python3
+"""The ablation table: Instant Meshes, Quadrille in an Instant-Meshes-equivalent
+configuration, that configuration plus each thesis or paper modification on
+its own, and the default -- every output measured by the same code.
+
+For each shared mesh at its default target (input vertices / 16):
+  instant-meshes   pyinstantmeshes (quad-dominant, extrinsic, deterministic),
+                   as scripts/compare.py drives it;
+  quadriflow       pyQuadriFlow (faces requested = target vertices);
+  im-equivalent    Quadrille with uniform sizing, no constraints, Instant
+                   Meshes' extraction (its quad score, holes up to 6 corners,
+                   no count correction, no restarts) and no post-processing
+                   beyond Instant Meshes' (2 smoothing steps with reprojection);
+  +<modification>  im-equivalent with one change (the overlays in ROWS);
+  default          Quadrille's defaults.
+Every output: `quadrille metrics OUT --reference IN` and `quadrille fit
+--reference IN --mesh OUT` (the limit surface after fitting, for every tool
+alike). Writes docs/QUALITY.md (the tables) and target/quality/quality.json.
+
+Usage: scripts/quality.py [--bin target/release/quadrille] [--meshes DIR]
+         [--names a,b] [--rows im-equivalent,default,...] [--out DIR] [--doc FILE]
+`make quality` builds the binary and runs it on every shared mesh.
+"""
+import argparse
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import compare  # noqa: E402  (the competitors' children, the venv, run_measured)
+
+ROOT = compare.ROOT
+
+# Instant Meshes' configuration in Quadrille's parameters (digest §2–5):
+# one global edge length, no orientation constraints, IM's quad score, IM's
+# hole filling (orbits of at most 6 corners), and only IM's final smoothing
+# (2 umbrella steps projected back onto the input).
+IM_EQUIVALENT = {
+    "sizing": {"method": "uniform"},
+    "alignment": {"mode": "none"},
+    "field": {"filtered_normals": False},
+    "extraction": {
+        "thesis_quad_score": False,
+        "max_hole": 6,
+        "fan_large_holes": False,
+        "vertex_count_correction": False,
+        "restarts": 0,
+        "post": {
+            "t_vertices": False,
+            "feature_quads": False,
+            "flat_triangles": False,
+            "pair_non_quads_degrees": 0,
+            "smoothing_iterations": 2,
+            "reproject": True,
+        },
+    },
+}
+
+# One modification each, on top of IM_EQUIVALENT (None = Quadrille's defaults).
+ROWS = {
+    "im-equivalent": {},
+    "+adaptive sizing": {"sizing": {"method": "osculating_error"}, "field": {"scale_mode": "average"}},
+    "+adaptive sizing (per-vertex scale)": {"sizing": {"method": "osculating_error"},
+                                           "field": {"scale_mode": "per-vertex"}},
+    "+feature-vertex constraints": {"alignment": {"mode": "feature-vertices"}},
+    "+smooth regions": {"alignment": {"mode": "smooth-regions"}},
+    "+filtered normals": {"field": {"filtered_normals": True}},
+    "-snapping": {"extraction": {"snap": False}},
+    "+thesis quad score": {"extraction": {"thesis_quad_score": True}},
+    "+hole filling (30 corners and fans)": {"extraction": {"max_hole": 30, "fan_large_holes": True}},
+    "+count correction and restarts": {"extraction": {"vertex_count_correction": True, "restarts": 3}},
+    "+T-vertices": {"extraction": {"post": {"t_vertices": True}}},
+    "+feature quads": {"extraction": {"post": {"feature_quads": True}}},
+    "+flat triangles": {"extraction": {"post": {"flat_triangles": True}}},
+    "+odd-face pairing": {"extraction": {"post": {"pair_non_quads_degrees": 60}}},
+    "+3 smoothing steps": {"extraction": {"post": {"smoothing_iterations": 3}}},
+    "default": None,
+}
+
+
+def merged(base, overlay):
+    out = json.loads(json.dumps(base))
+    for k, v in overlay.items():
+        if isinstance(v, dict) and isinstance(out.get(k), dict):
+            out[k] = merged(out[k], v)
+        else:
+            out[k] = v
+    return out
+
+
+def measure(args, src, out):
+    m = compare.quadrille_json(args, ["metrics", out, "--reference", src], args.timeout)
+    stem = out[:-4]
+    rc, _, err, _, _ = compare.run_measured(
+        [args.bin, "fit", "--reference", src, "--mesh", out, "-o", stem + "-control.obj",
+         "--stats", stem + "-fit.json"], timeout=args.timeout)
+    fit = json.load(open(stem + "-fit.json")) if rc == 0 else {"error": (err or "").strip()[-200:]}
+    return m, fit
+
+
+def run_quadrille(args, src, stem, overlay, target):
+    out, stats = stem + ".obj", stem + ".json"
+    cmd = [args.bin, "remesh", src, "-o", out, "--stats", stats, "--vertices", str(target)]
+    if overlay is not None:
+        pfile = stem + "-params.json"
+        with open(pfile, "w") as f:
+            json.dump(merged(IM_EQUIVALENT, overlay), f)
+        cmd += ["--params", pfile]
+    rc, _, err, wall, _ = compare.run_measured(cmd, timeout=args.timeout)
+    if rc != 0:
+        return {"error": (err or "").strip()[-300:] or f"exit {rc}"}
+    s = json.load(open(stats))
+    t = s["timings_ms"]
+    row = {"time_ms": sum(v for k, v in t.items() if k not in ("metrics", "fit")), "process_ms": wall}
+    row["metrics"], row["fit"] = measure(args, src, out)
+    return row
+
+
+def run_tool(args, tool, src, stem, target):
+    out = stem + ".obj"
+    r = compare.run_competitor(args, tool, src, out, target)
+    if "error" in r:
+        return r
+    m = compare.quadrille_json(args, ["metrics", out, "--reference", src], args.timeout)
+    got = compare.vertex_count(m)
+    if got and abs(got - target) > 0.15 * target:
+        r2 = compare.run_competitor(args, tool, src, out, max(4, round(target * target / got)))
+        if "error" not in r2:
+            r = r2
+    r["metrics"], r["fit"] = measure(args, src, out)
+    return r
+
+
+def cells(row):
+    """The table cells of one measured row (None where not measured)."""
+    m = row.get("metrics", {})
+    fit = row.get("fit", {}).get("fit", {})
+    after = fit.get("after", {}) if fit else {}
+    if "metrics" in m:
+        M = m["metrics"]
+        tp, q, d = M["topology"], M["quads"], M["distance"]
+        return {
+            "V": tp["vertices"], "nonquad": tp["non_quad_percent"], "ev": tp["extraordinary_vertex_percent"],
+            "corner": q["corner_angle_deviation_degrees"], "distorted": q.get("distorted_quad_percent"),
+            "maxcorner": q.get("max_corner_angle_degrees"),
+            "hausdorff": d["hausdorff"], "out_in": d["output_to_input_mean"], "in_out": d["input_to_output_mean"],
+            "limit": after.get("stats", {}).get("mean"), "loops": tp["boundary_loops"],
+            "manifold": tp["nonmanifold_edges"] == 0 and tp["nonmanifold_vertices"] == 0,
+            "genus": tp.get("genus"), "time": row.get("time_ms"),
+        }
+    if "topology" in m:  # a non-manifold output: counts only
+        tp = m["topology"]
+        return {"V": m.get("vertices"), "nonquad": m.get("non_quad_percent"), "hausdorff": m.get("hausdorff"),
+                "limit": after.get("stats", {}).get("mean"), "manifold": False, "time": row.get("time_ms"),
+                "loops": None}
+    return None
+
+
+def f(x, spec):
+    return "–" if x is None or x != x else format(x, spec)
+
+
+HEADER = ("| configuration | V | non-quad % | EV % | corner dev ° | quads outside 45–135° % | max corner ° "
+          "| Hausdorff | mean out→in | mean in→out | limit mean after fit | boundary loops in/out | time ms |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def mesh_table(name, entry):
+    lines = [f"### {name} (target {entry['target']} V, input boundary loops {entry['input_loops']})", "", HEADER]
+    for label, row in entry["rows"].items():
+        if "error" in row:
+            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 11)
+            continue
+        c = cells(row)
+        if c is None:
+            lines.append(f"| {label} | metrics failed |" + " – |" * 11)
+            continue
+        note = "" if c.get("manifold", True) else " (non-manifold)"
+        lines.append(
+            f"| {label}{note} | {f(c['V'], 'd')} | {f(c['nonquad'], '.1f')} | {f(c.get('ev'), '.1f')} "
+            f"| {f(c.get('corner'), '.1f')} | {f(c.get('distorted'), '.1f')} | {f(c.get('maxcorner'), '.0f')} "
+            f"| {f(c['hausdorff'], '.2e')} | {f(c.get('out_in'), '.2e')} | {f(c.get('in_out'), '.2e')} "
+            f"| {f(c['limit'], '.2e')} | {entry['input_loops']}/{f(c['loops'], 'd')} | {f(c['time'], '.0f')} |")
+    return lines
+
+
+def ratio_table(results):
+    """Default and im-equivalent against Instant Meshes, per mesh: the
+    acceptance ratios of the quality issue."""
+    lines = ["| mesh | configuration | EV % / IM | corner dev / IM | mean out→in / IM | Hausdorff / IM "
+             "| limit after fit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|"]
+    for name, entry in results["meshes"].items():
+        im = cells(entry["rows"].get("instant-meshes", {})) or {}
+        for label in ("im-equivalent", "default"):
+            row = entry["rows"].get(label)
+            c = cells(row) if row and "error" not in row else None
+            if not c:
+                continue
+
+            def r(k):
+                a, b = c.get(k), im.get(k)
+                return f"{a / b:.2f}" if a is not None and b else "–"
+            lines.append(f"| {name} | {label} | {r('ev')} | {r('corner')} | {r('out_in')} | {r('hausdorff')} "
+                         f"| {r('limit')} | {f(c['nonquad'], '.1f')} |")
+    return lines
+
+
+def write_doc(args, results):
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                            text=True).stdout.strip()
+    now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    lines = [
+        "# Remeshing quality: the ablation table",
+        "",
+        f"Generated by `make quality` (`scripts/quality.py`) on {now} at commit `{commit}` "
+        f"({platform.machine()}); every number below was measured by that run. Regenerate with `make quality`.",
+        "",
+        "Each mesh at its default target (input vertices / 16). Rows: Instant Meshes (pyinstantmeshes, "
+        "quad-dominant, extrinsic, deterministic) and QuadriFlow (pyQuadriFlow), then Quadrille in an "
+        "**Instant-Meshes-equivalent configuration** (uniform sizing, no orientation constraints, Instant "
+        "Meshes' quad score and hole filling up to 6 corners, no count correction or restarts, no "
+        "post-processing but 2 smoothing steps with reprojection), then that configuration plus **one** "
+        "modification per row, and Quadrille's defaults. The configuration overlays are `ROWS` in "
+        "scripts/quality.py.",
+        "",
+        "Every output is measured by the same code: `quadrille metrics OUT --reference IN` and `quadrille fit "
+        "--reference IN --mesh OUT` (limit surface of the fitted Catmull–Clark control mesh, 2 levels). "
+        "Distances are fractions of the input's largest bounding-box axis; Hausdorff is two-sided; "
+        "EV = interior vertices of valence ≠ 4 and boundary vertices of valence ≠ 3; corner dev = mean "
+        "|interior angle − 90°| over quad corners; a reflex corner reads above 180°. Non-manifold outputs "
+        "get only the counts the non-manifold path of `quadrille metrics` gives. Time = import through "
+        "post-processing (Quadrille's `timings_ms`) or the competitor's remesh call; single runs.",
+        "",
+        "## Against Instant Meshes (ratios; the quality issue asks EV ≤ 2×, corner ≤ 1.5×, distances ≤ 1×, "
+        "limit ≤ 0.8×, non-quad ≤ 5 %)",
+        "",
+    ]
+    lines += ratio_table(results)
+    lines += ["", "## Per mesh", ""]
+    for name, entry in results["meshes"].items():
+        lines += mesh_table(name, entry) + [""]
+    with open(args.doc, "w") as out:
+        out.write("\n".join(lines))
+
+
+def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--child":
+        compare.competitor_child(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]))
+        return
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bin", default=os.path.join(ROOT, "target", "release", "quadrille"))
+    ap.add_argument("--meshes", default=os.environ.get("QUADRILLE_MESHES",
+                                                       os.path.join(ROOT, "..", "shared", "meshes")))
+    ap.add_argument("--names", default=",".join(compare.NAMES))
+    ap.add_argument("--rows", default=",".join(["instant-meshes", "quadriflow"] + list(ROWS)))
+    ap.add_argument("--out", default=os.path.join(ROOT, "target", "quality"))
+    ap.add_argument("--doc", default=os.path.join(ROOT, "docs", "QUALITY.md"))
+    ap.add_argument("--timeout", type=float, default=1200)
+    args = ap.parse_args()
+    rows = [r for r in args.rows.split(",") if r]
+    for r in rows:
+        if r not in ROWS and r not in compare.TOOLS:
+            ap.error(f"unknown row {r!r}")
+    if not os.path.exists(args.bin):
+        sys.exit(f"quality: {args.bin} does not exist: run `cargo build --release` first")
+    os.makedirs(args.out, exist_ok=True)
+    tools = [r for r in rows if r in compare.TOOLS]
+    status = compare.ensure_venv(tools) if tools else {}
+    results = {"meshes": {}}
+    for name in args.names.split(","):
+        src = os.path.abspath(os.path.join(args.meshes, name + ".obj"))
+        if not os.path.exists(src):
+            sys.exit(f"quality: {src} does not exist (set --meshes or QUADRILLE_MESHES)")
+        info = compare.quadrille_json(args, ["metrics", src, "--reference", src], args.timeout)
+        topo = info.get("metrics", info).get("topology", {})
+        nv = topo.get("vertices") or info.get("vertices")
+        target = max(1, nv // 16)
+        entry = {"target": target, "input_loops": topo.get("boundary_loops", "–"), "rows": {}}
+        for label in rows:
+            stem = os.path.join(args.out, f"{name}-{''.join(ch if ch.isalnum() else '_' for ch in label.strip('+-'))}")
+            if label in compare.TOOLS:
+                row = {"error": status[label]} if status.get(label) else run_tool(args, label, src, stem, target)
+            else:
+                row = run_quadrille(args, src, stem, ROWS[label], target)
+            c = cells(row) if "error" not in row else None
+            print(f"quality {name} {label}: " + (json.dumps({k: v for k, v in c.items()}) if c else str(row.get("error"))),
+                  file=sys.stderr)
+            entry["rows"][label] = row
+        results["meshes"][name] = entry
+        with open(os.path.join(args.out, "quality.json"), "w") as out:
+            json.dump(results, out, indent=1)
+        write_doc(args, results)
+    print(f"quality: wrote {args.doc}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
