@@ -181,12 +181,12 @@ impl Params {
     /// The first stage whose output differs between `self` and `other`.
     pub fn first_changed_stage(&self, other: &Params) -> Option<Stage> {
         let (a, b) = (&self.field, &other.field);
-        if self.analysis != other.analysis || self.sizing != other.sizing {
-            Some(Stage::Analysis)
-        } else if a.level_sizing != b.level_sizing
+        if self.analysis != other.analysis
+            || self.sizing != other.sizing
             || a.filtered_normals != b.filtered_normals
-            || a.seed != b.seed
         {
+            Some(Stage::Analysis)
+        } else if a.level_sizing != b.level_sizing || a.seed != b.seed {
             Some(Stage::Hierarchy)
         } else if a.orientation_iterations != b.orientation_iterations
             || self.alignment != other.alignment
@@ -414,12 +414,15 @@ impl Pipeline {
 
     fn run_analysis(&self, progress: &mut Progress<'_>) -> Result<AnalysisStage, Cancelled> {
         let mesh = &self.input.mesh;
-        let mut surface = analysis::analyze_with_progress(
-            mesh,
-            &self.params.analysis,
-            &self.params.sizing,
-            progress,
-        )?;
+        // Filtered normals only when the fields use them: their Gaussian
+        // kernel covers the whole mesh at a coarse target (the bunny at 4
+        // vertices took minutes).
+        let mut params = self.params.analysis.clone();
+        if !self.params.field.filtered_normals {
+            params.filtered_normals.mode = analysis::FilteredNormalsMode::Off;
+        }
+        let mut surface =
+            analysis::analyze_with_progress(mesh, &params, &self.params.sizing, progress)?;
         let target = target_vertex_count(mesh.vertex_count(), &self.params.sizing);
         let sizing_calibration = calibrate_to_vertex_count(&mut surface, target);
         Ok(AnalysisStage {
@@ -581,6 +584,7 @@ impl Pipeline {
             .map(|&s| s * ps.scale_correction as f32)
             .collect();
         let boundary = crate::mesh::boundary_vertices(&self.input.mesh);
+        let boundary_arcs = crate::mesh::BoundaryArcs::new(&self.input.mesh);
         let input = ExtractInput {
             level: &hs.hierarchy.levels[0],
             q: &os.q[0],
@@ -589,6 +593,7 @@ impl Pipeline {
             curvature: &a.averaged,
             feature: &a.features.feature,
             boundary: &boundary,
+            boundary_arcs: &boundary_arcs,
         };
         let mut e = extract::extract(&input, surface, &self.params.extraction, progress)?;
         e.report.scale_correction = ps.scale_correction;

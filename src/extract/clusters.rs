@@ -25,6 +25,7 @@
 use glam::{DVec3, IVec2, Vec3};
 
 use crate::field::Level;
+use crate::mesh::BoundaryArcs;
 use crate::field::lattice::{Lattice, compat_orientation_extrinsic_4, compat_position_extrinsic_4};
 use crate::progress::{Cancelled, Progress};
 
@@ -42,6 +43,9 @@ pub struct ExtractInput<'a> {
     pub feature: &'a [bool],
     /// Vertices on the input's boundary.
     pub boundary: &'a [bool],
+    /// The input's boundary loops by arc length (each cluster records the
+    /// loop of its boundary vertices: [`Graph::boundary_loop`]).
+    pub boundary_arcs: &'a BoundaryArcs,
 }
 
 /// The extracted vertex graph with the attributes carried over from the
@@ -60,6 +64,11 @@ pub struct Graph {
     pub size: Vec<u32>,
     /// The cluster holds an input boundary vertex.
     pub boundary: Vec<bool>,
+    /// The input boundary loop of one of its boundary vertices
+    /// (`u32::MAX` when it holds none).
+    pub boundary_loop: Vec<u32>,
+    /// The length of every input boundary loop.
+    pub input_loop_length: Vec<f64>,
     pub adj: Vec<Vec<u32>>,
 }
 
@@ -81,6 +90,7 @@ impl Graph {
         self.feature_count.push(self.feature_count[v]);
         self.size.push(self.size[v]);
         self.boundary.push(self.boundary[v]);
+        self.boundary_loop.push(self.boundary_loop[v]);
         self.adj.push(Vec::new());
         (self.pos.len() - 1) as u32
     }
@@ -285,6 +295,8 @@ pub fn build_clusters(
         feature_count: vec![0; m],
         size: vec![0; m],
         boundary: vec![false; m],
+        boundary_loop: vec![u32::MAX; m],
+        input_loop_length: input.boundary_arcs.length.clone(),
         adj: vec![Vec::new(); m],
     };
     for (c, &r) in kept.iter().enumerate() {
@@ -331,6 +343,9 @@ pub fn build_clusters(
         g.q[c] += w * qm.as_dvec3();
         g.feature_count[c] += input.feature.get(v).copied().unwrap_or(false) as u32;
         g.boundary[c] |= input.boundary.get(v).copied().unwrap_or(false);
+        if g.boundary_loop[c] == u32::MAX {
+            g.boundary_loop[c] = input.boundary_arcs.loop_of.get(v).copied().unwrap_or(u32::MAX);
+        }
         g.size[c] += 1;
         wsum[c] += w;
     }
@@ -371,6 +386,8 @@ impl Graph {
             feature_count: map.iter().map(|k| self.feature_count[pick(k)]).collect(),
             size: map.iter().map(|k| self.size[pick(k)]).collect(),
             boundary: map.iter().map(|k| self.boundary[pick(k)]).collect(),
+            boundary_loop: map.iter().map(|k| self.boundary_loop[pick(k)]).collect(),
+            input_loop_length: self.input_loop_length.clone(),
             adj: vec![Vec::new(); map.len()],
         }
     }

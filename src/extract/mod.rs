@@ -92,6 +92,12 @@ pub struct ExtractionReport {
     pub faces_traced: usize,
     /// Loops longer than 8 corners treated as holes.
     pub long_loops: usize,
+    /// Loops of at most 8 corners around an input hole (not faces).
+    pub input_hole_loops: usize,
+    /// The input's boundary loops, and how many of them are shorter than
+    /// two lattice spacings (those may close: too small to keep).
+    pub input_boundary_loops: usize,
+    pub input_loops_too_small: usize,
     pub repair: RepairReport,
     /// Scale factor of the vertex-count correction (1 when not applied).
     pub scale_correction: f64,
@@ -121,6 +127,21 @@ pub fn extract(
         scale_correction: 1.0,
         ..Default::default()
     };
+    let arcs = input.boundary_arcs;
+    report.input_boundary_loops = arcs.length.len();
+    let mut loop_scale = vec![(0.0f64, 0usize); arcs.length.len()];
+    for (v, &l) in arcs.loop_of.iter().enumerate() {
+        if let (Some(e), Some(&s)) = (loop_scale.get_mut(l as usize), input.scale.get(v)) {
+            e.0 += s as f64;
+            e.1 += 1;
+        }
+    }
+    report.input_loops_too_small = arcs
+        .length
+        .iter()
+        .zip(&loop_scale)
+        .filter(|&(&len, &(sum, count))| len < 2.0 * sum / count.max(1) as f64)
+        .count();
     let (mut g, cr) = clusters::build_clusters(input, params.min_cluster_fraction, progress)?;
     report.clusters = cr;
     if params.snap {
@@ -154,7 +175,10 @@ pub fn extract(
         }
     }
     for l in loops {
-        if l.len() <= 8 {
+        if l.len() <= 8 && repair::is_input_hole(&l, &g, surface) {
+            // The orbit around a small input hole is no face.
+            report.input_hole_loops += 1;
+        } else if l.len() <= 8 {
             faces::fill_polygon(
                 &g.pos,
                 &l,

@@ -732,6 +732,8 @@ mod tests {
             feature_count: vec![0; 7],
             size: vec![1; 7],
             boundary: vec![false; 7],
+            boundary_loop: vec![u32::MAX; 7],
+            input_loop_length: Vec::new(),
             adj: vec![Vec::new(); 7],
             pos,
         };

@@ -24,10 +24,7 @@
 //! Deviation: holes larger than `max_hole` that are not input boundaries are
 //! closed with a centroid fan when `fan_large_holes` is on (the thesis
 //! leaves them; we promise closed output). A hole loop stays open as the
-//! input's own when at least half its corners hold input boundary vertices
-//! and its centroid lies more than 0.15 × the edge length off the input
-//! (0.3 closed the bunny's slit-shaped bottom hole, whose centroid is only
-//! ~0.25 edge lengths from its rim). Fragments, components of fewer than 12
+//! input's own by [`is_input_hole`]. Fragments, components of fewer than 12
 //! faces and a tenth of the largest, are dropped ([`drop_fragments`], a
 //! deviation). Last, a guard loop asks
 //! `PolyMesh::from_faces` and fixes whatever it refuses (deleting the face,
@@ -438,17 +435,40 @@ fn hole_loops(faces: &[Vec<u32>]) -> Vec<Vec<u32>> {
     loops
 }
 
-/// Whether a hole loop follows the input's boundary (then it stays open).
-fn is_input_hole(ring: &[u32], g: &Graph, rules: &HoleRules<'_>) -> bool {
+/// Whether a loop of the extracted graph is one of the input's holes (then
+/// it stays open, and is no face): at least half of its corners hold input
+/// boundary vertices, and either
+/// - it has more than 8 corners (too long for a face), its boundary corners
+///   all lie on one input loop and it is at least half that loop's length
+///   (it runs along the loop: a disc's outer boundary, whose centroid lies
+///   on the disc), or
+/// - its centroid lies more than 0.15 × the edge length off the input (a
+///   face's, or a gap's on a thin bridge between two holes, lies on the
+///   surface; 0.3 closed the bunny's slit-shaped bottom hole, whose
+///   centroid is ~0.25 edge lengths from its rim).
+pub(crate) fn is_input_hole(ring: &[u32], g: &Graph, surface: Option<&SurfaceIndex>) -> bool {
+    let m = ring.len();
     let on_boundary = ring.iter().filter(|&&v| g.boundary[v as usize]).count();
-    if on_boundary * 2 < ring.len() {
+    if on_boundary * 2 < m {
         return false;
     }
-    let Some(surface) = rules.surface else {
+    let pos = |k: usize| g.pos[ring[k % m] as usize];
+    let length: f64 = (0..m).map(|k| pos(k).distance(pos(k + 1))).sum();
+    let loops = ring
+        .iter()
+        .map(|&v| g.boundary_loop[v as usize])
+        .filter(|&l| l != u32::MAX);
+    let first = loops.clone().next();
+    if let Some(l) = first.filter(|&l| m > 8 && loops.clone().all(|x| x == l)) {
+        if g.input_loop_length.get(l as usize).is_some_and(|&len| length >= 0.5 * len) {
+            return true;
+        }
+    }
+    let Some(surface) = surface else {
         return true;
     };
-    let c: DVec3 = ring.iter().map(|&v| g.pos[v as usize]).sum::<DVec3>() / ring.len() as f64;
-    let s: f64 = ring.iter().map(|&v| g.scale[v as usize]).sum::<f64>() / ring.len() as f64;
+    let c: DVec3 = ring.iter().map(|&v| g.pos[v as usize]).sum::<DVec3>() / m as f64;
+    let s: f64 = ring.iter().map(|&v| g.scale[v as usize]).sum::<f64>() / m as f64;
     surface.distance(c) > 0.15 * s
 }
 
@@ -476,7 +496,7 @@ fn fill_holes(
     let mut added = false;
     let mut new_faces = Vec::new();
     for ring in loops {
-        if is_input_hole(&ring, g, rules) {
+        if is_input_hole(&ring, g, rules.surface) {
             report.kept_input_holes += 1;
             continue;
         }
@@ -523,6 +543,7 @@ fn fill_holes(
                 .try_normalize()
                 .unwrap_or(DVec3::Z);
             g.boundary[c as usize] = false;
+            g.boundary_loop[c as usize] = u32::MAX;
             for k in 0..ring.len() {
                 new_faces.push(vec![ring[k], ring[(k + 1) % ring.len()], c]);
             }

@@ -107,6 +107,9 @@ fn merge(g: &mut Graph, i: usize, m: usize, alive: &mut [bool]) {
     g.feature_count[i] += g.feature_count[m];
     g.size[i] += g.size[m];
     g.boundary[i] |= g.boundary[m];
+    if g.boundary_loop[i] == u32::MAX {
+        g.boundary_loop[i] = g.boundary_loop[m];
+    }
     let list = std::mem::take(&mut g.adj[m]);
     for x in list {
         g.adj[x as usize].retain(|&y| y != m as u32);

@@ -7,6 +7,8 @@
 //! it shares an edge with, and faces around a non-manifold edge are all
 //! adjacent to each other.
 
+use std::collections::HashMap;
+
 use super::TriMesh;
 
 /// Compressed rows: row `i` is `items[offsets[i]..offsets[i + 1]]`.
@@ -201,6 +203,79 @@ pub fn boundary_vertices(mesh: &TriMesh) -> Vec<bool> {
         i = j;
     }
     boundary
+}
+
+/// The input's boundary loops, parametrised by arc length: for each vertex
+/// on a boundary, which loop it lies on and how far along it (from the
+/// loop's first vertex, in mesh units), and each loop's length. A vertex
+/// where several loops touch (non-manifold) keeps the first loop it was
+/// reached on.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BoundaryArcs {
+    /// Loop index per vertex, `u32::MAX` off the boundary.
+    pub loop_of: Vec<u32>,
+    /// Arc length from the loop's start per vertex (0 off the boundary).
+    pub arc: Vec<f64>,
+    /// Length of each loop.
+    pub length: Vec<f64>,
+}
+
+impl BoundaryArcs {
+    /// Walks every boundary edge (an edge of exactly one triangle) once.
+    pub fn new(mesh: &TriMesh) -> BoundaryArcs {
+        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+        for t in &mesh.triangles {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        // Boundary half-edges a → b, as their triangle runs them.
+        let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
+        let mut starts = Vec::new();
+        for t in &mesh.triangles {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                if count[&(a.min(b), a.max(b))] == 1 {
+                    next.entry(a).or_default().push(b);
+                    starts.push(a);
+                }
+            }
+        }
+        starts.sort_unstable();
+        starts.dedup();
+        let n = mesh.positions.len();
+        let mut arcs = BoundaryArcs {
+            loop_of: vec![u32::MAX; n],
+            arc: vec![0.0; n],
+            length: Vec::new(),
+        };
+        for &start in &starts {
+            if arcs.loop_of[start as usize] != u32::MAX {
+                continue;
+            }
+            let id = arcs.length.len() as u32;
+            let (mut cur, mut along) = (start, 0.0);
+            loop {
+                arcs.loop_of[cur as usize] = id;
+                arcs.arc[cur as usize] = along;
+                let Some(b) = next.get_mut(&cur).and_then(|v| v.pop()) else {
+                    break;
+                };
+                along += mesh.positions[cur as usize].distance(mesh.positions[b as usize]);
+                if b == start || arcs.loop_of[b as usize] != u32::MAX {
+                    break;
+                }
+                cur = b;
+            }
+            arcs.length.push(along);
+        }
+        arcs
+    }
+
+    pub fn is_boundary(&self, v: usize) -> bool {
+        self.loop_of.get(v).is_some_and(|&l| l != u32::MAX)
+    }
 }
 
 /// Collects n-ring neighbourhoods by breadth-first search, reusing its

@@ -15,7 +15,8 @@ mod topology;
 mod tri;
 
 pub use adjacency::{
-    Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces, boundary_vertices,
+    BoundaryArcs, Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces,
+    boundary_vertices,
 };
 pub use face_list::FaceList;
 pub use frame::{Aabb, Frame};
