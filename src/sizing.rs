@@ -95,7 +95,7 @@ impl Default for SizingParams {
         SizingParams {
             target_vertex_count: None,
             edge_length: None,
-            method: EdgeLengthMethod::OsculatingError,
+            method: EdgeLengthMethod::Uniform,
             epsilon: 0.025,
             radius_factor: 0.8,
             transfer_function: vec![[0.0, 5.0], [2.0, 2.0], [10.0, 1.0], [100.0, 0.7]],

@@ -179,6 +179,8 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         params.field.seed = s;
     }
     let input_vertices = imported.mesh.vertex_count();
+    quadrille::pipeline::check_target(input_vertices, &params.sizing)
+        .map_err(|e| format!("{}: {e}", args.input.display()))?;
     let target = target_vertex_count(input_vertices, &params.sizing);
     let mut pipeline = Pipeline::new(imported, params);
     // The control mesh (and, for the stats, its limit error before and

@@ -258,6 +258,7 @@ pub fn post_process(
                 &g,
                 p.pair_non_quads_degrees,
                 p.pair_max_quads,
+                p.pair_max_corner_deviation,
                 surface,
             );
             report.non_quad_pairs_merged += m;
@@ -289,6 +290,7 @@ pub fn post_process(
                 &g2,
                 p.pair_non_quads_degrees,
                 p.pair_max_quads,
+                p.pair_max_corner_deviation,
                 surface,
             );
             if m > 0 {

@@ -62,6 +62,9 @@ pub struct PostProcessParams {
     pub pair_non_quads_degrees: f64,
     /// Odd faces pair across strips of at most this many quads. Default 6.
     pub pair_max_quads: usize,
+    /// A pairing is taken only if every quad it makes has its interior
+    /// corners within 90° ± this. Default 85°.
+    pub pair_max_corner_deviation: f64,
     /// Smoothing iterations. Default 3.
     pub smoothing_iterations: usize,
     /// Feature guard of the smoothing. Default 50°.
@@ -81,6 +84,7 @@ impl Default for PostProcessParams {
             flat_triangle_degrees: 10.0,
             pair_non_quads_degrees: 60.0,
             pair_max_quads: 6,
+            pair_max_corner_deviation: 85.0,
             smoothing_iterations: 3,
             smoothing_feature_degrees: 50.0,
             reproject: true,
@@ -507,6 +511,7 @@ pub fn pair_non_quads(
     g: &Graph,
     degrees: f64,
     max_quads: usize,
+    max_deviation: f64,
     surface: Option<&SurfaceIndex>,
 ) -> usize {
     // How far a face strays from the input: its centroid and the midpoints
@@ -646,11 +651,20 @@ pub fn pair_non_quads(
             / m as f64;
         let valid = |q: [u32; 4]| -> bool {
             let p: Vec<DVec3> = q.iter().map(|&v| g.pos[v as usize]).collect();
+            // Interior angles about the quad's normal: a reflex corner
+            // reads above 180° and fails.
+            let normal = (p[2] - p[0]).cross(p[3] - p[1]);
             let corners_ok = (0..4).all(|j| {
                 let (u, v) = (p[(j + 3) % 4] - p[j], p[(j + 1) % 4] - p[j]);
+                let alpha = u.angle_between(v).to_degrees();
+                let interior = if v.cross(u).dot(normal) < 0.0 {
+                    360.0 - alpha
+                } else {
+                    alpha
+                };
                 u.length_squared() > 0.0
                     && v.length_squared() > 0.0
-                    && (u.angle_between(v).to_degrees() - 90.0).abs() <= 85.0
+                    && (interior - 90.0).abs() <= max_deviation
             });
             let n1 = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
             let n2 = (p[2] - p[0]).cross(p[3] - p[0]).normalize_or_zero();

@@ -438,10 +438,11 @@ fn hole_loops(faces: &[Vec<u32>]) -> Vec<Vec<u32>> {
 /// Whether a loop of the extracted graph is one of the input's holes (then
 /// it stays open, and is no face): at least half of its corners hold input
 /// boundary vertices, and either
-/// - it has more than 8 corners (too long for a face), its boundary corners
-///   all lie on one input loop and it is at least half that loop's length
-///   (it runs along the loop: a disc's outer boundary, whose centroid lies
-///   on the disc), or
+/// - it has more than 8 corners (too long for a face) and is at least half
+///   as long as the input loops its corners lie on together (it runs along
+///   them: a disc's outer boundary, whose centroid lies on the disc; or two
+///   of the bunny's holes whose bridge is narrower than the lattice — the
+///   bridge is lost, the holes are not closed over), or
 /// - its centroid lies more than 0.15 × the edge length off the input (a
 ///   face's, or a gap's on a thin bridge between two holes, lies on the
 ///   surface; 0.3 closed the bunny's slit-shaped bottom hole, whose
@@ -454,15 +455,19 @@ pub(crate) fn is_input_hole(ring: &[u32], g: &Graph, surface: Option<&SurfaceInd
     }
     let pos = |k: usize| g.pos[ring[k % m] as usize];
     let length: f64 = (0..m).map(|k| pos(k).distance(pos(k + 1))).sum();
-    let loops = ring
+    let mut loops: Vec<u32> = ring
         .iter()
         .map(|&v| g.boundary_loop[v as usize])
-        .filter(|&l| l != u32::MAX);
-    let first = loops.clone().next();
-    if let Some(l) = first.filter(|&l| m > 8 && loops.clone().all(|x| x == l)) {
-        if g.input_loop_length.get(l as usize).is_some_and(|&len| length >= 0.5 * len) {
-            return true;
-        }
+        .filter(|&l| l != u32::MAX)
+        .collect();
+    loops.sort_unstable();
+    loops.dedup();
+    let along: f64 = loops
+        .iter()
+        .filter_map(|&l| g.input_loop_length.get(l as usize))
+        .sum();
+    if m > 8 && !loops.is_empty() && length >= 0.5 * along {
+        return true;
     }
     let Some(surface) = surface else {
         return true;
