@@ -58,7 +58,7 @@ use glam::{DVec2, DVec3};
 
 use super::OrdF64;
 use super::embed::{EmbeddedLoop, Singularity};
-use crate::mesh::{TriMesh, UnionFind};
+use crate::mesh::{TriMesh, UnionFind, edge_key};
 
 /// Radius of the geodesic balls that decide pronounced curvature extrema,
 /// relative to the bounding-box diagonal.
@@ -192,7 +192,7 @@ impl Edges {
             let mut fe = [0; 3];
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                let key = (a.min(b), a.max(b));
+                let key = edge_key(a, b);
                 let id = *e.index.entry(key).or_insert_with(|| {
                     e.verts.push([key.0, key.1]);
                     e.faces.push(Vec::new());
@@ -207,7 +207,7 @@ impl Edges {
     }
 
     pub(crate) fn find(&self, a: u32, b: u32) -> Option<u32> {
-        self.index.get(&(a.min(b), a.max(b))).copied()
+        self.index.get(&edge_key(a, b)).copied()
     }
 }
 
