@@ -26,6 +26,7 @@ use glam::{DVec3, IVec2, Vec3};
 
 use crate::field::Level;
 use crate::field::lattice::{Lattice, compat_orientation_extrinsic_4, compat_position_extrinsic_4};
+use crate::mesh::UnionFind;
 use crate::progress::{Cancelled, Progress};
 
 /// What the extraction reads, all on level 0 and in local coordinates.
@@ -111,23 +112,6 @@ pub struct ClusterReport {
     pub average_cluster_size: f64,
 }
 
-/// Disjoint sets, union by size, ties to the smaller id (deterministic).
-struct Sets {
-    parent: Vec<u32>,
-    size: Vec<u32>,
-}
-
-impl Sets {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.parent[x as usize] != x {
-            let g = self.parent[self.parent[x as usize] as usize];
-            self.parent[x as usize] = g;
-            x = g;
-        }
-        x
-    }
-}
-
 /// Classifies every link by its integer translation, collapses the (0,0)
 /// links with union-find (best match first, refusing a collapse that would
 /// join two clusters already joined by an output edge), drops clusters
@@ -189,10 +173,9 @@ pub fn build_clusters(
     }
     collapse.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
 
-    let mut sets = Sets {
-        parent: (0..n as u32).collect(),
-        size: vec![1; n],
-    };
+    // Disjoint sets, union by size, ties to the smaller id (deterministic).
+    let mut sets = UnionFind::new(n);
+    let mut size = vec![1u32; n];
     // Normal sum per cluster: clusters whose mean normals disagree by more
     // than 90° lie on opposite sides of a thin part and never join.
     let mut nsum: Vec<Vec3> = level.normals.clone();
@@ -217,14 +200,14 @@ pub fn build_clusters(
             conflicts += 1;
             continue;
         }
-        let (sa, sb) = (sets.size[ra as usize], sets.size[rb as usize]);
+        let (sa, sb) = (size[ra as usize], size[rb as usize]);
         let (root, other) = if sa > sb || (sa == sb && ra < rb) {
             (ra, rb)
         } else {
             (rb, ra)
         };
-        sets.parent[other as usize] = root;
-        sets.size[root as usize] = sa + sb;
+        sets.link(other, root);
+        size[root as usize] = sa + sb;
         nsum[root as usize] = nsum[ra as usize] + nsum[rb as usize];
         let mut merged = std::mem::take(&mut edges[root as usize]);
         merged.extend(std::mem::take(&mut edges[other as usize]));
@@ -253,15 +236,11 @@ pub fn build_clusters(
     let average = if roots.is_empty() {
         0.0
     } else {
-        roots
-            .iter()
-            .map(|&r| sets.size[r as usize] as f64)
-            .sum::<f64>()
-            / roots.len() as f64
+        roots.iter().map(|&r| size[r as usize] as f64).sum::<f64>() / roots.len() as f64
     };
     let mut removed = 0;
     for &r in &roots {
-        if (sets.size[r as usize] as f64) < min_fraction * average {
+        if (size[r as usize] as f64) < min_fraction * average {
             out_index[r as usize] = u32::MAX;
             removed += 1;
         }

@@ -41,6 +41,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::clusters::Graph;
+use crate::mesh::{edge_faces as edge_map, edge_key as key, face_newell_normal};
 use crate::spatial::SurfaceIndex;
 
 /// Parameters of the post-processing, defaults from the thesis.
@@ -99,28 +100,9 @@ pub struct PostProcessReport {
     pub smoothed_vertices: usize,
 }
 
-fn key(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
-}
-
+/// The unit normal of face `f` (zero when degenerate).
 fn face_normal(pos: &[DVec3], f: &[u32]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for k in 0..f.len() {
-        n += pos[f[k] as usize].cross(pos[f[(k + 1) % f.len()] as usize]);
-    }
-    n.normalize_or_zero()
-}
-
-fn edge_map(faces: &[Vec<u32>]) -> HashMap<(u32, u32), Vec<usize>> {
-    let mut m: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (fi, f) in faces.iter().enumerate() {
-        for k in 0..f.len() {
-            m.entry(key(f[k], f[(k + 1) % f.len()]))
-                .or_default()
-                .push(fi);
-        }
-    }
-    m
+    face_newell_normal(pos, f).normalize_or_zero()
 }
 
 fn vertex_faces(n: usize, faces: &[Vec<u32>]) -> Vec<Vec<usize>> {
