@@ -121,6 +121,31 @@ pub fn build_clusters(
     min_fraction: f64,
     progress: &mut Progress<'_>,
 ) -> Result<(Graph, ClusterReport), Cancelled> {
+    let (collapse, mut edges) = classify_links(input, progress)?;
+    let (mut sets, size, conflicts) = collapse_links(input, &collapse, &mut edges, progress)?;
+    let (mut g, root_of, dense, roots, removed, average) =
+        compact_clusters(&mut sets, &size, &edges, min_fraction);
+    average_attributes(input, &root_of, &dense, &mut g, progress)?;
+    Ok((
+        g,
+        ClusterReport {
+            clusters: roots.len(),
+            collapse_conflicts: conflicts,
+            removed_small_clusters: removed,
+            average_cluster_size: average,
+        },
+    ))
+}
+
+/// A (0,0) link to collapse: (match error, i, j).
+type Collapse = (f32, u32, u32);
+
+/// Classifies every link by its integer translation: the (0,0) links to
+/// collapse (best match first), the unit ones as output edges per vertex.
+fn classify_links(
+    input: &ExtractInput<'_>,
+    progress: &mut Progress<'_>,
+) -> Result<(Vec<Collapse>, Vec<Vec<u32>>), Cancelled> {
     let level = input.level;
     let n = level.len();
     let mut collapse: Vec<(f32, u32, u32)> = Vec::new();
@@ -174,6 +199,22 @@ pub fn build_clusters(
     collapse.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
 
     // Disjoint sets, union by size, ties to the smaller id (deterministic).
+    Ok((collapse, edges))
+}
+
+/// Collapses the (0,0) links with union-find, best match first, refusing a
+/// collapse that would join two clusters already joined by an output edge
+/// or whose normals are opposed; keeps each root's output edges. Returns
+/// the sets, each root's size and the refused collapses.
+fn collapse_links(
+    input: &ExtractInput<'_>,
+    collapse: &[Collapse],
+    edges: &mut [Vec<u32>],
+    progress: &mut Progress<'_>,
+) -> Result<(UnionFind, Vec<u32>, usize), Cancelled> {
+    let level = input.level;
+    let n = level.len();
+    // Disjoint sets, union by size, ties to the smaller id (deterministic).
     let mut sets = UnionFind::new(n);
     let mut size = vec![1u32; n];
     // Normal sum per cluster: clusters whose mean normals disagree by more
@@ -219,7 +260,20 @@ pub fn build_clusters(
         merged.retain(|&x| x != root);
         edges[root as usize] = merged;
     }
+    Ok((sets, size, conflicts))
+}
 
+/// The survivors of compaction and of the small-cluster filter, with their
+/// adjacency, as an attribute-less graph; also every vertex's root, each
+/// root's dense index, the roots with an output edge, the number removed
+/// and the average cluster size.
+fn compact_clusters(
+    sets: &mut UnionFind,
+    size: &[u32],
+    edges: &[Vec<u32>],
+    min_fraction: f64,
+) -> (Graph, Vec<u32>, Vec<u32>, Vec<u32>, usize, f64) {
+    let n = size.len();
     // Compaction: clusters with at least one output edge become vertices.
     let mut root_of = vec![0u32; n];
     for v in 0..n as u32 {
@@ -285,7 +339,20 @@ pub fn build_clusters(
             }
         }
     }
+    (g, root_of, dense, roots, removed, average)
+}
 
+/// Averages the member vertices' attributes into `g`'s clusters.
+fn average_attributes(
+    input: &ExtractInput<'_>,
+    root_of: &[u32],
+    dense: &[u32],
+    g: &mut Graph,
+    progress: &mut Progress<'_>,
+) -> Result<(), Cancelled> {
+    let level = input.level;
+    let n = level.len();
+    let m = g.pos.len();
     // Attribute averaging with IM's weight exp(−9 |o − v|² / s²).
     let mut wsum = vec![0.0f64; m];
     let mut q_ref: Vec<Option<(Vec3, Vec3)>> = vec![None; m];
@@ -325,15 +392,7 @@ pub fn build_clusters(
             .try_normalize()
             .unwrap_or_else(|| n.any_orthonormal_vector());
     }
-    Ok((
-        g,
-        ClusterReport {
-            clusters: roots.len(),
-            collapse_conflicts: conflicts,
-            removed_small_clusters: removed,
-            average_cluster_size: average,
-        },
-    ))
+    Ok(())
 }
 
 impl Graph {
