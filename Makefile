@@ -9,14 +9,26 @@ TOOLS := $(CURDIR)/.tools
 # Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
 WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
-.PHONY: run test web wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench quality
+.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench quality
 
 run: web
 	cargo run --release --example serve -- www $(PORT)
 
 # The browser tests build the library for wasm32 (release), which is also the
 # wasm build check; `make wasm-check` alone does a quick debug build.
-test: native-test browser-test
+# The lint runs first: a formatting or clippy finding stops the run before
+# the long tests.
+test: lint
+	$(MAKE) native-test browser-test
+
+## Format and clippy (thresholds in clippy.toml, lints in Cargo.toml's
+## [lints]), warnings are errors: natively with every target (tests,
+## examples, the binary) and for the browser target (the library, where
+## src/web/ is compiled).
+lint: wasm-target
+	cargo fmt --check
+	cargo clippy --all-targets -- -D warnings
+	cargo clippy --target wasm32-unknown-unknown --lib -- -D warnings
 
 ## Native: unit, integration and doc tests.
 native-test:
@@ -26,6 +38,10 @@ native-test:
 ## The library must build for the browser target.
 wasm-check: wasm-tools
 	cargo build --lib --target wasm32-unknown-unknown
+
+## The wasm32 target alone (what the browser-target clippy needs).
+wasm-target:
+	@scripts/install-wasm-tools.sh --target-only "$(TOOLS)"
 
 ## Tools for the web build: the wasm32 target and the wasm-bindgen CLI whose
 ## version matches Cargo.lock's wasm-bindgen (installed under .tools/).

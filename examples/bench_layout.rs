@@ -33,54 +33,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Some((p, n)) => (p.to_string(), Some(n.parse::<usize>()?)),
             None => (spec.clone(), None),
         };
-        let bytes = std::fs::read(&path)?;
-        let mut name = path.rsplit('/').next().unwrap_or(&path).to_string();
-        let imported = quadrille::io::import(&bytes, &name)?;
-        let mesh = match target {
-            Some(n) => {
-                let m = decimate(&imported.mesh, n);
-                // `BENCH_WRITE_DIR=dir` keeps the decimated mesh as OBJ (for
-                // tests/e2e/bench_layout.mjs, the same mesh in wasm).
-                if let Some(dir) = std::env::var_os("BENCH_WRITE_DIR") {
-                    let stem = name.trim_end_matches(".obj");
-                    let out = std::path::Path::new(&dir).join(format!("{stem}-{n}.obj"));
-                    let mut text = String::new();
-                    for p in &m.positions {
-                        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
-                    }
-                    for t in &m.triangles {
-                        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
-                    }
-                    std::fs::write(&out, text)?;
-                    println!("wrote {}", out.display());
-                }
-                name = format!("{name} (decimated to ~{n} faces)");
-                m
-            }
-            None => imported.mesh,
-        };
+        let (name, mesh) = load(&path, target)?;
         let mesh = &mesh;
-        let boundary_edges = {
-            let mut e: Vec<(u32, u32)> = mesh
-                .triangles
-                .iter()
-                .flat_map(|t| {
-                    (0..3).map(move |i| (t[i].min(t[(i + 1) % 3]), t[i].max(t[(i + 1) % 3])))
-                })
-                .collect();
-            e.sort_unstable();
-            let mut count = 0;
-            let mut i = 0;
-            while i < e.len() {
-                let mut j = i;
-                while j < e.len() && e[j] == e[i] {
-                    j += 1;
-                }
-                count += usize::from(j - i == 1);
-                i = j;
-            }
-            count
-        };
+        let boundary_edges = boundary_edge_count(mesh);
         println!("{name}: {boundary_edges} boundary edges");
         let t = Instant::now();
         let mut engine = LoopEngine::new(mesh, &ElasticaParams::default());
@@ -198,4 +153,60 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// Imports `path`, decimated to about `target` faces when given; returns
+/// the name to print and the mesh.
+fn load(
+    path: &str,
+    target: Option<usize>,
+) -> Result<(String, quadrille::mesh::TriMesh), Box<dyn std::error::Error>> {
+    let bytes = std::fs::read(path)?;
+    let mut name = path.rsplit('/').next().unwrap_or(path).to_string();
+    let imported = quadrille::io::import(&bytes, &name)?;
+    let mesh = match target {
+        Some(n) => {
+            let m = decimate(&imported.mesh, n);
+            // `BENCH_WRITE_DIR=dir` keeps the decimated mesh as OBJ (for
+            // tests/e2e/bench_layout.mjs, the same mesh in wasm).
+            if let Some(dir) = std::env::var_os("BENCH_WRITE_DIR") {
+                let stem = name.trim_end_matches(".obj");
+                let out = std::path::Path::new(&dir).join(format!("{stem}-{n}.obj"));
+                let mut text = String::new();
+                for p in &m.positions {
+                    text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+                }
+                for t in &m.triangles {
+                    text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+                }
+                std::fs::write(&out, text)?;
+                println!("wrote {}", out.display());
+            }
+            name = format!("{name} (decimated to ~{n} faces)");
+            m
+        }
+        None => imported.mesh,
+    };
+    Ok((name, mesh))
+}
+
+/// Edges with exactly one triangle.
+fn boundary_edge_count(mesh: &quadrille::mesh::TriMesh) -> usize {
+    let mut e: Vec<(u32, u32)> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |i| (t[i].min(t[(i + 1) % 3]), t[i].max(t[(i + 1) % 3]))))
+        .collect();
+    e.sort_unstable();
+    let mut count = 0;
+    let mut i = 0;
+    while i < e.len() {
+        let mut j = i;
+        while j < e.len() && e[j] == e[i] {
+            j += 1;
+        }
+        count += usize::from(j - i == 1);
+        i = j;
+    }
+    count
 }

@@ -14,7 +14,6 @@ use std::time::Instant;
 
 use quadrille::layout::proxy::decimate;
 use quadrille::layout::{ElasticaParams, LoopEmbedder, LoopEngine, StripParams, strip_analysis};
-use quadrille::mesh::TriMesh;
 use rand_core::{RngCore, SeedableRng};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

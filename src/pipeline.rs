@@ -417,7 +417,7 @@ impl Pipeline {
         // Filtered normals only when the fields use them: their Gaussian
         // kernel covers the whole mesh at a coarse target (the bunny at 4
         // vertices took minutes).
-        let mut params = self.params.analysis.clone();
+        let mut params = self.params.analysis;
         if !self.params.field.filtered_normals {
             params.filtered_normals.mode = analysis::FilteredNormalsMode::Off;
         }
@@ -803,7 +803,10 @@ pub fn check_target(input_vertices: usize, params: &SizingParams) -> Result<(), 
             3 * MIN_TARGET_VERTICES
         ));
     }
-    let requested = params.edge_length.is_none().then_some(params.target_vertex_count);
+    let requested = params
+        .edge_length
+        .is_none()
+        .then_some(params.target_vertex_count);
     match requested.flatten() {
         Some(t) if t < MIN_TARGET_VERTICES => Err(format!(
             "a target of {t} vertices is too coarse: at least {MIN_TARGET_VERTICES}"

@@ -2,6 +2,8 @@
 //! spheres, cylinders, saddles and tori; sharp edges of fandisk found from
 //! dihedral angles; true normals of a noisy sphere.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use glam::DVec3;
@@ -47,14 +49,6 @@ fn noise(seed: u64) -> f64 {
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^= z >> 31;
     (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-}
-
-fn shared_mesh(name: &str) -> quadrille::io::Imported {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
-        .join(name);
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    quadrille::io::import(&bytes, name).unwrap()
 }
 
 #[test]
@@ -356,7 +350,7 @@ fn near_sharp_edges(mesh: &TriMesh) -> Vec<bool> {
 
 #[test]
 fn fandisk_feature_vertices_lie_on_sharp_edges() {
-    let imported = shared_mesh("fandisk.obj");
+    let imported = common::import("fandisk.obj");
     let mesh = &imported.mesh;
     let result = analysis::analyze(mesh, &AnalysisParams::default(), &SizingParams::default());
     let features = result.features.indices();

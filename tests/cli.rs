@@ -1,14 +1,10 @@
 //! The command line end to end: `quadrille remesh` with a fitted control
 //! mesh, its limit surface and the stats file.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
-
-fn shared(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
-        .join(name)
-}
 
 #[test]
 fn remesh_writes_quads_control_mesh_limit_surface_and_stats() {
@@ -22,7 +18,7 @@ fn remesh_writes_quads_control_mesh_limit_surface_and_stats() {
     );
     let status = Command::new(env!("CARGO_BIN_EXE_quadrille"))
         .arg("remesh")
-        .arg(shared("spot.obj"))
+        .arg(common::path("spot.obj"))
         .arg("-o")
         .arg(&out)
         .arg("--control")
@@ -88,7 +84,7 @@ fn info_into_a_closed_pipe_is_not_a_panic() {
     // report is written.
     let mut child = Command::new(env!("CARGO_BIN_EXE_quadrille"))
         .arg("info")
-        .arg(shared("stanford-bunny.obj"))
+        .arg(common::path("stanford-bunny.obj"))
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()

@@ -3,16 +3,11 @@
 //! inputs give closed outputs of the same genus, the bunny keeps its five
 //! holes) and on analytic surfaces.
 
+mod common;
+
 use quadrille::io::Imported;
 use quadrille::mesh::{FaceList, PolyMesh, TriMesh, generate};
 use quadrille::pipeline::{Params, Pipeline};
-
-fn shared(name: &str) -> Imported {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
-        .join(name);
-    quadrille::io::import(&std::fs::read(&path).unwrap(), name).unwrap()
-}
 
 fn from_mesh(mesh: TriMesh) -> Imported {
     let bytes =
@@ -38,7 +33,7 @@ struct Outcome {
 }
 
 fn check(name: &str) -> Outcome {
-    let input = shared(name);
+    let input = common::import(name);
     let (p, mesh) = remesh(input, Params::default());
     let t = mesh.topology();
     assert_eq!(t.nonmanifold_edges, 0, "{name}");

@@ -2,6 +2,8 @@
 //! surfaces, lattice spacing on a plane against the prescribed sizing,
 //! determinism.
 
+mod common;
+
 use glam::Vec3;
 use quadrille::analysis::areas::barycentric_cell_areas;
 use quadrille::analysis::normals::{NormalWeighting, vertex_normals};
@@ -88,23 +90,14 @@ fn index_sum(mesh: &TriMesh, f: &Fields) -> i32 {
         .sum()
 }
 
-fn load(name: &str) -> TriMesh {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
-        .join(name);
-    quadrille::io::import(&std::fs::read(&path).unwrap(), name)
-        .unwrap()
-        .mesh
-}
-
 #[test]
 fn singularity_indices_sum_to_the_euler_characteristic() {
     let params = FieldParams::default();
     for (name, mesh, chi) in [
         ("sphere", generate::icosphere(1.0, 4), 2),
         ("torus", generate::torus(1.0, 0.35, 96, 36), 0),
-        ("rocker-arm", load("rocker-arm.obj"), 0),
-        ("fandisk", load("fandisk.obj"), 2),
+        ("rocker-arm", common::mesh("rocker-arm.obj"), 0),
+        ("fandisk", common::mesh("fandisk.obj"), 2),
     ] {
         let s = 0.08 * mesh.bbox().unwrap().largest_axis() as f32;
         let f = solve(&mesh, vec![s; mesh.vertex_count()], None, &params);

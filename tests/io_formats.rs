@@ -5,6 +5,8 @@
 //! STL and glTF files are assembled byte by byte here; strip triangles and
 //! node transforms are worked out by hand in the comments.
 
+mod common;
+
 use glam::DVec3;
 use quadrille::io::{
     Format, Imported, PlyEncoding, RawMesh, Repairs, import, read_raw, write_by_extension,
@@ -815,14 +817,7 @@ f 1 4 3
 
 #[test]
 fn a_shared_mesh_reads_the_same_in_every_format() {
-    let dir = std::env::var_os("QUADRILLE_MESHES")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| {
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes")
-        });
-    let path = dir.join("spot.obj");
-    let bytes = std::fs::read(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (set QUADRILLE_MESHES)", path.display()));
+    let bytes = common::bytes("spot.obj");
     let obj = imported(&bytes, "spot.obj");
     let world: Vec<DVec3> = obj
         .mesh

@@ -2,6 +2,8 @@
 //! regions between loops, the primal layout and its export, reflectional
 //! symmetry — on exact plane sections of generated meshes.
 
+mod common;
+
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DQuat, DVec3};
@@ -653,15 +655,7 @@ fn timings_at_30k_faces() {
     );
     assert_eq!(layout.patches.len(), 2);
 
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes/rocker-arm.obj");
-    let Ok(bytes) = std::fs::read(&path) else {
-        println!("rocker arm not found at {}", path.display());
-        return;
-    };
-    let mesh = quadrille::io::import(&bytes, "rocker-arm.obj")
-        .unwrap()
-        .mesh;
+    let mesh = common::mesh("rocker-arm.obj");
     let bbox = mesh.bbox().unwrap();
     let c = bbox.center();
     let mut loops = Vec::new();
@@ -720,7 +714,7 @@ fn timings_at_30k_faces() {
             l.edges.len() as i64,
             l.patches.len() as i64,
         );
-        assert_eq!(v - e + f, chi as i64);
+        assert_eq!(v - e + f, chi);
         check_layout(&l);
     }
 }
@@ -870,13 +864,7 @@ fn layout_refuses_regions_of_other_loops() {
 #[test]
 fn mirror_planes_of_the_shared_meshes() {
     for name in ["suzanne.obj", "fandisk.obj", "spot.obj", "rocker-arm.obj"] {
-        let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/meshes")
-            .join(name);
-        let Ok(bytes) = std::fs::read(&path) else {
-            continue;
-        };
-        let mesh = quadrille::io::import(&bytes, name).unwrap().mesh;
+        let mesh = common::mesh(name);
         println!(
             "{name}: best axis plane {:?}, detected: {}",
             symmetry::best_axis_plane(&mesh),
@@ -903,16 +891,7 @@ fn random_plane_sections_keep_the_invariants() {
         ("sphere", icosphere(1.0, 3)),
         ("torus", torus(2.0, 0.7, 40, 20)),
     ];
-    let rocker = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes/rocker-arm.obj");
-    if let Ok(bytes) = std::fs::read(&rocker) {
-        meshes.push((
-            "rocker arm",
-            quadrille::io::import(&bytes, "rocker-arm.obj")
-                .unwrap()
-                .mesh,
-        ));
-    }
+    meshes.push(("rocker arm", common::mesh("rocker-arm.obj")));
     let mut sufficient = 0;
     for (name, mesh) in &meshes {
         let chi = mesh.topology().euler_characteristic;

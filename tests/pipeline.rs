@@ -3,17 +3,12 @@
 //! sphere, re-running only what a parameter change invalidates, and
 //! cancellation.
 
+mod common;
+
 use glam::{DVec3, Vec3};
 use quadrille::io::Imported;
 use quadrille::mesh::{FaceList, TriMesh, generate};
 use quadrille::pipeline::{Params, Pipeline, Stage};
-
-fn shared(name: &str) -> Imported {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
-        .join(name);
-    quadrille::io::import(&std::fs::read(&path).unwrap(), name).unwrap()
-}
 
 fn from_mesh(mesh: TriMesh) -> Imported {
     let bytes =
@@ -37,7 +32,7 @@ fn cross_deviation(q: Vec3, n: Vec3, d: Vec3) -> f32 {
 
 #[test]
 fn fandisk_field_follows_feature_vertices_and_sharp_edges() {
-    let mut p = Pipeline::new(shared("fandisk.obj"), Params::default());
+    let mut p = Pipeline::new(common::import("fandisk.obj"), Params::default());
     run(&mut p);
     let mesh = &p.input.mesh;
     let o = p.orientation.as_ref().unwrap();
@@ -230,7 +225,7 @@ fn cancelling_stops_the_field_stage() {
 
 #[test]
 fn the_sizing_field_is_calibrated_to_the_target_vertex_count() {
-    let mut p = Pipeline::new(shared("fandisk.obj"), Params::default());
+    let mut p = Pipeline::new(common::import("fandisk.obj"), Params::default());
     run(&mut p);
     let a = &p.analysis.as_ref().unwrap().surface;
     let predicted: f64 = a

@@ -7,22 +7,13 @@
 //! 1,113 more that no face uses); topology (genus, boundary edges,
 //! non-manifold edges) from the same README and from the models' known shape.
 
-use std::path::PathBuf;
+mod common;
 
-use quadrille::io::{Imported, import};
+use quadrille::io::Imported;
 use quadrille::mesh::PolyMesh;
 
-fn meshes_dir() -> PathBuf {
-    std::env::var_os("QUADRILLE_MESHES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes"))
-}
-
 fn load(name: &str) -> Imported {
-    let path = meshes_dir().join(name);
-    let bytes = std::fs::read(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (set QUADRILLE_MESHES)", path.display()));
-    let imported = import(&bytes, name).unwrap_or_else(|e| panic!("{e}"));
+    let imported = common::import(name);
     imported.mesh.validate().unwrap();
     imported
         .polygons
@@ -129,7 +120,7 @@ fn import_normalises_and_frame_restores_file_coordinates() {
 
 #[test]
 fn cli_info_prints_the_report_as_json() {
-    let path = meshes_dir().join("fandisk.obj");
+    let path = common::path("fandisk.obj");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_quadrille"))
         .args(["info", "--compact"])
         .arg(&path)

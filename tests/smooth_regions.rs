@@ -3,6 +3,8 @@
 //! rounded box selects its fillets at every fillet radius, and the selection
 //! does not depend on the model's scale.
 
+mod common;
+
 use quadrille::analysis::smooth_regions::{SmoothRegionParams, smooth_regions};
 use quadrille::analysis::{CurvatureParams, NormalWeighting, principal_curvatures, vertex_normals};
 use quadrille::mesh::{TriMesh, VertexAdjacency, generate};
@@ -147,10 +149,7 @@ fn the_selection_does_not_depend_on_scale() {
 /// area × (κ_min − κ_max)² (Campen et al. §5).
 fn alignment_quality(name: &str, mode: quadrille::pipeline::AlignmentMode) -> (usize, f64, usize) {
     use quadrille::pipeline::{Params, Pipeline, Stage};
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
-        .join(name);
-    let input = quadrille::io::import(&std::fs::read(&path).unwrap(), name).unwrap();
+    let input = common::import(name);
     let mesh = input.mesh.clone();
     let mut params = Params::default();
     params.alignment.mode = mode;

@@ -6,7 +6,9 @@
 //! made by make_im_quads.py: the same fitting applied to another
 //! remesher's output) and our own pipeline's extraction.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::time::Instant;
 
 use glam::DVec3;
@@ -132,7 +134,7 @@ fn subdivision_keeps_topology_and_makes_quads() {
     }
     // Fixed boundary: boundary vertices do not move; crease: a straight
     // boundary stays straight and the corner-free boundary is a B-spline.
-    let grid = height_grid(4, |i, j| noise(i, j));
+    let grid = height_grid(4, noise);
     let fixed = subdivide(&grid, BoundaryRule::Fixed);
     let crease = subdivide(&grid, BoundaryRule::Crease);
     for v in 0..grid.vertex_count() as u32 {
@@ -328,17 +330,10 @@ fn limit_mesh_lies_on_the_limit_surface() {
     }
 }
 
-fn shared_meshes() -> PathBuf {
-    std::env::var_os("QUADRILLE_SHARED_MESHES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes"))
-}
-
 /// The reference mesh and its Instant Meshes stand-in quad-dominant mesh,
 /// in the reference's import frame.
 fn reference_and_quads(name: &str) -> (quadrille::io::Imported, PolyMesh) {
-    let path = shared_meshes().join(format!("{name}.obj"));
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let bytes = common::bytes(&format!("{name}.obj"));
     let reference = quadrille::io::import(&bytes, name).unwrap();
     let fixture = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join(format!("tests/fixtures/subdivision/{name}-im-quads.obj"));
@@ -353,8 +348,7 @@ fn reference_and_quads(name: &str) -> (quadrille::io::Imported, PolyMesh) {
 /// Our own quad-dominant mesh: the pipeline up to post-processing at the
 /// default parameters (default target: input vertices / 16).
 fn reference_and_extracted(name: &str) -> (quadrille::io::Imported, PolyMesh) {
-    let path = shared_meshes().join(format!("{name}.obj"));
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let bytes = common::bytes(&format!("{name}.obj"));
     let reference = quadrille::io::import(&bytes, name).unwrap();
     let mut p = Pipeline::new(reference.clone(), Params::default());
     p.run(&mut |_, _, _| true, &mut |_, _| {}, &|| 0.0).unwrap();

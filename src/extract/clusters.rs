@@ -25,8 +25,9 @@
 use glam::{DVec3, IVec2, Vec3};
 
 use crate::field::Level;
-use crate::mesh::BoundaryArcs;
 use crate::field::lattice::{Lattice, compat_orientation_extrinsic_4, compat_position_extrinsic_4};
+use crate::mesh::BoundaryArcs;
+use crate::mesh::UnionFind;
 use crate::progress::{Cancelled, Progress};
 
 /// What the extraction reads, all on level 0 and in local coordinates.
@@ -121,23 +122,6 @@ pub struct ClusterReport {
     pub average_cluster_size: f64,
 }
 
-/// Disjoint sets, union by size, ties to the smaller id (deterministic).
-struct Sets {
-    parent: Vec<u32>,
-    size: Vec<u32>,
-}
-
-impl Sets {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.parent[x as usize] != x {
-            let g = self.parent[self.parent[x as usize] as usize];
-            self.parent[x as usize] = g;
-            x = g;
-        }
-        x
-    }
-}
-
 /// Per cluster (indexed by its root), the stretch of input boundary it
 /// holds: its loop, and the start and length of the shortest cyclic arc
 /// covering its boundary vertices on that loop.
@@ -220,6 +204,32 @@ pub fn build_clusters(
     min_fraction: f64,
     progress: &mut Progress<'_>,
 ) -> Result<(Graph, ClusterReport), Cancelled> {
+    let (collapse, mut edges) = classify_links(input, progress)?;
+    let (mut sets, size, conflicts) = collapse_links(input, &collapse, &mut edges, progress)?;
+    let (mut g, root_of, dense, roots, removed, average) =
+        compact_clusters(&mut sets, &size, &edges, min_fraction);
+    g.input_loop_length = input.boundary_arcs.length.clone();
+    average_attributes(input, &root_of, &dense, &mut g, progress)?;
+    Ok((
+        g,
+        ClusterReport {
+            clusters: roots.len(),
+            collapse_conflicts: conflicts,
+            removed_small_clusters: removed,
+            average_cluster_size: average,
+        },
+    ))
+}
+
+/// A (0,0) link to collapse: (match error, i, j).
+type Collapse = (f32, u32, u32);
+
+/// Classifies every link by its integer translation: the (0,0) links to
+/// collapse (best match first), the unit ones as output edges per vertex.
+fn classify_links(
+    input: &ExtractInput<'_>,
+    progress: &mut Progress<'_>,
+) -> Result<(Vec<Collapse>, Vec<Vec<u32>>), Cancelled> {
     let level = input.level;
     let n = level.len();
     let mut collapse: Vec<(f32, u32, u32)> = Vec::new();
@@ -272,10 +282,25 @@ pub fn build_clusters(
     }
     collapse.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
 
-    let mut sets = Sets {
-        parent: (0..n as u32).collect(),
-        size: vec![1; n],
-    };
+    // Disjoint sets, union by size, ties to the smaller id (deterministic).
+    Ok((collapse, edges))
+}
+
+/// Collapses the (0,0) links with union-find, best match first, refusing a
+/// collapse that would join two clusters already joined by an output edge
+/// or whose normals are opposed; keeps each root's output edges. Returns
+/// the sets, each root's size and the refused collapses.
+fn collapse_links(
+    input: &ExtractInput<'_>,
+    collapse: &[Collapse],
+    edges: &mut [Vec<u32>],
+    progress: &mut Progress<'_>,
+) -> Result<(UnionFind, Vec<u32>, usize), Cancelled> {
+    let level = input.level;
+    let n = level.len();
+    // Disjoint sets, union by size, ties to the smaller id (deterministic).
+    let mut sets = UnionFind::new(n);
+    let mut size = vec![1u32; n];
     // Normal sum per cluster: clusters whose mean normals disagree by more
     // than 90° lie on opposite sides of a thin part and never join.
     let mut nsum: Vec<Vec3> = level.normals.clone();
@@ -301,14 +326,14 @@ pub fn build_clusters(
             conflicts += 1;
             continue;
         }
-        let (sa, sb) = (sets.size[ra as usize], sets.size[rb as usize]);
+        let (sa, sb) = (size[ra as usize], size[rb as usize]);
         let (root, other) = if sa > sb || (sa == sb && ra < rb) {
             (ra, rb)
         } else {
             (rb, ra)
         };
-        sets.parent[other as usize] = root;
-        sets.size[root as usize] = sa + sb;
+        sets.link(other, root);
+        size[root as usize] = sa + sb;
         nsum[root as usize] = nsum[ra as usize] + nsum[rb as usize];
         arcs.join(root, other);
         let mut merged = std::mem::take(&mut edges[root as usize]);
@@ -321,7 +346,20 @@ pub fn build_clusters(
         merged.retain(|&x| x != root);
         edges[root as usize] = merged;
     }
+    Ok((sets, size, conflicts))
+}
 
+/// The survivors of compaction and of the small-cluster filter, with their
+/// adjacency, as an attribute-less graph; also every vertex's root, each
+/// root's dense index, the roots with an output edge, the number removed
+/// and the average cluster size.
+fn compact_clusters(
+    sets: &mut UnionFind,
+    size: &[u32],
+    edges: &[Vec<u32>],
+    min_fraction: f64,
+) -> (Graph, Vec<u32>, Vec<u32>, Vec<u32>, usize, f64) {
+    let n = size.len();
     // Compaction: clusters with at least one output edge become vertices.
     let mut root_of = vec![0u32; n];
     for v in 0..n as u32 {
@@ -338,15 +376,11 @@ pub fn build_clusters(
     let average = if roots.is_empty() {
         0.0
     } else {
-        roots
-            .iter()
-            .map(|&r| sets.size[r as usize] as f64)
-            .sum::<f64>()
-            / roots.len() as f64
+        roots.iter().map(|&r| size[r as usize] as f64).sum::<f64>() / roots.len() as f64
     };
     let mut removed = 0;
     for &r in &roots {
-        if (sets.size[r as usize] as f64) < min_fraction * average {
+        if (size[r as usize] as f64) < min_fraction * average {
             out_index[r as usize] = u32::MAX;
             removed += 1;
         }
@@ -371,7 +405,7 @@ pub fn build_clusters(
         size: vec![0; m],
         boundary: vec![false; m],
         boundary_loop: vec![u32::MAX; m],
-        input_loop_length: input.boundary_arcs.length.clone(),
+        input_loop_length: Vec::new(),
         adj: vec![Vec::new(); m],
     };
     for (c, &r) in kept.iter().enumerate() {
@@ -393,7 +427,20 @@ pub fn build_clusters(
             }
         }
     }
+    (g, root_of, dense, roots, removed, average)
+}
 
+/// Averages the member vertices' attributes into `g`'s clusters.
+fn average_attributes(
+    input: &ExtractInput<'_>,
+    root_of: &[u32],
+    dense: &[u32],
+    g: &mut Graph,
+    progress: &mut Progress<'_>,
+) -> Result<(), Cancelled> {
+    let level = input.level;
+    let n = level.len();
+    let m = g.pos.len();
     // Attribute averaging with IM's weight exp(−9 |o − v|² / s²).
     let mut wsum = vec![0.0f64; m];
     let mut q_ref: Vec<Option<(Vec3, Vec3)>> = vec![None; m];
@@ -419,7 +466,12 @@ pub fn build_clusters(
         g.feature_count[c] += input.feature.get(v).copied().unwrap_or(false) as u32;
         g.boundary[c] |= input.boundary.get(v).copied().unwrap_or(false);
         if g.boundary_loop[c] == u32::MAX {
-            g.boundary_loop[c] = input.boundary_arcs.loop_of.get(v).copied().unwrap_or(u32::MAX);
+            g.boundary_loop[c] = input
+                .boundary_arcs
+                .loop_of
+                .get(v)
+                .copied()
+                .unwrap_or(u32::MAX);
         }
         g.size[c] += 1;
         wsum[c] += w;
@@ -436,15 +488,7 @@ pub fn build_clusters(
             .try_normalize()
             .unwrap_or_else(|| n.any_orthonormal_vector());
     }
-    Ok((
-        g,
-        ClusterReport {
-            clusters: roots.len(),
-            collapse_conflicts: conflicts,
-            removed_small_clusters: removed,
-            average_cluster_size: average,
-        },
-    ))
+    Ok(())
 }
 
 impl Graph {

@@ -41,6 +41,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::clusters::Graph;
+use crate::mesh::{edge_faces as edge_map, edge_key as key, face_newell_normal};
 use crate::spatial::SurfaceIndex;
 
 /// Parameters of the post-processing, defaults from the thesis.
@@ -103,28 +104,9 @@ pub struct PostProcessReport {
     pub smoothed_vertices: usize,
 }
 
-fn key(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
-}
-
+/// The unit normal of face `f` (zero when degenerate).
 fn face_normal(pos: &[DVec3], f: &[u32]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for k in 0..f.len() {
-        n += pos[f[k] as usize].cross(pos[f[(k + 1) % f.len()] as usize]);
-    }
-    n.normalize_or_zero()
-}
-
-fn edge_map(faces: &[Vec<u32>]) -> HashMap<(u32, u32), Vec<usize>> {
-    let mut m: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (fi, f) in faces.iter().enumerate() {
-        for k in 0..f.len() {
-            m.entry(key(f[k], f[(k + 1) % f.len()]))
-                .or_default()
-                .push(fi);
-        }
-    }
-    m
+    face_newell_normal(pos, f).normalize_or_zero()
 }
 
 fn vertex_faces(n: usize, faces: &[Vec<u32>]) -> Vec<Vec<usize>> {
@@ -526,113 +508,24 @@ pub fn pair_non_quads(
         d
     };
     let cos_t = degrees.to_radians().cos();
-    let odd = |f: &[u32]| f.len() == 3 || f.len() == 5;
     let edges = edge_map(faces);
     let normals: Vec<DVec3> = faces.iter().map(|f| face_normal(&g.pos, f)).collect();
     // Vertex pairs held by faces (edges and diagonals), with multiplicity.
     let mut pairs: HashMap<(u32, u32), u32> = HashMap::new();
-    let add_pairs = |pairs: &mut HashMap<(u32, u32), u32>, f: &[u32], d: i32| {
-        for i in 0..f.len() {
-            for j in i + 1..f.len() {
-                let e = pairs.entry(key(f[i], f[j])).or_insert(0);
-                *e = (*e as i32 + d).max(0) as u32;
-            }
-        }
-    };
     for f in faces.iter() {
         add_pairs(&mut pairs, f, 1);
     }
-    let across = |fi: usize, k: usize| -> Option<usize> {
-        let f = &faces[fi];
-        let list = edges.get(&key(f[k], f[(k + 1) % f.len()]))?;
-        if list.len() != 2 {
-            return None;
-        }
-        Some(if list[0] == fi { list[1] } else { list[0] })
-    };
-    // Candidate chains: breadth-first from every odd face through quads.
-    let mut chains: Vec<(usize, usize, Vec<usize>)> = Vec::new();
-    for f0 in 0..faces.len() {
-        if !odd(&faces[f0]) {
-            continue;
-        }
-        let mut parent: HashMap<usize, usize> = HashMap::new();
-        parent.insert(f0, f0);
-        let mut frontier = vec![f0];
-        for depth in 0..=max_quads {
-            let mut next = Vec::new();
-            for &fi in &frontier {
-                for k in 0..faces[fi].len() {
-                    let Some(h) = across(fi, k) else { continue };
-                    if parent.contains_key(&h) || normals[fi].dot(normals[h]) < cos_t {
-                        continue;
-                    }
-                    parent.insert(h, fi);
-                    if odd(&faces[h]) {
-                        if h > f0 {
-                            let mut chain = vec![h];
-                            let mut c = fi;
-                            while c != f0 {
-                                chain.push(c);
-                                c = parent[&c];
-                            }
-                            chain.push(f0);
-                            chains.push((depth, 0, chain));
-                        }
-                    } else if faces[h].len() == 4 && depth < max_quads {
-                        next.push(h);
-                    }
-                }
-            }
-            frontier = next;
-        }
-    }
-    for (i, c) in chains.iter_mut().enumerate() {
-        c.1 = i;
-    }
-    chains.sort_by_key(|c| (c.0, c.2.len(), c.1));
+    let chains = candidate_chains(faces, &edges, &normals, cos_t, max_quads);
     let mut dead = vec![false; faces.len()];
     let mut added: Vec<Vec<u32>> = Vec::new();
     let mut merged = 0;
-    let runs = |x: &[u32], p: u32, q: u32| {
-        let n = x.len();
-        (0..n).any(|k| x[k] == p && x[(k + 1) % n] == q)
-    };
-    for (_, _, chain) in chains {
+    for chain in chains {
         if chain.iter().any(|&f| dead[f]) {
             continue;
         }
-        // Union polygon, face by face across the shared edge.
-        let mut ring = faces[chain[0]].clone();
-        let mut ok = true;
-        for w in chain.windows(2) {
-            let next = &faces[w[1]];
-            let m = ring.len();
-            let Some(k) = (0..m).find(|&k| runs(next, ring[(k + 1) % m], ring[k])) else {
-                ok = false;
-                break;
-            };
-            // ring runs a→b at k; next runs b→a: splice next's other corners.
-            let (a, b) = (ring[k], ring[(k + 1) % m]);
-            let r = rotate_to(next, a); // [a, .., b]
-            if r.last() != Some(&b) {
-                ok = false;
-                break;
-            }
-            let mut out = ring[..=k].to_vec();
-            out.extend_from_slice(&r[1..r.len() - 1]);
-            out.extend_from_slice(&ring[k + 1..]);
-            ring = out;
-        }
-        if !ok {
+        let Some(ring) = union_polygon(faces, &chain) else {
             continue;
-        }
-        let mut uniq = ring.clone();
-        uniq.sort_unstable();
-        uniq.dedup();
-        if uniq.len() != ring.len() || ring.len() % 2 != 0 {
-            continue;
-        }
+        };
         for &f in &chain {
             add_pairs(&mut pairs, &faces[f], -1);
         }
@@ -715,6 +608,120 @@ pub fn pair_non_quads(
     });
     faces.extend(added);
     merged
+}
+
+/// Candidate chains: breadth-first from every odd face (triangle or
+/// pentagon) through quads to another odd face, across edges whose faces'
+/// normals are within `cos_t`; shortest first (then fewer faces, then
+/// found first).
+fn candidate_chains(
+    faces: &[Vec<u32>],
+    edges: &HashMap<(u32, u32), Vec<usize>>,
+    normals: &[DVec3],
+    cos_t: f64,
+    max_quads: usize,
+) -> Vec<Vec<usize>> {
+    let odd = |f: &[u32]| f.len() == 3 || f.len() == 5;
+    let across = |fi: usize, k: usize| -> Option<usize> {
+        let f = &faces[fi];
+        let list = edges.get(&key(f[k], f[(k + 1) % f.len()]))?;
+        if list.len() != 2 {
+            return None;
+        }
+        Some(if list[0] == fi { list[1] } else { list[0] })
+    };
+    let mut chains: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for f0 in 0..faces.len() {
+        if !odd(&faces[f0]) {
+            continue;
+        }
+        let mut parent: HashMap<usize, usize> = HashMap::new();
+        parent.insert(f0, f0);
+        let mut frontier = vec![f0];
+        for depth in 0..=max_quads {
+            let mut next = Vec::new();
+            for &fi in &frontier {
+                for k in 0..faces[fi].len() {
+                    let Some(h) = across(fi, k) else { continue };
+                    if parent.contains_key(&h) || normals[fi].dot(normals[h]) < cos_t {
+                        continue;
+                    }
+                    parent.insert(h, fi);
+                    if odd(&faces[h]) {
+                        if h > f0 {
+                            let mut chain = vec![h];
+                            let mut c = fi;
+                            while c != f0 {
+                                chain.push(c);
+                                c = parent[&c];
+                            }
+                            chain.push(f0);
+                            chains.push((depth, 0, chain));
+                        }
+                    } else if faces[h].len() == 4 && depth < max_quads {
+                        next.push(h);
+                    }
+                }
+            }
+            frontier = next;
+        }
+    }
+    for (i, c) in chains.iter_mut().enumerate() {
+        c.1 = i;
+    }
+    chains.sort_by_key(|c| (c.0, c.2.len(), c.1));
+    chains.into_iter().map(|c| c.2).collect()
+}
+
+/// Adds `d` to the multiplicity of every vertex pair of face `f` (edges
+/// and diagonals), never below zero.
+fn add_pairs(pairs: &mut HashMap<(u32, u32), u32>, f: &[u32], d: i32) {
+    for i in 0..f.len() {
+        for j in i + 1..f.len() {
+            let e = pairs.entry(key(f[i], f[j])).or_insert(0);
+            *e = (*e as i32 + d).max(0) as u32;
+        }
+    }
+}
+
+/// The union polygon of a chain of faces, face by face across the shared
+/// edge; None unless it is one simple loop of even length.
+fn union_polygon(faces: &[Vec<u32>], chain: &[usize]) -> Option<Vec<u32>> {
+    let runs = |x: &[u32], p: u32, q: u32| {
+        let n = x.len();
+        (0..n).any(|k| x[k] == p && x[(k + 1) % n] == q)
+    };
+    let mut ring = faces[chain[0]].clone();
+    let mut ok = true;
+    for w in chain.windows(2) {
+        let next = &faces[w[1]];
+        let m = ring.len();
+        let Some(k) = (0..m).find(|&k| runs(next, ring[(k + 1) % m], ring[k])) else {
+            ok = false;
+            break;
+        };
+        // ring runs a→b at k; next runs b→a: splice next's other corners.
+        let (a, b) = (ring[k], ring[(k + 1) % m]);
+        let r = rotate_to(next, a); // [a, .., b]
+        if r.last() != Some(&b) {
+            ok = false;
+            break;
+        }
+        let mut out = ring[..=k].to_vec();
+        out.extend_from_slice(&r[1..r.len() - 1]);
+        out.extend_from_slice(&ring[k + 1..]);
+        ring = out;
+    }
+    if !ok {
+        return None;
+    }
+    let mut uniq = ring.clone();
+    uniq.sort_unstable();
+    uniq.dedup();
+    if uniq.len() != ring.len() || ring.len() % 2 != 0 {
+        return None;
+    }
+    Some(ring)
 }
 
 #[cfg(test)]

@@ -36,7 +36,8 @@ use glam::DVec3;
 
 use super::clusters::Graph;
 use super::faces::{fill_polygon, simple_loops};
-use crate::mesh::{FaceList, MeshError, PolyMesh};
+use crate::mesh::edge_key as key;
+use crate::mesh::{FaceList, MeshError, PolyMesh, UnionFind, edge_faces, face_newell_normal};
 use crate::spatial::SurfaceIndex;
 
 /// Counts of the repair.
@@ -64,10 +65,6 @@ pub struct HoleRules<'a> {
     /// Split holes by the thesis' quad score (see [`fill_polygon`]).
     pub thesis_quad_score: bool,
     pub surface: Option<&'a SurfaceIndex>,
-}
-
-fn key(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
 }
 
 /// Faces that repeat a vertex become simple loops; duplicates go.
@@ -104,9 +101,12 @@ fn clean(faces: &mut Vec<Vec<u32>>) {
 }
 
 /// Pairs of vertices that some triangulation would make non-manifold.
+/// A face's use of a vertex pair: (face, is an edge of it, forward).
+type PairUse = (u32, bool, bool);
+
 fn conflicts(faces: &[Vec<u32>]) -> Vec<(u32, u32, Vec<u32>)> {
     // pair -> (face, is_edge, forward)
-    let mut pairs: HashMap<(u32, u32), Vec<(u32, bool, bool)>> = HashMap::new();
+    let mut pairs: HashMap<(u32, u32), Vec<PairUse>> = HashMap::new();
     for (fi, f) in faces.iter().enumerate() {
         let n = f.len();
         for a in 0..n {
@@ -226,26 +226,9 @@ fn fix_pairs(faces: &mut Vec<Vec<u32>>, n: usize, report: &mut RepairReport) -> 
     changed
 }
 
-fn newell(pos: &[DVec3], f: &[u32]) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for k in 0..f.len() {
-        let (a, b) = (pos[f[k] as usize], pos[f[(k + 1) % f.len()] as usize]);
-        n += a.cross(b);
-    }
-    n
-}
-
 /// Consistent orientation per component (step 3).
 fn orient(faces: &mut [Vec<u32>], g: &Graph, report: &mut RepairReport) {
-    let mut by_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
-    for (fi, f) in faces.iter().enumerate() {
-        for k in 0..f.len() {
-            by_edge
-                .entry(key(f[k], f[(k + 1) % f.len()]))
-                .or_default()
-                .push(fi as u32);
-        }
-    }
+    let by_edge = edge_faces(faces);
     let runs = |f: &[u32], a: u32, b: u32| -> bool {
         let n = f.len();
         (0..n).any(|k| f[k] == a && f[(k + 1) % n] == b)
@@ -270,11 +253,7 @@ fn orient(faces: &mut [Vec<u32>], g: &Graph, report: &mut RepairReport) {
                 if list.len() != 2 {
                     continue;
                 }
-                let other = if list[0] as usize == f {
-                    list[1]
-                } else {
-                    list[0]
-                } as usize;
+                let other = if list[0] == f { list[1] } else { list[0] };
                 if visited[other] {
                     continue;
                 }
@@ -289,7 +268,7 @@ fn orient(faces: &mut [Vec<u32>], g: &Graph, report: &mut RepairReport) {
         let vote: f64 = comp
             .iter()
             .map(|&f| {
-                let nf = newell(&g.pos, &faces[f]);
+                let nf = face_newell_normal(&g.pos, &faces[f]);
                 let nv: DVec3 = faces[f].iter().map(|&v| g.normal[v as usize]).sum();
                 nf.normalize_or_zero().dot(nv.normalize_or_zero())
             })
@@ -320,34 +299,24 @@ fn split_vertices(faces: &mut [Vec<u32>], g: &mut Graph, report: &mut RepairRepo
         }
         // Union faces sharing an edge at v.
         let k = around.len();
-        let mut parent: Vec<usize> = (0..k).collect();
-        fn find(p: &mut [usize], mut x: usize) -> usize {
-            while p[x] != x {
-                p[x] = p[p[x]];
-                x = p[x];
-            }
-            x
-        }
-        let mut spokes: Vec<(u32, usize)> = Vec::new();
+        let mut sets = UnionFind::new(k);
+        let mut spokes: Vec<(u32, u32)> = Vec::new();
         for (idx, &f) in around.iter().enumerate() {
             let face = &faces[f as usize];
             let m = face.len();
             let Some(i) = face.iter().position(|&x| x as usize == v) else {
                 continue;
             };
-            spokes.push((face[(i + 1) % m], idx));
-            spokes.push((face[(i + m - 1) % m], idx));
+            spokes.push((face[(i + 1) % m], idx as u32));
+            spokes.push((face[(i + m - 1) % m], idx as u32));
         }
         spokes.sort_unstable();
         for w in spokes.windows(2) {
             if w[0].0 == w[1].0 {
-                let (a, b) = (find(&mut parent, w[0].1), find(&mut parent, w[1].1));
-                if a != b {
-                    parent[a.max(b)] = a.min(b);
-                }
+                sets.union(w[0].1, w[1].1);
             }
         }
-        let mut roots: Vec<usize> = (0..k).map(|x| find(&mut parent, x)).collect();
+        let mut roots: Vec<u32> = (0..k as u32).map(|x| sets.find(x)).collect();
         let mut distinct = roots.clone();
         distinct.sort_unstable();
         distinct.dedup();
@@ -659,26 +628,16 @@ fn drop_fragments(faces: &mut Vec<Vec<u32>>) -> usize {
         .map(|&v| v as usize + 1)
         .max()
         .unwrap_or(0);
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(n);
     for f in faces.iter() {
         for w in f.windows(2) {
-            let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(w[0], w[1]);
         }
     }
     let mut count: HashMap<u32, usize> = HashMap::new();
     let roots: Vec<u32> = faces
         .iter()
-        .map(|f| f.first().map_or(0, |&v| find(&mut parent, v)))
+        .map(|f| f.first().map_or(0, |&v| sets.find(v)))
         .collect();
     for &r in &roots {
         *count.entry(r).or_default() += 1;

@@ -44,7 +44,7 @@ impl Links {
                 pairs.push((b, a, 1.0));
             }
         }
-        pairs.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        pairs.sort_unstable_by_key(|x| (x.0, x.1));
         pairs.dedup_by(|x, y| x.0 == y.0 && x.1 == y.1);
         Links::from_sorted(n, &pairs)
     }
@@ -257,7 +257,7 @@ fn coarsen(fine: &mut Level) -> Option<Level> {
             }
         }
     }
-    pairs.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+    pairs.sort_unstable_by_key(|x| (x.0, x.1));
     let mut merged: Vec<(u32, u32, f32)> = Vec::with_capacity(pairs.len());
     for p in pairs {
         match merged.last_mut() {

@@ -57,73 +57,14 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         };
         match keyword {
             "v" => {
-                let mut xyz = [0.0; 3];
-                for (axis, slot) in xyz.iter_mut().enumerate() {
-                    let token = tokens.next().ok_or_else(|| {
-                        IoError::at_line(
-                            file,
-                            number,
-                            format!("vertex has {axis} coordinates, needs 3"),
-                        )
-                    })?;
-                    *slot = coordinate(token, file, number)?;
-                }
-                for extra in tokens {
-                    // w or a colour: must still be numbers.
-                    if extra.parse::<f64>().is_err() {
-                        return Err(IoError::at_line(
-                            file,
-                            number,
-                            format!("'{extra}' is not a number"),
-                        ));
-                    }
-                }
+                let p = vertex(tokens, file, number)?;
                 if positions.len() >= u32::MAX as usize - 1 {
                     return Err(IoError::at_line(file, number, "too many vertices"));
                 }
-                positions.push(DVec3::from_array(xyz));
+                positions.push(p);
             }
             "f" | "fo" => {
-                corners.clear();
-                for token in tokens {
-                    let index_text = token.split('/').next().unwrap_or("");
-                    let index: i64 = index_text.parse().map_err(|_| {
-                        IoError::at_line(
-                            file,
-                            number,
-                            format!("'{token}' is not a face corner (v, v/vt, v//vn or v/vt/vn)"),
-                        )
-                    })?;
-                    let resolved = if index > 0 {
-                        index - 1
-                    } else if index < 0 {
-                        positions.len() as i64 + index
-                    } else {
-                        return Err(IoError::at_line(
-                            file,
-                            number,
-                            "vertex index 0 (OBJ indices start at 1)",
-                        ));
-                    };
-                    if resolved < 0 {
-                        return Err(IoError::at_line(
-                            file,
-                            number,
-                            format!(
-                                "relative index {index} points before the first vertex (only {} defined so far)",
-                                positions.len()
-                            ),
-                        ));
-                    }
-                    if resolved >= u32::MAX as i64 {
-                        return Err(IoError::at_line(
-                            file,
-                            number,
-                            format!("vertex index {index} is out of range"),
-                        ));
-                    }
-                    corners.push(resolved as u32);
-                }
+                face_corners(tokens, positions.len(), file, number, &mut corners)?;
                 if corners.len() < 3 {
                     return Err(IoError::at_line(
                         file,
@@ -190,6 +131,90 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         welded_vertices: 0,
         warnings,
     })
+}
+
+/// A `v` statement's position (after the keyword); a fourth coordinate or
+/// a colour must still be numbers.
+fn vertex<'a>(
+    mut tokens: impl Iterator<Item = &'a str>,
+    file: &str,
+    number: usize,
+) -> Result<DVec3, IoError> {
+    let mut xyz = [0.0; 3];
+    for (axis, slot) in xyz.iter_mut().enumerate() {
+        let token = tokens.next().ok_or_else(|| {
+            IoError::at_line(
+                file,
+                number,
+                format!("vertex has {axis} coordinates, needs 3"),
+            )
+        })?;
+        *slot = coordinate(token, file, number)?;
+    }
+    for extra in tokens {
+        // w or a colour: must still be numbers.
+        if extra.parse::<f64>().is_err() {
+            return Err(IoError::at_line(
+                file,
+                number,
+                format!("'{extra}' is not a number"),
+            ));
+        }
+    }
+    Ok(DVec3::from_array(xyz))
+}
+
+/// A face statement's corners (after the keyword) as 0-based vertex
+/// indices into `corners`, relative indices resolved against the
+/// `defined` vertices so far.
+fn face_corners<'a>(
+    tokens: impl Iterator<Item = &'a str>,
+    defined: usize,
+    file: &str,
+    number: usize,
+    corners: &mut Vec<u32>,
+) -> Result<(), IoError> {
+    corners.clear();
+    for token in tokens {
+        let index_text = token.split('/').next().unwrap_or("");
+        let index: i64 = index_text.parse().map_err(|_| {
+            IoError::at_line(
+                file,
+                number,
+                format!("'{token}' is not a face corner (v, v/vt, v//vn or v/vt/vn)"),
+            )
+        })?;
+        let resolved = if index > 0 {
+            index - 1
+        } else if index < 0 {
+            defined as i64 + index
+        } else {
+            return Err(IoError::at_line(
+                file,
+                number,
+                "vertex index 0 (OBJ indices start at 1)",
+            ));
+        };
+        if resolved < 0 {
+            return Err(IoError::at_line(
+                file,
+                number,
+                format!(
+                    "relative index {index} points before the first vertex (only {} defined so far)",
+                    defined
+                ),
+            ));
+        }
+        if resolved >= u32::MAX as i64 {
+            return Err(IoError::at_line(
+                file,
+                number,
+                format!("vertex index {index} is out of range"),
+            ));
+        }
+        corners.push(resolved as u32);
+    }
+    Ok(())
 }
 
 fn skipped_count(skipped: &mut Vec<(&'static str, usize)>, what: &'static str) {

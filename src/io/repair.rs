@@ -6,7 +6,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::{Format, Imported, IoError, RawMesh};
-use crate::mesh::{Aabb, FaceList, Frame, Topology, TriMesh};
+use crate::mesh::{Aabb, FaceList, Frame, Topology, TriMesh, face_newell_normal};
 
 /// What import changed. Nothing is changed silently: every count here is in
 /// `quadrille info`'s output and the web app's import panel.
@@ -210,11 +210,5 @@ pub(super) fn import_raw(raw: RawMesh, file: &str, format: Format) -> Result<Imp
 
 /// Area of a planar-ish polygon by Newell's vector area.
 fn polygon_area(positions: &[DVec3], corners: &[u32]) -> f64 {
-    let mut sum = DVec3::ZERO;
-    for (k, &i) in corners.iter().enumerate() {
-        let a = positions[i as usize];
-        let b = positions[corners[(k + 1) % corners.len()] as usize];
-        sum += a.cross(b);
-    }
-    0.5 * sum.length()
+    0.5 * face_newell_normal(positions, corners).length()
 }

@@ -112,7 +112,7 @@ impl ElasticaGraph {
                 return 0.0;
             };
             let weight = ((pc.k1.abs() - pc.k2.abs()).powi(2)).min(max_w);
-            if !(weight > 0.0) {
+            if weight.is_nan() || weight <= 0.0 {
                 return 0.0;
             }
             let c = t.dot(pc.d1).abs().max(t.dot(pc.d2).abs()).max(0.05);

@@ -235,6 +235,74 @@ pub(crate) fn parametrize_with(
     if field.cross.len() != nf {
         return None;
     }
+    let (frames, tree) = comb(mesh, &topology, field);
+    let matching = matchings(mesh, &topology, &frames);
+    let seam = cut_graph(mesh, &topology, field, &tree);
+    let (wedge, count) = wedges(&topology, &seam);
+    let n = 2 * count as usize;
+    let mut normal = Normal {
+        triplets: Vec::with_capacity(nf * 40),
+        rhs: vec![0.0; n],
+    };
+    alignment_rows(mesh, field, &frames, &wedge, &mut normal);
+    // Seams: ΔX_g = rotate(k, ΔX_f), scaled by the mean edge length.
+    let mean_edge = {
+        let s: f64 = (0..nf).map(|f| edge_vector(mesh, f, 0).length()).sum();
+        (s / nf.max(1) as f64).max(1e-300)
+    };
+    seam_rows(&topology, &seam, &matching, &wedge, mean_edge, &mut normal);
+    loop_rows(mesh, loops, &frames, &wedge, mean_edge, &mut normal);
+    // The gauge term; raised when the factorization fails (near-singular
+    // systems on small or irregular meshes).
+    let x = [1e-8, 1e-6, 1e-4].iter().find_map(|&relative| {
+        let eps = relative / (mean_edge * mean_edge);
+        let mut triplets = normal.triplets.clone();
+        triplets.extend((0..n).map(|i| (i, i, eps)));
+        solve_spd(n, &triplets, std::slice::from_ref(&normal.rhs))?.pop()
+    })?;
+    let var = |f: usize, i: usize, comp: usize| var(&wedge, f, i, comp);
+    let uv: Vec<[DVec2; 3]> = (0..nf)
+        .map(|f| std::array::from_fn(|i| DVec2::new(x[var(f, i, 0)], x[var(f, i, 1)])))
+        .collect();
+    let folded = uv
+        .iter()
+        .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]) <= 0.0)
+        .collect();
+    Some(Parametrization {
+        uv,
+        folded,
+        frames,
+        matching,
+        seam,
+        wedge,
+        topology,
+    })
+}
+
+/// Face `f`'s edge `e` as a vector, from corner `e` to corner `e + 1`.
+fn edge_vector(mesh: &TriMesh, f: usize, e: usize) -> DVec3 {
+    let t = mesh.triangles[f];
+    mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
+}
+
+/// The angle of `d` in the frame `fr`.
+fn angle(fr: &[DVec3; 2], d: DVec3) -> f64 {
+    d.dot(fr[1]).atan2(d.dot(fr[0]))
+}
+
+/// The unknown of wedge corner (`f`, `i`), component `comp`.
+fn var(wedge: &[[u32; 3]], f: usize, i: usize, comp: usize) -> usize {
+    2 * wedge[f][i] as usize + comp
+}
+
+/// The field's frames, combed along a breadth-first dual spanning tree;
+/// returns them with the tree's edges.
+fn comb(
+    mesh: &TriMesh,
+    topology: &EdgeTopology,
+    field: &StripField,
+) -> (Vec<[DVec3; 2]>, Vec<[bool; 3]>) {
+    let nf = mesh.triangles.len();
     let base = face_frames(mesh);
     let mut frames: Vec<[DVec3; 2]> = (0..nf)
         .map(|f| {
@@ -246,11 +314,6 @@ pub(crate) fn parametrize_with(
             [u, base[f][2].cross(u)]
         })
         .collect();
-    let edge_vector = |f: usize, e: usize| {
-        let t = mesh.triangles[f];
-        mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
-    };
-    let angle = |fr: &[DVec3; 2], d: DVec3| d.dot(fr[1]).atan2(d.dot(fr[0]));
     // Combing along a breadth-first dual spanning tree.
     let mut tree = vec![[false; 3]; nf];
     let mut seen = vec![false; nf];
@@ -268,7 +331,7 @@ pub(crate) fn parametrize_with(
                 }
                 let (g, ge) = (g as usize, topology.opposite_edge[f][e] as usize);
                 seen[g] = true;
-                let d = edge_vector(f, e);
+                let d = edge_vector(mesh, f, e);
                 let m = ((angle(&frames[g], d) - angle(&frames[f], d)) / FRAC_PI_2).round() as i64;
                 for _ in 0..m.rem_euclid(4) {
                     frames[g] = [frames[g][1], -frames[g][0]];
@@ -279,20 +342,36 @@ pub(crate) fn parametrize_with(
             }
         }
     }
-    // Matchings: the edge's angle drops by k quarter turns from f to g.
+    (frames, tree)
+}
+
+/// Matchings: the edge's angle drops by k quarter turns from f to g.
+fn matchings(mesh: &TriMesh, topology: &EdgeTopology, frames: &[[DVec3; 2]]) -> Vec<[u8; 3]> {
+    let nf = mesh.triangles.len();
     let mut matching = vec![[0u8; 3]; nf];
     for f in 0..nf {
         for e in 0..3 {
             let g = topology.opposite[f][e];
             if g != u32::MAX {
-                let d = edge_vector(f, e);
+                let d = edge_vector(mesh, f, e);
                 let k = ((angle(&frames[f], d) - angle(&frames[g as usize], d)) / FRAC_PI_2).round()
                     as i64;
                 matching[f][e] = k.rem_euclid(4) as u8;
             }
         }
     }
-    // Cut graph: interior non-tree edges, pruned of dangling branches.
+    matching
+}
+
+/// Cut graph: interior non-tree edges, pruned of dangling branches; the
+/// seam flag of every face edge.
+fn cut_graph(
+    mesh: &TriMesh,
+    topology: &EdgeTopology,
+    field: &StripField,
+    tree: &[[bool; 3]],
+) -> Vec<[bool; 3]> {
+    let nf = mesh.triangles.len();
     let nv = mesh.positions.len();
     let mut anchored = vec![false; nv];
     for s in &field.singularities {
@@ -349,7 +428,13 @@ pub(crate) fn parametrize_with(
             seam[g][topology.opposite_edge[f][e] as usize] = true;
         }
     }
-    // Wedges: corners joined across non-seam interior edges.
+    seam
+}
+
+/// Wedges: corners joined across non-seam interior edges. Returns every
+/// corner's wedge and the number of wedges.
+fn wedges(topology: &EdgeTopology, seam: &[[bool; 3]]) -> (Vec<[u32; 3]>, u32) {
+    let nf = seam.len();
     let mut uf = UnionFind::new(3 * nf);
     for f in 0..nf {
         for e in 0..3 {
@@ -375,15 +460,19 @@ pub(crate) fn parametrize_with(
         }
         wedge[c / 3][c % 3] = id[r];
     }
-    let n = 2 * count as usize;
-    let var = |f: usize, i: usize, comp: usize| 2 * wedge[f][i] as usize + comp;
-    let mut normal = Normal {
-        triplets: Vec::with_capacity(nf * 40),
-        rhs: vec![0.0; n],
-    };
-    // Area-weighted alignment of the gradients with the frames, with the
-    // rows scaled so that area-normalized coefficients are O(1).
-    for f in 0..nf {
+    (wedge, count)
+}
+
+/// Area-weighted alignment of the gradients with the frames, with the
+/// rows scaled so that area-normalized coefficients are O(1).
+fn alignment_rows(
+    mesh: &TriMesh,
+    field: &StripField,
+    frames: &[[DVec3; 2]],
+    wedge: &[[u32; 3]],
+    normal: &mut Normal,
+) {
+    for f in 0..mesh.triangles.len() {
         let c = mesh.corners(f);
         let nrm = mesh.face_normal_unnormalized(f);
         let area2 = nrm.length();
@@ -397,18 +486,25 @@ pub(crate) fn parametrize_with(
         for comp in 0..2 {
             for (axis, frame_axis) in frames[f].iter().enumerate() {
                 let entries: Vec<(usize, f64)> = (0..3)
-                    .map(|i| (var(f, i, comp), grad[i].dot(*frame_axis)))
+                    .map(|i| (var(wedge, f, i, comp), grad[i].dot(*frame_axis)))
                     .collect();
                 normal.row(w, &entries, if axis == comp { 1.0 } else { 0.0 });
             }
         }
     }
-    // Seams: ΔX_g = rotate(k, ΔX_f), scaled by the mean edge length.
-    let mean_edge = {
-        let s: f64 = (0..nf).map(|f| edge_vector(f, 0).length()).sum();
-        (s / nf.max(1) as f64).max(1e-300)
-    };
-    for f in 0..nf {
+}
+
+/// Seams: ΔX_g = rotate(k, ΔX_f), weighted by `HARD / mean_edge`.
+fn seam_rows(
+    topology: &EdgeTopology,
+    seam: &[[bool; 3]],
+    matching: &[[u8; 3]],
+    wedge: &[[u32; 3]],
+    mean_edge: f64,
+    normal: &mut Normal,
+) {
+    let var = |f: usize, i: usize, comp: usize| var(wedge, f, i, comp);
+    for f in 0..seam.len() {
         for e in 0..3 {
             let g = topology.opposite[f][e];
             if !seam[f][e] || (g as usize) < f {
@@ -434,8 +530,18 @@ pub(crate) fn parametrize_with(
             }
         }
     }
-    // Loops are isolines: in each crossed face the transversal coordinate
-    // is equal at the entry and the exit crossing.
+}
+
+/// Loops are isolines: in each crossed face the transversal coordinate
+/// is equal at the entry and the exit crossing.
+fn loop_rows(
+    mesh: &TriMesh,
+    loops: &[EmbeddedLoop],
+    frames: &[[DVec3; 2]],
+    wedge: &[[u32; 3]],
+    mean_edge: f64,
+    normal: &mut Normal,
+) {
     for l in loops {
         for (f, c0, c1) in l.segments() {
             let f = f as usize;
@@ -456,36 +562,12 @@ pub(crate) fn parametrize_with(
                 ) else {
                     continue;
                 };
-                entries.push((var(f, ia, comp), sign * (1.0 - c.t)));
-                entries.push((var(f, ib, comp), sign * c.t));
+                entries.push((var(wedge, f, ia, comp), sign * (1.0 - c.t)));
+                entries.push((var(wedge, f, ib, comp), sign * c.t));
             }
             if entries.len() == 4 {
                 normal.row(HARD / mean_edge, &entries, 0.0);
             }
         }
     }
-    // The gauge term; raised when the factorization fails (near-singular
-    // systems on small or irregular meshes).
-    let x = [1e-8, 1e-6, 1e-4].iter().find_map(|&relative| {
-        let eps = relative / (mean_edge * mean_edge);
-        let mut triplets = normal.triplets.clone();
-        triplets.extend((0..n).map(|i| (i, i, eps)));
-        solve_spd(n, &triplets, std::slice::from_ref(&normal.rhs))?.pop()
-    })?;
-    let uv: Vec<[DVec2; 3]> = (0..nf)
-        .map(|f| std::array::from_fn(|i| DVec2::new(x[var(f, i, 0)], x[var(f, i, 1)])))
-        .collect();
-    let folded = uv
-        .iter()
-        .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]) <= 0.0)
-        .collect();
-    Some(Parametrization {
-        uv,
-        folded,
-        frames,
-        matching,
-        seam,
-        wedge,
-        topology,
-    })
 }

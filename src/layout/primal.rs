@@ -241,136 +241,20 @@ impl QuadLayout {
         regions: &Regions,
         singularities: &[Singularity],
     ) -> Result<QuadLayout, RegionError> {
-        if !regions.sufficient {
-            return Err(RegionError::Insufficient(regions.red_count()));
-        }
-        if regions.vertex_region.len() != mesh.positions.len()
-            || regions.face_region.len() != mesh.triangles.len()
-        {
-            return Err(RegionError::Invalid(
-                "regions were computed on another mesh".into(),
-            ));
-        }
-        let from_these_loops = regions.arcs.iter().all(|a| {
-            loops.get(a.loop_index as usize).is_some_and(|l| {
-                a.edge_crossings
-                    .iter()
-                    .all(|&c| (c as usize) < l.crossings.len())
-            })
-        });
-        if !from_these_loops {
-            return Err(RegionError::Invalid(
-                "regions were computed for other loops".into(),
-            ));
-        }
-        let edges = Edges::new(mesh);
+        check_inputs(mesh, loops, regions)?;
         let nv = mesh.positions.len();
-        // Uncrossed edges (their ends lie in one region).
-        let mut crossed = vec![false; edges.verts.len()];
-        for l in loops {
-            for c in &l.crossings {
-                if let Some(e) = edges.find(c.a, c.b) {
-                    crossed[e as usize] = true;
-                }
-            }
-        }
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
-        for (e, &[a, b]) in edges.verts.iter().enumerate() {
-            if !crossed[e] {
-                pairs.push((a, b));
-                pairs.push((b, a));
-            }
-        }
-        pairs.sort_unstable();
-        let mut offsets = vec![0u32; nv + 1];
-        for &(a, _) in &pairs {
-            offsets[a as usize + 1] += 1;
-        }
-        for i in 0..nv {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut router = Router {
-            positions: mesh.positions.clone(),
-            triangles: mesh.triangles.clone(),
-            vertex_region: regions.vertex_region.clone(),
-            offsets,
-            neighbours: pairs.iter().map(|p| p.1).collect(),
-            parent: vec![u32::MAX; nv],
-            dist: vec![f64::INFINITY; nv],
-            source: Vec::new(),
-            middles: Vec::new(),
-            index: SurfaceIndex::new(mesh),
-        };
+        let mut router = Router::uncrossed(mesh, loops, regions);
 
         // Distances from region boundaries: loop crossings and mesh boundary.
         let on_boundary = crate::mesh::boundary_vertices(mesh);
-        let mut seeds: Vec<Vec<(u32, f64)>> = vec![Vec::new(); regions.regions.len()];
-        for l in loops {
-            for c in &l.crossings {
-                let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
-                for v in [c.a, c.b] {
-                    let r = regions.vertex_region[v as usize];
-                    seeds[r as usize].push((v, mesh.positions[v as usize].distance(p)));
-                }
-            }
-        }
-        let loop_seeds = seeds.clone();
-        for (v, &b) in on_boundary.iter().enumerate() {
-            let r = regions.vertex_region[v];
-            if b && r != u32::MAX {
-                seeds[r as usize].push((v as u32, 0.0));
-            }
-        }
+        let (seeds, loop_seeds) = region_seeds(mesh, loops, regions, &on_boundary);
         // Turning of the mesh boundary at each boundary vertex: π − Σ angles.
         let turning: Vec<f64> = super::regions::angle_defects(mesh)
             .iter()
             .map(|d| d - std::f64::consts::PI)
             .collect();
 
-        // Where each arc's layout edge crosses it, and the mesh vertices
-        // beside that point in the regions left and right.
-        let mut arc_middles: Vec<(DVec3, [Option<u32>; 2])> =
-            Vec::with_capacity(regions.arcs.len());
-        for arc in &regions.arcs {
-            let l = &loops[arc.loop_index as usize];
-            let (mid, near) = if arc.edge_crossings.is_empty() {
-                let a = arc.start.map(|c| regions.crossings[c as usize].point);
-                let b = arc.end.map(|c| regions.crossings[c as usize].point);
-                let m = match (a, b) {
-                    (Some(a), Some(b)) => 0.5 * (a + b),
-                    (Some(a), None) | (None, Some(a)) => a,
-                    (None, None) => DVec3::ZERO,
-                };
-                (m, [None, None])
-            } else {
-                // Arcs ending on the mesh boundary: through their end there,
-                // so the layout edge runs along the boundary.
-                let ec = &arc.edge_crossings;
-                let at = if l.closed {
-                    ec[ec.len() / 2]
-                } else if arc.end.is_none() {
-                    ec[ec.len() - 1]
-                } else if arc.start.is_none() {
-                    ec[0]
-                } else {
-                    ec[ec.len() / 2]
-                };
-                let c = l.crossings[at as usize];
-                let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
-                let pick = |r: u32| {
-                    [c.a, c.b]
-                        .into_iter()
-                        .find(|&v| regions.vertex_region[v as usize] == r)
-                };
-                (p, [pick(arc.left), pick(arc.right)])
-            };
-            let mut beside = [None; 2];
-            for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
-                beside[k] = near[k].or_else(|| router.nearest_in_region(r, mid));
-            }
-            arc_middles.push((mid, beside));
-        }
-
+        let arc_middles = arc_middles(mesh, loops, regions, &mut router);
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
             let single = match region.singularities[..] {
@@ -432,32 +316,8 @@ impl QuadLayout {
                 router.dijkstra(&[(s, 0.0)], true);
             }
         }
-
-        // One edge per arc, routed through the arc's middle crossing. A
-        // closed loop crossed by no loop bounds no patch: no edge.
-        let mut layout_edges = Vec::with_capacity(regions.arcs.len());
-        let mut edge_of_arc = vec![u32::MAX; regions.arcs.len()];
-        for (i, arc) in regions.arcs.iter().enumerate() {
-            let l = &loops[arc.loop_index as usize];
-            if l.closed && arc.start.is_none() {
-                continue;
-            }
-            edge_of_arc[i] = layout_edges.len() as u32;
-            let (mid, beside) = arc_middles[i];
-            router.middles.push((mid, beside));
-            let ends = [arc.left, arc.right];
-            let polyline = router.route(
-                vertices[ends[0] as usize].position,
-                vertices[ends[1] as usize].position,
-                layout_edges.len(),
-            );
-            layout_edges.push(LayoutEdge {
-                ends,
-                arc: i as u32,
-                loop_index: arc.loop_index,
-                polyline,
-            });
-        }
+        let (layout_edges, edge_of_arc) =
+            route_edges(loops, regions, &vertices, &arc_middles, &mut router);
         let patches = regions
             .crossings
             .iter()
@@ -650,4 +510,200 @@ fn first_face(mesh: &TriMesh, v: u32) -> u32 {
         .iter()
         .position(|t| t.contains(&v))
         .unwrap_or(0) as u32
+}
+
+/// The layout needs sufficient regions computed on this mesh and these
+/// loops.
+fn check_inputs(
+    mesh: &TriMesh,
+    loops: &[EmbeddedLoop],
+    regions: &Regions,
+) -> Result<(), RegionError> {
+    if !regions.sufficient {
+        return Err(RegionError::Insufficient(regions.red_count()));
+    }
+    if regions.vertex_region.len() != mesh.positions.len()
+        || regions.face_region.len() != mesh.triangles.len()
+    {
+        return Err(RegionError::Invalid(
+            "regions were computed on another mesh".into(),
+        ));
+    }
+    let from_these_loops = regions.arcs.iter().all(|a| {
+        loops.get(a.loop_index as usize).is_some_and(|l| {
+            a.edge_crossings
+                .iter()
+                .all(|&c| (c as usize) < l.crossings.len())
+        })
+    });
+    if !from_these_loops {
+        return Err(RegionError::Invalid(
+            "regions were computed for other loops".into(),
+        ));
+    }
+    Ok(())
+}
+
+impl Router {
+    /// A router over the mesh edges no loop crosses (their ends lie in one
+    /// region).
+    fn uncrossed(mesh: &TriMesh, loops: &[EmbeddedLoop], regions: &Regions) -> Router {
+        let nv = mesh.positions.len();
+        let edges = Edges::new(mesh);
+        // Uncrossed edges (their ends lie in one region).
+        let mut crossed = vec![false; edges.verts.len()];
+        for l in loops {
+            for c in &l.crossings {
+                if let Some(e) = edges.find(c.a, c.b) {
+                    crossed[e as usize] = true;
+                }
+            }
+        }
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        for (e, &[a, b]) in edges.verts.iter().enumerate() {
+            if !crossed[e] {
+                pairs.push((a, b));
+                pairs.push((b, a));
+            }
+        }
+        pairs.sort_unstable();
+        let mut offsets = vec![0u32; nv + 1];
+        for &(a, _) in &pairs {
+            offsets[a as usize + 1] += 1;
+        }
+        for i in 0..nv {
+            offsets[i + 1] += offsets[i];
+        }
+        Router {
+            positions: mesh.positions.clone(),
+            triangles: mesh.triangles.clone(),
+            vertex_region: regions.vertex_region.clone(),
+            offsets,
+            neighbours: pairs.iter().map(|p| p.1).collect(),
+            parent: vec![u32::MAX; nv],
+            dist: vec![f64::INFINITY; nv],
+            source: Vec::new(),
+            middles: Vec::new(),
+            index: SurfaceIndex::new(mesh),
+        }
+    }
+}
+
+/// Per region, Dijkstra sources with their start distances.
+type Seeds = Vec<Vec<(u32, f64)>>;
+
+/// Dijkstra seeds per region: the mesh vertices beside every loop crossing
+/// (at their distance to it), and, in the first list only, also the mesh
+/// boundary vertices (at zero). Returns (all seeds, loop seeds).
+fn region_seeds(
+    mesh: &TriMesh,
+    loops: &[EmbeddedLoop],
+    regions: &Regions,
+    on_boundary: &[bool],
+) -> (Seeds, Seeds) {
+    let mut seeds: Seeds = vec![Vec::new(); regions.regions.len()];
+    for l in loops {
+        for c in &l.crossings {
+            let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
+            for v in [c.a, c.b] {
+                let r = regions.vertex_region[v as usize];
+                seeds[r as usize].push((v, mesh.positions[v as usize].distance(p)));
+            }
+        }
+    }
+    let loop_seeds = seeds.clone();
+    for (v, &b) in on_boundary.iter().enumerate() {
+        let r = regions.vertex_region[v];
+        if b && r != u32::MAX {
+            seeds[r as usize].push((v as u32, 0.0));
+        }
+    }
+    (seeds, loop_seeds)
+}
+
+/// Where each arc's layout edge crosses it, and the mesh vertices beside
+/// that point in the regions left and right.
+fn arc_middles(
+    mesh: &TriMesh,
+    loops: &[EmbeddedLoop],
+    regions: &Regions,
+    router: &mut Router,
+) -> Vec<(DVec3, [Option<u32>; 2])> {
+    let mut arc_middles: Vec<(DVec3, [Option<u32>; 2])> = Vec::with_capacity(regions.arcs.len());
+    for arc in &regions.arcs {
+        let l = &loops[arc.loop_index as usize];
+        let (mid, near) = if arc.edge_crossings.is_empty() {
+            let a = arc.start.map(|c| regions.crossings[c as usize].point);
+            let b = arc.end.map(|c| regions.crossings[c as usize].point);
+            let m = match (a, b) {
+                (Some(a), Some(b)) => 0.5 * (a + b),
+                (Some(a), None) | (None, Some(a)) => a,
+                (None, None) => DVec3::ZERO,
+            };
+            (m, [None, None])
+        } else {
+            // Arcs ending on the mesh boundary: through their end there,
+            // so the layout edge runs along the boundary.
+            let ec = &arc.edge_crossings;
+            let at = if l.closed {
+                ec[ec.len() / 2]
+            } else if arc.end.is_none() {
+                ec[ec.len() - 1]
+            } else if arc.start.is_none() {
+                ec[0]
+            } else {
+                ec[ec.len() / 2]
+            };
+            let c = l.crossings[at as usize];
+            let p = mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t);
+            let pick = |r: u32| {
+                [c.a, c.b]
+                    .into_iter()
+                    .find(|&v| regions.vertex_region[v as usize] == r)
+            };
+            (p, [pick(arc.left), pick(arc.right)])
+        };
+        let mut beside = [None; 2];
+        for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
+            beside[k] = near[k].or_else(|| router.nearest_in_region(r, mid));
+        }
+        arc_middles.push((mid, beside));
+    }
+    arc_middles
+}
+
+/// One edge per arc, routed through the arc's middle crossing. A closed
+/// loop crossed by no loop bounds no patch: no edge. Returns the edges and
+/// each arc's edge (`u32::MAX` for none).
+fn route_edges(
+    loops: &[EmbeddedLoop],
+    regions: &Regions,
+    vertices: &[LayoutVertex],
+    arc_middles: &[(DVec3, [Option<u32>; 2])],
+    router: &mut Router,
+) -> (Vec<LayoutEdge>, Vec<u32>) {
+    let mut layout_edges = Vec::with_capacity(regions.arcs.len());
+    let mut edge_of_arc = vec![u32::MAX; regions.arcs.len()];
+    for (i, arc) in regions.arcs.iter().enumerate() {
+        let l = &loops[arc.loop_index as usize];
+        if l.closed && arc.start.is_none() {
+            continue;
+        }
+        edge_of_arc[i] = layout_edges.len() as u32;
+        let (mid, beside) = arc_middles[i];
+        router.middles.push((mid, beside));
+        let ends = [arc.left, arc.right];
+        let polyline = router.route(
+            vertices[ends[0] as usize].position,
+            vertices[ends[1] as usize].position,
+            layout_edges.len(),
+        );
+        layout_edges.push(LayoutEdge {
+            ends,
+            arc: i as u32,
+            loop_index: arc.loop_index,
+            polyline,
+        });
+    }
+    (layout_edges, edge_of_arc)
 }

@@ -58,7 +58,7 @@ use glam::{DVec2, DVec3};
 
 use super::OrdF64;
 use super::embed::{EmbeddedLoop, Singularity};
-use crate::mesh::{TriMesh, UnionFind};
+use crate::mesh::{TriMesh, UnionFind, edge_key};
 
 /// Radius of the geodesic balls that decide pronounced curvature extrema,
 /// relative to the bounding-box diagonal.
@@ -192,7 +192,7 @@ impl Edges {
             let mut fe = [0; 3];
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                let key = (a.min(b), a.max(b));
+                let key = edge_key(a, b);
                 let id = *e.index.entry(key).or_insert_with(|| {
                     e.verts.push([key.0, key.1]);
                     e.faces.push(Vec::new());
@@ -207,7 +207,7 @@ impl Edges {
     }
 
     pub(crate) fn find(&self, a: u32, b: u32) -> Option<u32> {
-        self.index.get(&(a.min(b), a.max(b))).copied()
+        self.index.get(&edge_key(a, b)).copied()
     }
 }
 
@@ -848,6 +848,35 @@ fn build_crossings_and_arcs(
     arr: &Arrangement,
     loops: &[EmbeddedLoop],
 ) -> Result<(Vec<LoopCrossing>, Vec<LoopArc>, ArcEnds), RegionError> {
+    let (mut crossings, chords_of, mut per_loop) = find_crossings(mesh, arr, loops);
+    let (arcs, ends) = loop_arcs(arr, loops, crossings.len(), &chords_of, &mut per_loop)?;
+    if ends
+        .after
+        .iter()
+        .chain(&ends.before)
+        .any(|x| x.contains(&u32::MAX))
+    {
+        return Err(RegionError::Degenerate(
+            "a loop crossing is not the end of two arcs per loop".into(),
+        ));
+    }
+    crossing_corners(arr, &chords_of, &ends, &mut crossings)?;
+    Ok((crossings, arcs, ends))
+}
+
+/// (face, chord a, chord b) of a loop–loop crossing.
+type CrossingChords = (u32, usize, usize);
+
+/// Per loop: (segment, λ along it, crossing end) of every crossing on it.
+type LoopEvents = Vec<Vec<(u32, f64, EventEnd)>>;
+
+/// Loop–loop crossings: pairs of interleaving chords in a face. Returns
+/// them with their chords and, per loop, the crossing events.
+fn find_crossings(
+    mesh: &TriMesh,
+    arr: &Arrangement,
+    loops: &[EmbeddedLoop],
+) -> (Vec<LoopCrossing>, Vec<CrossingChords>, LoopEvents) {
     let mut crossings = Vec::new();
     // (face, chord a, chord b) per crossing.
     let mut chords_of = Vec::new();
@@ -894,7 +923,18 @@ fn build_crossings_and_arcs(
             }
         }
     }
-    let nc = crossings.len();
+    (crossings, chords_of, per_loop)
+}
+
+/// Every loop's arcs between consecutive crossings (or the boundary), with
+/// the regions on their left and right, and the arcs at each crossing end.
+fn loop_arcs(
+    arr: &Arrangement,
+    loops: &[EmbeddedLoop],
+    nc: usize,
+    chords_of: &[CrossingChords],
+    per_loop: &mut LoopEvents,
+) -> Result<(Vec<LoopArc>, ArcEnds), RegionError> {
     let mut ends = ArcEnds {
         after: vec![[u32::MAX; 2]; nc],
         before: vec![[u32::MAX; 2]; nc],
@@ -1010,18 +1050,18 @@ fn build_crossings_and_arcs(
         }
     }
 
-    if ends
-        .after
-        .iter()
-        .chain(&ends.before)
-        .any(|x| x.contains(&u32::MAX))
-    {
-        return Err(RegionError::Degenerate(
-            "a loop crossing is not the end of two arcs per loop".into(),
-        ));
-    }
-    // Corners and arcs of every crossing, counter-clockwise: the four half
-    // chords in perimeter order.
+    Ok((arcs, ends))
+}
+
+/// Corners and arcs of every crossing, counter-clockwise: the four half
+/// chords in perimeter order.
+fn crossing_corners(
+    arr: &Arrangement,
+    chords_of: &[CrossingChords],
+    ends: &ArcEnds,
+    crossings: &mut [LoopCrossing],
+) -> Result<(), RegionError> {
+    let fail = |what: &str| RegionError::Degenerate(format!("no piece for {what}"));
     for (c, &(f, a, b)) in chords_of.iter().enumerate() {
         let fp = &arr.faces[f as usize];
         // (perimeter index, chord which, forward)
@@ -1053,7 +1093,7 @@ fn build_crossings_and_arcs(
         crossings[c].corners = corners;
         crossings[c].arcs = [arc_ids[1], arc_ids[2], arc_ids[3], arc_ids[0]];
     }
-    Ok((crossings, arcs, ends))
+    Ok(())
 }
 
 fn crossing_point(mesh: &TriMesh, l: &EmbeddedLoop, i: usize) -> DVec3 {
@@ -1086,45 +1126,8 @@ fn walk_boundaries(
 
     // Directed boundary edges (face orientation: the face on the left) and
     // the dual-curve ends on them.
-    let mut out_boundary: HashMap<u32, u32> = HashMap::new();
-    let mut directed: HashMap<u32, (u32, u32)> = HashMap::new();
-    for (e, fs) in edges.faces.iter().enumerate() {
-        if fs.len() == 1 {
-            let t = mesh.triangles[fs[0] as usize];
-            let k = edges.face_edges[fs[0] as usize]
-                .iter()
-                .position(|&x| x as usize == e)
-                .unwrap_or(0);
-            let (u, v) = (t[k], t[(k + 1) % 3]);
-            out_boundary.insert(u, e as u32);
-            directed.insert(e as u32, (u, v));
-        }
-    }
-    // Per boundary edge: (directed rank, loop, is start).
-    let mut curve_ends: HashMap<u32, Vec<(u32, u32, bool)>> = HashMap::new();
-    for (li, l) in loops.iter().enumerate() {
-        if l.closed {
-            continue;
-        }
-        let n = l.crossings.len();
-        for (i, is_start) in [(0, true), (n - 1, false)] {
-            let (e, r) = arr.ranks[li][i];
-            let (u, _) = directed.get(&e).copied().unwrap_or((0, 0));
-            let m = arr.edge_counts[e as usize];
-            let dr = if u == edges.verts[e as usize][0] {
-                r
-            } else {
-                m - 1 - r
-            };
-            curve_ends
-                .entry(e)
-                .or_default()
-                .push((dr, li as u32, is_start));
-        }
-    }
-    for list in curve_ends.values_mut() {
-        list.sort_by_key(|x| x.0);
-    }
+    let (out_boundary, directed) = directed_boundary(mesh, edges);
+    let curve_ends = boundary_curve_ends(edges, arr, loops, &directed);
     let boundary_edges = directed.len();
     // From a curve end at (edge, directed rank), along the boundary to the
     // next curve end: (loop, is start).
@@ -1255,6 +1258,91 @@ fn walk_boundaries(
     }
 
     // Mesh-boundary loops no dual curve ends on.
+    for r in free_boundary_loops(mesh, edges, arr, &out_boundary, &directed, &curve_ends) {
+        cycles[r] += 1;
+        sequences[r].push(vec![BoundarySide::MeshBoundary]);
+    }
+    Ok(Boundaries {
+        cycles,
+        corners,
+        sequences,
+    })
+}
+
+/// Per boundary edge: (directed rank, loop, is start) of the open loops'
+/// ends on it.
+type CurveEnds = HashMap<u32, Vec<(u32, u32, bool)>>;
+
+/// The mesh boundary, directed with the face on the left: boundary edge
+/// leaving each boundary vertex, and each boundary edge's (from, to).
+fn directed_boundary(
+    mesh: &TriMesh,
+    edges: &Edges,
+) -> (HashMap<u32, u32>, HashMap<u32, (u32, u32)>) {
+    let mut out_boundary: HashMap<u32, u32> = HashMap::new();
+    let mut directed: HashMap<u32, (u32, u32)> = HashMap::new();
+    for (e, fs) in edges.faces.iter().enumerate() {
+        if fs.len() == 1 {
+            let t = mesh.triangles[fs[0] as usize];
+            let k = edges.face_edges[fs[0] as usize]
+                .iter()
+                .position(|&x| x as usize == e)
+                .unwrap_or(0);
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            out_boundary.insert(u, e as u32);
+            directed.insert(e as u32, (u, v));
+        }
+    }
+    (out_boundary, directed)
+}
+
+/// The open loops' ends on the directed boundary edges, sorted by their
+/// rank along each edge.
+fn boundary_curve_ends(
+    edges: &Edges,
+    arr: &Arrangement,
+    loops: &[EmbeddedLoop],
+    directed: &HashMap<u32, (u32, u32)>,
+) -> CurveEnds {
+    let mut curve_ends: CurveEnds = HashMap::new();
+    for (li, l) in loops.iter().enumerate() {
+        if l.closed {
+            continue;
+        }
+        let n = l.crossings.len();
+        for (i, is_start) in [(0, true), (n - 1, false)] {
+            let (e, r) = arr.ranks[li][i];
+            let (u, _) = directed.get(&e).copied().unwrap_or((0, 0));
+            let m = arr.edge_counts[e as usize];
+            let dr = if u == edges.verts[e as usize][0] {
+                r
+            } else {
+                m - 1 - r
+            };
+            curve_ends
+                .entry(e)
+                .or_default()
+                .push((dr, li as u32, is_start));
+        }
+    }
+    for list in curve_ends.values_mut() {
+        list.sort_by_key(|x| x.0);
+    }
+    curve_ends
+}
+
+/// Mesh-boundary loops no dual curve ends on: the region beside each
+/// (it gets one more boundary cycle, a mesh-boundary side only).
+fn free_boundary_loops(
+    mesh: &TriMesh,
+    edges: &Edges,
+    arr: &Arrangement,
+    out_boundary: &HashMap<u32, u32>,
+    directed: &HashMap<u32, (u32, u32)>,
+    curve_ends: &CurveEnds,
+) -> Vec<usize> {
+    let mut regions = Vec::new();
+    let boundary_edges = directed.len();
     let mut seen: HashMap<u32, bool> = HashMap::new();
     let mut es: Vec<u32> = directed.keys().copied().collect();
     es.sort_unstable();
@@ -1278,16 +1366,10 @@ fn walk_boundaries(
         if !has_end {
             let f = edges.faces[e0 as usize][0];
             let p = stretch_piece(mesh, edges, &arr.faces, e0 as usize, f, 0);
-            let r = arr.region_of_piece(p) as usize;
-            cycles[r] += 1;
-            sequences[r].push(vec![BoundarySide::MeshBoundary]);
+            regions.push(arr.region_of_piece(p) as usize);
         }
     }
-    Ok(Boundaries {
-        cycles,
-        corners,
-        sequences,
-    })
+    regions
 }
 
 fn crossing_chords(arr: &Arrangement, crossings: &[LoopCrossing], c: usize) -> (u32, usize, usize) {

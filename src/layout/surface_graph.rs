@@ -100,7 +100,7 @@ impl SurfaceGraph {
                 let w = w as usize;
                 let c = p[w] - p[v];
                 let cl = c.length();
-                if !(cl > 1e-12) {
+                if cl.is_nan() || cl <= 1e-12 {
                     continue;
                 }
                 let tv = c - normals[v] * c.dot(normals[v]);
@@ -208,6 +208,8 @@ impl SurfaceGraph {
 }
 
 /// Angle of `t` in the frame `(u, v)`, in [0, 2π).
+// Not `clamp`: a NaN angle maps to the top of the range here.
+#[allow(clippy::manual_clamp)]
 pub(crate) fn angle_in_frame(t: DVec3, u: DVec3, v: DVec3) -> f32 {
     let a = t.dot(v).atan2(t.dot(u));
     let a = if a < 0.0 {

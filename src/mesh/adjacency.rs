@@ -139,30 +139,16 @@ pub struct FaceAdjacency {
 
 impl FaceAdjacency {
     pub fn new(mesh: &TriMesh) -> FaceAdjacency {
-        // (min, max, face) for every edge side; equal edges sort together.
-        let mut sides: Vec<(u32, u32, u32)> = Vec::with_capacity(mesh.triangles.len() * 3);
-        for (f, t) in mesh.triangles.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                sides.push((a.min(b), a.max(b), f as u32));
-            }
-        }
-        sides.sort_unstable();
+        let sides = sorted_sides(mesh);
         let mut pairs = Vec::with_capacity(sides.len() * 2);
-        let mut i = 0;
-        while i < sides.len() {
-            let mut j = i;
-            while j < sides.len() && sides[j].0 == sides[i].0 && sides[j].1 == sides[i].1 {
-                j += 1;
-            }
-            for x in i..j {
-                for y in i..j {
+        for run in edge_runs(&sides) {
+            for (x, sx) in run.iter().enumerate() {
+                for (y, sy) in run.iter().enumerate() {
                     if x != y {
-                        pairs.push((sides[x].2, sides[y].2));
+                        pairs.push((sx.2, sy.2));
                     }
                 }
             }
-            i = j;
         }
         FaceAdjacency {
             csr: Csr::from_pairs(mesh.triangles.len(), pairs),
@@ -176,6 +162,63 @@ impl FaceAdjacency {
     /// The underlying rows (offsets and neighbouring face indices).
     pub fn csr(&self) -> &Csr {
         &self.csr
+    }
+}
+
+/// A triangle side: (min vertex, max vertex, face, local edge `i` from
+/// corner `i` to corner `i + 1`).
+type Side = (u32, u32, u32, u8);
+
+/// Every triangle side, sorted: the sides of one undirected edge stand
+/// together, in face order.
+fn sorted_sides(mesh: &TriMesh) -> Vec<Side> {
+    let mut sides: Vec<Side> = Vec::with_capacity(mesh.triangles.len() * 3);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = super::edge_key(t[i], t[(i + 1) % 3]);
+            sides.push((a, b, f as u32, i as u8));
+        }
+    }
+    sides.sort_unstable();
+    sides
+}
+
+/// The runs of [`sorted_sides`] that share one undirected edge.
+fn edge_runs(sides: &[Side]) -> impl Iterator<Item = &[Side]> {
+    sides.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1))
+}
+
+/// Per face and local edge i (from corner i to corner i + 1): the face on
+/// the other side, or `u32::MAX` on the boundary (and at non-manifold
+/// edges).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct EdgeTopology {
+    pub opposite: Vec<[u32; 3]>,
+    /// The local edge index of the same edge in the opposite face.
+    pub opposite_edge: Vec<[u8; 3]>,
+}
+
+impl EdgeTopology {
+    pub fn new(mesh: &TriMesh) -> EdgeTopology {
+        let mut opposite = vec![[u32::MAX; 3]; mesh.triangles.len()];
+        let mut opposite_edge = vec![[0u8; 3]; mesh.triangles.len()];
+        for run in edge_runs(&sorted_sides(mesh)) {
+            if let &[x, y] = run {
+                opposite[x.2 as usize][x.3 as usize] = y.2;
+                opposite_edge[x.2 as usize][x.3 as usize] = y.3;
+                opposite[y.2 as usize][y.3 as usize] = x.2;
+                opposite_edge[y.2 as usize][y.3 as usize] = x.3;
+            }
+        }
+        EdgeTopology {
+            opposite,
+            opposite_edge,
+        }
+    }
+
+    /// The local edge of `f` shared with `g`.
+    pub fn shared_edge(&self, f: u32, g: u32) -> Option<usize> {
+        self.opposite[f as usize].iter().position(|&h| h == g)
     }
 }
 

@@ -137,11 +137,7 @@ fn triangulate_polygon(positions: &[DVec3], face: &[u32], out: &mut Vec<[u32; 3]
         return;
     }
     let p3: Vec<DVec3> = face.iter().map(|&i| positions[i as usize]).collect();
-    let mut normal = DVec3::ZERO;
-    for k in 0..n {
-        normal += p3[k].cross(p3[(k + 1) % n]);
-    }
-    let Some(normal) = normal.try_normalize() else {
+    let Some(normal) = super::newell_normal(p3.iter().copied()).try_normalize() else {
         fan(out, face);
         return;
     };

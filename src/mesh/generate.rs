@@ -172,54 +172,6 @@ pub fn tetrahedron() -> TriMesh {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn outward(mesh: &TriMesh, center: impl Fn(DVec3) -> DVec3) -> bool {
-        (0..mesh.face_count()).all(|f| {
-            let [a, b, c] = mesh.corners(f);
-            let centroid = (a + b + c) / 3.0;
-            mesh.face_normal_unnormalized(f)
-                .dot(centroid - center(centroid))
-                > 0.0
-        })
-    }
-
-    #[test]
-    fn generated_meshes_are_valid_and_outward() {
-        let s = icosphere(2.0, 2);
-        s.validate().unwrap();
-        assert_eq!(s.vertex_count(), 162);
-        assert!(s.topology().is_closed_manifold());
-        assert!(s.positions.iter().all(|p| (p.length() - 2.0).abs() < 1e-12));
-        assert!(outward(&s, |_| DVec3::ZERO));
-
-        let c = cylinder(1.0, 2.0, 16, 4);
-        c.validate().unwrap();
-        assert_eq!(c.vertex_count(), 16 * 5);
-        assert!(outward(&c, |p| DVec3::new(0.0, 0.0, p.z)));
-
-        let t = torus(2.0, 0.5, 24, 12);
-        t.validate().unwrap();
-        let topo = t.topology();
-        assert!(topo.is_closed_manifold());
-        assert_eq!(topo.genus(), Some(1));
-        assert!(outward(&t, |p| {
-            let r = DVec3::new(p.x, p.y, 0.0);
-            r.normalize() * 2.0
-        }));
-
-        let h = height_field(1.0, 4, |x, y| x * y);
-        h.validate().unwrap();
-        assert!((0..h.face_count()).all(|f| h.face_normal_unnormalized(f).z > 0.0));
-
-        let tet = tetrahedron();
-        assert!(tet.topology().is_closed_manifold());
-        assert!(outward(&tet, |_| DVec3::ZERO));
-    }
-}
-
 /// The box `[-half, half]³` with edges rounded by fillets of `radius`
 /// (quarter cylinders) and corners by sphere octants: the set of points at
 /// distance `radius` from the box shrunk by `radius`. Each cube face is a
@@ -304,4 +256,52 @@ pub fn unit_cube_quads() -> (Vec<DVec3>, FaceList) {
         faces.push(&q);
     }
     (p, faces)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outward(mesh: &TriMesh, center: impl Fn(DVec3) -> DVec3) -> bool {
+        (0..mesh.face_count()).all(|f| {
+            let [a, b, c] = mesh.corners(f);
+            let centroid = (a + b + c) / 3.0;
+            mesh.face_normal_unnormalized(f)
+                .dot(centroid - center(centroid))
+                > 0.0
+        })
+    }
+
+    #[test]
+    fn generated_meshes_are_valid_and_outward() {
+        let s = icosphere(2.0, 2);
+        s.validate().unwrap();
+        assert_eq!(s.vertex_count(), 162);
+        assert!(s.topology().is_closed_manifold());
+        assert!(s.positions.iter().all(|p| (p.length() - 2.0).abs() < 1e-12));
+        assert!(outward(&s, |_| DVec3::ZERO));
+
+        let c = cylinder(1.0, 2.0, 16, 4);
+        c.validate().unwrap();
+        assert_eq!(c.vertex_count(), 16 * 5);
+        assert!(outward(&c, |p| DVec3::new(0.0, 0.0, p.z)));
+
+        let t = torus(2.0, 0.5, 24, 12);
+        t.validate().unwrap();
+        let topo = t.topology();
+        assert!(topo.is_closed_manifold());
+        assert_eq!(topo.genus(), Some(1));
+        assert!(outward(&t, |p| {
+            let r = DVec3::new(p.x, p.y, 0.0);
+            r.normalize() * 2.0
+        }));
+
+        let h = height_field(1.0, 4, |x, y| x * y);
+        h.validate().unwrap();
+        assert!((0..h.face_count()).all(|f| h.face_normal_unnormalized(f).z > 0.0));
+
+        let tet = tetrahedron();
+        assert!(tet.topology().is_closed_manifold());
+        assert!(outward(&tet, |_| DVec3::ZERO));
+    }
 }

@@ -11,9 +11,11 @@ mod face_list;
 mod frame;
 pub mod generate;
 mod poly;
+mod polygon;
 mod topology;
 mod tri;
 
+pub(crate) use adjacency::EdgeTopology;
 pub use adjacency::{
     BoundaryArcs, Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces,
     boundary_vertices,
@@ -21,6 +23,7 @@ pub use adjacency::{
 pub use face_list::FaceList;
 pub use frame::{Aabb, Frame};
 pub use poly::{NONE, PolyMesh};
+pub(crate) use polygon::{edge_faces, edge_key, face_newell_normal, newell_normal};
 pub use topology::Topology;
 pub(crate) use topology::UnionFind;
 pub use tri::TriMesh;

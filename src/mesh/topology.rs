@@ -170,6 +170,14 @@ impl UnionFind {
         x
     }
 
+    /// Hangs root `child` under root `root`: for callers that pick the
+    /// representative themselves (union by size in the extraction's
+    /// clusters). Both must be roots.
+    pub(crate) fn link(&mut self, child: u32, root: u32) {
+        debug_assert!(self.parent[child as usize] == child && self.parent[root as usize] == root);
+        self.parent[child as usize] = root;
+    }
+
     pub(crate) fn union(&mut self, a: u32, b: u32) {
         let (ra, rb) = (self.find(a), self.find(b));
         if ra != rb {

@@ -245,7 +245,7 @@ pub fn fit_control_mesh(
 /// normal component of the way to the closest point (second value `true`).
 /// Never longer than `bound`.
 fn offset_to_surface(index: &SurfaceIndex, l: DVec3, n: DVec3, bound: f64) -> (DVec3, bool) {
-    if n == DVec3::ZERO || !(bound > 0.0) {
+    if n == DVec3::ZERO || bound.is_nan() || bound <= 0.0 {
         return (DVec3::ZERO, true);
     }
     let (offset, missed) = match index.line(l, n, bound) {

@@ -24,7 +24,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::io::RawMesh;
-use crate::mesh::{FaceList, Frame, MeshError, PolyMesh};
+use crate::mesh::{FaceList, Frame, MeshError, PolyMesh, UnionFind, newell_normal};
 
 pub use catmull_clark::{subdivide, subdivide_levels};
 pub use error::LimitError;
@@ -106,14 +106,7 @@ fn split_fans(positions: &mut Vec<DVec3>, faces: &mut FaceList) -> Result<usize,
         let key = (faces.indices[c], faces.indices[succ[c] as usize]);
         directed.entry(key).or_insert((c as u32, 0)).1 += 1;
     }
-    let mut parent: Vec<u32> = (0..corners as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut fans = UnionFind::new(corners);
     for (&(a, b), &(c1, count)) in &directed {
         if count != 1 || a > b {
             continue;
@@ -124,8 +117,7 @@ fn split_fans(positions: &mut Vec<DVec3>, faces: &mut FaceList) -> Result<usize,
         // c1 runs a→b in one face, c2 runs b→a in the other: at a, c1 and
         // the corner after c2 share the edge; at b, c2 and the one after c1.
         for (x, y) in [(c1, succ[c2 as usize]), (c2, succ[c1 as usize])] {
-            let (rx, ry) = (find(&mut parent, x), find(&mut parent, y));
-            parent[rx as usize] = ry;
+            fans.union(x, y);
         }
     }
     let mut fan_vertex: HashMap<u32, u32> = HashMap::new();
@@ -133,7 +125,7 @@ fn split_fans(positions: &mut Vec<DVec3>, faces: &mut FaceList) -> Result<usize,
     let mut added = 0;
     for c in 0..corners {
         let v = faces.indices[c];
-        let root = find(&mut parent, c as u32);
+        let root = fans.find(c as u32);
         let new = *fan_vertex.entry(root).or_insert_with(|| {
             if !claimed[v as usize] {
                 claimed[v as usize] = true;
@@ -154,13 +146,7 @@ fn split_fans(positions: &mut Vec<DVec3>, faces: &mut FaceList) -> Result<usize,
 
 /// Newell normal of face `f` (length = twice the area for a planar polygon).
 pub(crate) fn face_normal(mesh: &PolyMesh, f: u32) -> DVec3 {
-    let mut n = DVec3::ZERO;
-    for h in mesh.face_halfedges(f) {
-        let a = mesh.positions[mesh.origin(h) as usize];
-        let b = mesh.positions[mesh.tip(h) as usize];
-        n += a.cross(b);
-    }
-    n
+    newell_normal(mesh.face_vertices(f).map(|v| mesh.positions[v as usize]))
 }
 
 /// Centroid of face `f`'s corners (the Catmull–Clark face point).
