@@ -100,10 +100,10 @@ fn clean(faces: &mut Vec<Vec<u32>>) {
     *faces = out;
 }
 
-/// Pairs of vertices that some triangulation would make non-manifold.
 /// A face's use of a vertex pair: (face, is an edge of it, forward).
 type PairUse = (u32, bool, bool);
 
+/// Pairs of vertices that some triangulation would make non-manifold.
 fn conflicts(faces: &[Vec<u32>]) -> Vec<(u32, u32, Vec<u32>)> {
     // pair -> (face, is_edge, forward)
     let mut pairs: HashMap<(u32, u32), Vec<PairUse>> = HashMap::new();
