@@ -307,7 +307,10 @@ fn transfer_function_sizing_matches_control_points() {
 
 #[test]
 fn osculating_error_sizing_matches_the_sagitta() {
-    let params = SizingParams::default();
+    let params = SizingParams {
+        method: EdgeLengthMethod::OsculatingError,
+        ..SizingParams::default()
+    };
     let context = SizingContext {
         global_edge_length: 0.05,
         reference_length: 2.0,

@@ -122,79 +122,6 @@ pub struct ClusterReport {
     pub average_cluster_size: f64,
 }
 
-/// Per cluster (indexed by its root), the stretch of input boundary it
-/// holds: its loop, and the start and length of the shortest cyclic arc
-/// covering its boundary vertices on that loop.
-struct ClusterArcs<'a> {
-    arcs: &'a BoundaryArcs,
-    span: Vec<Option<(u32, f64, f64)>>,
-    /// The mean lattice spacing along each loop.
-    loop_scale: Vec<f64>,
-}
-
-impl<'a> ClusterArcs<'a> {
-    fn new(input: &ExtractInput<'a>) -> Self {
-        let arcs = input.boundary_arcs;
-        let loops = arcs.length.len();
-        let (mut sum, mut count) = (vec![0.0; loops], vec![0usize; loops]);
-        let span = (0..input.level.len())
-            .map(|v| {
-                let l = *arcs.loop_of.get(v)?;
-                if l == u32::MAX {
-                    return None;
-                }
-                sum[l as usize] += input.scale[v] as f64;
-                count[l as usize] += 1;
-                Some((l, arcs.arc[v], 0.0))
-            })
-            .collect();
-        let loop_scale = sum
-            .iter()
-            .zip(&count)
-            .map(|(s, &c)| s / c.max(1) as f64)
-            .collect();
-        ClusterArcs {
-            arcs,
-            span,
-            loop_scale,
-        }
-    }
-
-    /// The two clusters' arcs joined, when both lie on the same loop.
-    fn joined(&self, a: u32, b: u32) -> Option<(u32, f64, f64)> {
-        let ((la, sa, ea), (lb, sb, eb)) = (self.span[a as usize]?, self.span[b as usize]?);
-        if la != lb {
-            return None;
-        }
-        let len = self.arcs.length[la as usize].max(f64::MIN_POSITIVE);
-        // The union starts at one of the two starts; take the shorter.
-        let from_a = ea.max((sb - sa).rem_euclid(len) + eb);
-        let from_b = eb.max((sa - sb).rem_euclid(len) + ea);
-        Some(if from_a <= from_b {
-            (la, sa, from_a.min(len))
-        } else {
-            (la, sb, from_b.min(len))
-        })
-    }
-
-    /// Refuses a join that would hold a stretch of one loop longer than a
-    /// lattice spacing and a half — i.e. both sides of a hole narrower than
-    /// the lattice (the bunny's slit-shaped holes), which IM collapses
-    /// because their sides round to the same lattice point.
-    fn may_join(&self, a: u32, b: u32) -> bool {
-        self.joined(a, b)
-            .is_none_or(|(l, _, extent)| extent <= 1.5 * self.loop_scale[l as usize])
-    }
-
-    fn join(&mut self, root: u32, other: u32) {
-        if let Some(j) = self.joined(root, other) {
-            self.span[root as usize] = Some(j);
-        } else if self.span[root as usize].is_none() {
-            self.span[root as usize] = self.span[other as usize];
-        }
-    }
-}
-
 /// Classifies every link by its integer translation, collapses the (0,0)
 /// links with union-find (best match first, refusing a collapse that would
 /// join two clusters already joined by an output edge), drops clusters
@@ -304,7 +231,6 @@ fn collapse_links(
     // Normal sum per cluster: clusters whose mean normals disagree by more
     // than 90° lie on opposite sides of a thin part and never join.
     let mut nsum: Vec<Vec3> = level.normals.clone();
-    let mut arcs = ClusterArcs::new(input);
     let mut conflicts = 0;
     let total = collapse.len().max(1);
     for (k, &(_, a, b)) in collapse.iter().enumerate() {
@@ -322,7 +248,7 @@ fn collapse_links(
             .normalize_or_zero()
             .dot(nsum[rb as usize].normalize_or_zero())
             < 0.0;
-        if conflict || opposed || !arcs.may_join(ra, rb) {
+        if conflict || opposed {
             conflicts += 1;
             continue;
         }
@@ -335,7 +261,6 @@ fn collapse_links(
         sets.link(other, root);
         size[root as usize] = sa + sb;
         nsum[root as usize] = nsum[ra as usize] + nsum[rb as usize];
-        arcs.join(root, other);
         let mut merged = std::mem::take(&mut edges[root as usize]);
         merged.extend(std::mem::take(&mut edges[other as usize]));
         for x in merged.iter_mut() {

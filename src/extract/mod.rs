@@ -175,8 +175,13 @@ pub fn extract(
         }
     }
     for l in loops {
-        if l.len() <= 8 && repair::is_input_hole(&l, &g, surface) {
-            // The orbit around a small input hole is no face.
+        if l.len() <= 8
+            && l.iter().all(|&v| g.boundary[v as usize])
+            && repair::is_input_hole(&l, &g, surface)
+        {
+            // The orbit around a small input hole is no face (all its
+            // corners on the input's boundary: with half of them, the
+            // teapot lost holes and its Hausdorff distance grew 0.19 → 0.28).
             report.input_hole_loops += 1;
         } else if l.len() <= 8 {
             faces::fill_polygon(

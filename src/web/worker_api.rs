@@ -671,7 +671,7 @@ impl Session {
             return Err(js_err("nothing was imported"));
         };
         crate::pipeline::check_target(pipeline.input.mesh.vertex_count(), &pipeline.params.sizing)
-            .map_err(|e| js_err(&format!("{}: {e}", pipeline.input.name)))?;
+            .map_err(|e| js_err(format!("{}: {e}", pipeline.input.name)))?;
         let mut last = f64::NEG_INFINITY;
         let mut go_on = true;
         let mut sink = |stage: &str, fraction: f32, text: &str| {
