@@ -27,7 +27,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::mesh::{PolyMesh, TriMesh};
+use crate::mesh::{FaceList, PolyMesh, TriMesh};
 use crate::spatial::SurfaceIndex;
 
 /// Topology and face statistics.
@@ -126,31 +126,16 @@ fn interior_angle(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> f64 {
     }
 }
 
-/// Topology and quad-shape metrics (no distances).
-pub fn shape_metrics(
-    mesh: &PolyMesh,
-    input_vertices: usize,
-) -> (TopologyMetrics, QuadMetrics, EdgeMetrics) {
-    let topo = mesh.topology();
-    let nv = mesh.vertex_count();
-    let nf = mesh.face_count();
-    let mut hist: Vec<usize> = Vec::new();
+/// The shape of the quads of any polygon soup (manifold or not): corner
+/// angles, planarity, edge ratios, quad quality.
+pub fn quad_metrics(positions: &[DVec3], faces: &FaceList) -> QuadMetrics {
     let mut quad = QuadMetrics::default();
     let (mut planarity, mut dev, mut mean_angle, mut ratio, mut quality) =
         (0.0, 0.0, 0.0, 0.0, 0.0);
     let mut distorted = 0usize;
-    for f in 0..nf as u32 {
-        let vs: Vec<u32> = mesh.face_vertices(f).collect();
-        let d = vs.len();
-        if hist.len() <= d {
-            hist.resize(d + 1, 0);
-        }
-        hist[d] += 1;
-        if d != 4 {
-            continue;
-        }
+    for vs in faces.iter().filter(|f| f.len() == 4) {
         quad.quads += 1;
-        let p: Vec<DVec3> = vs.iter().map(|&v| mesh.positions[v as usize]).collect();
+        let p: Vec<DVec3> = vs.iter().map(|&v| positions[v as usize]).collect();
         planarity += (0.5 * (p[0] + p[2])).distance(0.5 * (p[1] + p[3]));
         let normal = (p[2] - p[0]).cross(p[3] - p[1]);
         let a: Vec<f64> = (0..4)
@@ -189,6 +174,48 @@ pub fn shape_metrics(
         quad.quad_quality = quality / q;
         quad.distorted_quad_percent = 100.0 * distorted as f64 / q;
     }
+    quad
+}
+
+/// Extraordinary vertices of any polygon soup, as a percentage of the
+/// vertices faces use: valence = distinct edge neighbours; a vertex on an
+/// edge of exactly one face is a boundary vertex (regular at 3), else
+/// regular at 4. For a manifold mesh this is the EV of [`shape_metrics`].
+pub fn extraordinary_vertex_percent(vertex_count: usize, faces: &FaceList) -> f64 {
+    let mut edges: std::collections::HashMap<(u32, u32), u32> = Default::default();
+    for f in faces.iter() {
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let mut valence = vec![0usize; vertex_count];
+    let mut boundary = vec![false; vertex_count];
+    for (&(a, b), &count) in &edges {
+        for v in [a, b] {
+            valence[v as usize] += 1;
+            boundary[v as usize] |= count == 1;
+        }
+    }
+    let used: Vec<usize> = (0..vertex_count).filter(|&v| valence[v] > 0).collect();
+    let ev = used
+        .iter()
+        .filter(|&&v| valence[v] != if boundary[v] { 3 } else { 4 })
+        .count();
+    100.0 * ev as f64 / used.len().max(1) as f64
+}
+
+/// Topology and quad-shape metrics (no distances).
+pub fn shape_metrics(
+    mesh: &PolyMesh,
+    input_vertices: usize,
+) -> (TopologyMetrics, QuadMetrics, EdgeMetrics) {
+    let topo = mesh.topology();
+    let nv = mesh.vertex_count();
+    let nf = mesh.face_count();
+    let faces = mesh.to_face_list();
+    let hist = faces.degree_histogram();
+    let quad = quad_metrics(&mesh.positions, &faces);
     let mut ev = 0;
     let mut boundary_vertices = 0;
     for v in 0..nv as u32 {
@@ -321,7 +348,6 @@ pub fn metrics(mesh: &PolyMesh, input: &TriMesh, input_index: &SurfaceIndex) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::FaceList;
 
     #[test]
     fn unit_square_grid_is_perfect() {
@@ -352,6 +378,10 @@ mod tests {
         assert!((t.extraordinary_vertex_percent - 100.0 * 4.0 / 9.0).abs() < 1e-9);
         assert_eq!(q.distorted_quad_percent, 0.0);
         assert!((q.max_corner_angle_degrees - 90.0).abs() < 1e-9);
+        // The face-list count (for non-manifold outputs) agrees.
+        assert!(
+            (extraordinary_vertex_percent(9, &f) - t.extraordinary_vertex_percent).abs() < 1e-12
+        );
     }
 
     #[test]

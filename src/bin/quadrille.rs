@@ -336,6 +336,9 @@ fn metrics_of(mesh: &Path, reference: &Path) -> Result<(), String> {
                 "topology": topology,
                 "vertices": positions.len(),
                 "non_quad_percent": 100.0 * nonquad as f64 / faces.len().max(1) as f64,
+                "extraordinary_vertex_percent":
+                    quadrille::metrics::extraordinary_vertex_percent(positions.len(), &faces),
+                "quads": quadrille::metrics::quad_metrics(&positions, &faces),
                 "face_degrees": hist,
                 "hausdorff": there.max(back),
             })
