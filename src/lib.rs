@@ -23,6 +23,12 @@
 //! - [`spatial`]: closest points, distances and ray casts (BVH);
 //! - [`extract`]: vertex clusters, faces, non-manifold repair, hole filling
 //!   and post-processing into a closed quad-dominant [`mesh::PolyMesh`];
+//! - [`param`]: the global path's integer-grid map (Bommes et al. 2009 MIQ
+//!   as Ebke et al. 2014 §3–5 and Campen et al. 2016 §4 use it): per-face
+//!   cross field in filtered tangent planes with period jumps and cones
+//!   (Ebke §4), cut graph, wedges and transitions (shared with the
+//!   layout), seamless map with Ebke §5's E_orient and Campen §4.2's
+//!   alignment weight, greedy integer rounding, Campen §5's measures;
 //! - [`layout`]: dual strip weaving: elastica graph and dual loops;
 //! - [`metrics`]: the thesis' quality metrics of an output mesh;
 //! - [`subdivision`]: Catmull–Clark subdivision, limit positions and
@@ -39,6 +45,7 @@ pub mod layout;
 pub mod mesh;
 pub mod metrics;
 pub mod parallel;
+pub mod param;
 pub mod params_schema;
 pub mod pipeline;
 pub mod progress;
