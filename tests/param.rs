@@ -3,6 +3,7 @@
 //! surfaces, integer seam transitions, and Ebke §3's claim that filtered
 //! normals remove cones caused by detail below the target edge.
 
+use glam::DVec3;
 use quadrille::mesh::TriMesh;
 use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
 use quadrille::param::{self, Params};
@@ -88,4 +89,158 @@ fn bumpy_sphere_has_five_times_fewer_cones_with_filtered_normals() {
     assert_eq!(sum(&filtered), 8);
     assert_eq!(sum(&raw), 8);
     assert!(raw.cones.len() >= 5 * filtered.cones.len().max(1));
+}
+
+fn map(mesh: &TriMesh, params: &Params) -> (param::CrossField, param::GridMap) {
+    let prepared = param::prepare(mesh, params);
+    let f = param::cross_field_of(mesh, &prepared, params).expect("a cross field");
+    let m = param::grid_map_of(mesh, &prepared, &f, params).expect("a map");
+    (f, m)
+}
+
+fn is_integer(x: f64) -> bool {
+    (x - x.round()).abs() < 1e-9
+}
+
+/// Every interior edge's two sides map onto each other by a rotation of
+/// k·90° and one translation (both end points agree), integer after
+/// rounding; every cone's (u, v) is integer. Returns the largest seam
+/// mismatch.
+fn check_seamless(mesh: &TriMesh, m: &param::GridMap, rounded: bool) -> f64 {
+    let mut worst = 0.0f64;
+    for f in 0..mesh.face_count() {
+        for e in 0..3 {
+            let Some((tr, mismatch)) = m.transition(f, e) else {
+                continue;
+            };
+            worst = worst.max(mismatch.length());
+            if !m.cut.seam[f][e] {
+                assert!(
+                    tr.t.length() < 1e-9 && tr.k == 0,
+                    "non-seam edge {f}/{e}: {tr:?}"
+                );
+            }
+            if rounded {
+                assert!(
+                    is_integer(tr.t.x) && is_integer(tr.t.y),
+                    "face {f} edge {e}: {tr:?}"
+                );
+            }
+        }
+    }
+    assert!(worst < 1e-9, "seam mismatch {worst:e}");
+    if rounded {
+        for c in &m.cones {
+            for (f, t) in mesh.triangles.iter().enumerate() {
+                if let Some(i) = t.iter().position(|&v| v == c.vertex) {
+                    let uv = m.uv[f][i];
+                    assert!(is_integer(uv.x) && is_integer(uv.y), "cone {c:?} at {uv:?}");
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Per face edge: the 3D direction along one of the axes means the other
+/// coordinate is constant along it. Returns (largest Δ across an axis-aligned
+/// edge, the set of distinct |Δu| over edges along u).
+fn grid_deviation(
+    mesh: &TriMesh,
+    m: &param::GridMap,
+    axis_u: impl Fn(DVec3) -> bool,
+    axis_v: impl Fn(DVec3) -> bool,
+) -> (f64, Vec<f64>) {
+    let mut worst = 0.0f64;
+    let mut steps: Vec<f64> = Vec::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let d = mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize];
+            let duv = m.uv[f][(e + 1) % 3] - m.uv[f][e];
+            // The chart may be rotated: the constant coordinate is the smaller.
+            if axis_u(d) || axis_v(d) {
+                worst = worst.max(duv.x.abs().min(duv.y.abs()));
+                let step = duv.x.abs().max(duv.y.abs());
+                if axis_u(d) && !steps.iter().any(|s| (s - step).abs() < 1e-9) {
+                    steps.push(step);
+                }
+            }
+        }
+    }
+    (worst, steps)
+}
+
+#[test]
+fn flat_square_gives_the_exact_grid() {
+    let mesh = flat_grid(1.0, 12);
+    let (f, m) = map(&mesh, &uniform(50));
+    assert!(f.cones.is_empty());
+    check_seamless(&mesh, &m, true);
+    let (dev, steps) = grid_deviation(&mesh, &m, |d| d.y.abs() < 1e-12, |d| d.x.abs() < 1e-12);
+    println!(
+        "square: deviation {dev:.2e}, u steps {steps:?}, flips {}",
+        m.flipped().iter().filter(|&&x| x).count()
+    );
+    assert!(dev < 1e-9);
+    assert_eq!(steps.len(), 1, "one grid spacing: {steps:?}");
+    // Boundaries on integer isolines: every boundary vertex has an integer coordinate.
+    for (fc, t) in mesh.triangles.iter().enumerate() {
+        for (i, &v) in t.iter().enumerate() {
+            let p = mesh.positions[v as usize];
+            let uv = m.uv[fc][i];
+            if p.x.abs() > 1.0 - 1e-12 || p.y.abs() > 1.0 - 1e-12 {
+                assert!(is_integer(uv.x) || is_integer(uv.y), "{p:?} {uv:?}");
+            }
+        }
+    }
+    assert!(m.flipped().iter().all(|&x| !x));
+}
+
+#[test]
+fn cylinder_gives_the_exact_grid() {
+    let mesh = cylinder(1.0, 2.0, 32, 10);
+    let mut params = uniform(60);
+    // Exactness needs the crosses in the face planes (σ = 0).
+    params.filtered_normals = false;
+    let (f, m) = map(&mesh, &params);
+    assert!(f.cones.is_empty());
+    let seam = check_seamless(&mesh, &m, true);
+    let (dev, steps) = grid_deviation(
+        &mesh,
+        &m,
+        |d| d.z.abs() < 1e-12,
+        |d| d.x.abs() < 1e-12 && d.y.abs() < 1e-12,
+    );
+    println!("cylinder: deviation {dev:.2e}, u steps {steps:?}, seam {seam:.1e}");
+    assert!(dev < 1e-9);
+    assert_eq!(steps.len(), 1, "{steps:?}");
+    assert!(m.flipped().iter().all(|&x| !x));
+}
+
+#[test]
+fn torus_map_is_seamless_without_cones() {
+    let mesh = torus(2.0, 0.7, 60, 24);
+    let (f, m) = map(&mesh, &uniform(300));
+    assert!(f.cones.is_empty());
+    let seam = check_seamless(&mesh, &m, true);
+    let flips = m.flipped().iter().filter(|&&x| x).count();
+    println!(
+        "torus: seam {seam:.1e}, {flips} flips, {} rounding steps",
+        m.rounding_steps
+    );
+    assert_eq!(flips, 0);
+}
+
+#[test]
+fn sphere_transitions_map_the_integer_grid_onto_itself() {
+    let mesh = icosphere(1.0, 3);
+    let (f, m) = map(&mesh, &uniform(100));
+    assert_eq!(f.cones.len(), 8);
+    let seam = check_seamless(&mesh, &m, true);
+    let flips = m.flipped().iter().filter(|&&x| x).count();
+    println!(
+        "sphere: seam {seam:.1e}, {flips} flips, {} steps, {} conflicts",
+        m.rounding_steps, m.conflicts
+    );
+    assert_eq!(m.conflicts, 0);
 }

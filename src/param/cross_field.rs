@@ -194,7 +194,7 @@ fn dual_weights(mesh: &TriMesh, topology: &EdgeTopology) -> (Vec<[f64; 3]>, Vec<
 }
 
 /// Face components of the dual graph (connected across interior edges).
-fn face_components(topology: &EdgeTopology) -> Vec<u32> {
+pub(crate) fn face_components(topology: &EdgeTopology) -> Vec<u32> {
     let nf = topology.face_count();
     let mut uf = UnionFind::new(nf);
     for f in 0..nf {

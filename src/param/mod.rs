@@ -38,7 +38,7 @@ use crate::sizing::SizingParams;
 
 pub use cross_field::{Cone, CrossField, CrossFieldInput};
 pub use cut::{Cut, CutInput};
-// pub use seamless::{GridMap, Transition};
+pub use seamless::{GridMap, MapInput, Transition, rotate};
 pub use topology::{EdgeTopology, Fan, NO_FACE, vertex_fans};
 
 /// Which principal directions constrain the cross field (besides the
@@ -232,4 +232,22 @@ pub fn cross_field_of(
         constraints: &constraints,
     })
     .ok_or(ParamError::Solve("cross field"))
+}
+
+/// The integer-grid map of a cross field.
+pub fn grid_map_of(
+    mesh: &TriMesh,
+    p: &Prepared,
+    field: &CrossField,
+    params: &Params,
+) -> Result<GridMap, ParamError> {
+    seamless::grid_map(&MapInput {
+        mesh,
+        topology: &p.topology,
+        field,
+        face_sizing: &p.face_sizing,
+        round: params.round,
+        batch_fraction: params.batch_fraction,
+    })
+    .ok_or(ParamError::Solve("parametrization"))
 }
