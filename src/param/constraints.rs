@@ -109,18 +109,23 @@ impl Eliminator {
                 .collect(),
             constant: -e.constant / cp,
         };
-        let users = std::mem::take(&mut self.users[p]);
+        let mut users = std::mem::take(&mut self.users[p]);
+        users.sort_unstable();
+        users.dedup();
         for u in users {
             let Some(old) = self.expr[u].take() else {
                 continue;
             };
-            let updated = if old.terms.iter().any(|t| t.0 == p) {
-                self.substitute(&old, p, &solved)
-            } else {
-                old
-            };
+            if !old.terms.iter().any(|t| t.0 == p) {
+                // A stale entry: the expression no longer uses p.
+                self.expr[u] = Some(old);
+                continue;
+            }
+            let updated = self.substitute(&old, p, &solved);
             for &(j, _) in &updated.terms {
-                self.users[j].push(u);
+                if !old.terms.iter().any(|t| t.0 == j) {
+                    self.users[j].push(u);
+                }
             }
             self.expr[u] = Some(updated);
         }

@@ -251,3 +251,49 @@ pub fn grid_map_of(
     })
     .ok_or(ParamError::Solve("parametrization"))
 }
+
+/// Milliseconds per stage of [`run`].
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Timings {
+    pub analysis_ms: f64,
+    pub cross_field_ms: f64,
+    pub parametrization_ms: f64,
+}
+
+/// Everything [`run`] computes.
+pub struct Run {
+    pub prepared: Prepared,
+    pub field: CrossField,
+    pub map: GridMap,
+    pub measures: measures::Measures,
+    pub timings: Timings,
+}
+
+/// The whole map: analysis, cross field, seamless map with rounding and
+/// the measures. `clock` returns milliseconds (the browser has no
+/// `Instant`).
+pub fn run(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> Result<Run, ParamError> {
+    let t0 = clock();
+    let prepared = prepare(mesh, params);
+    let t1 = clock();
+    let field = cross_field_of(mesh, &prepared, params)?;
+    let t2 = clock();
+    let map = grid_map_of(mesh, &prepared, &field, params)?;
+    let t3 = clock();
+    let curvature = prepared.regions.as_ref().map_or_else(
+        || analysis::smooth_regions::face_curvatures(mesh, &prepared.analysis.curvature),
+        |r| r.faces.clone(),
+    );
+    let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
+    Ok(Run {
+        prepared,
+        field,
+        map,
+        measures,
+        timings: Timings {
+            analysis_ms: t1 - t0,
+            cross_field_ms: t2 - t1,
+            parametrization_ms: t3 - t2,
+        },
+    })
+}
