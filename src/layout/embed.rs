@@ -125,54 +125,7 @@ pub enum EmbedError {
     Degenerate,
 }
 
-/// Per face and local edge i (from corner i to corner i + 1): the face on
-/// the other side, or `u32::MAX` on the boundary (and at non-manifold
-/// edges).
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct EdgeTopology {
-    pub opposite: Vec<[u32; 3]>,
-    /// The local edge index of the same edge in the opposite face.
-    pub opposite_edge: Vec<[u8; 3]>,
-}
-
-impl EdgeTopology {
-    pub fn new(mesh: &TriMesh) -> EdgeTopology {
-        let mut sides: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(mesh.triangles.len() * 3);
-        for (f, t) in mesh.triangles.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                sides.push((a.min(b), a.max(b), f as u32, i as u8));
-            }
-        }
-        sides.sort_unstable();
-        let mut opposite = vec![[u32::MAX; 3]; mesh.triangles.len()];
-        let mut opposite_edge = vec![[0u8; 3]; mesh.triangles.len()];
-        let mut i = 0;
-        while i < sides.len() {
-            let mut j = i;
-            while j < sides.len() && (sides[j].0, sides[j].1) == (sides[i].0, sides[i].1) {
-                j += 1;
-            }
-            if j - i == 2 {
-                let (x, y) = (sides[i], sides[i + 1]);
-                opposite[x.2 as usize][x.3 as usize] = y.2;
-                opposite_edge[x.2 as usize][x.3 as usize] = y.3;
-                opposite[y.2 as usize][y.3 as usize] = x.2;
-                opposite_edge[y.2 as usize][y.3 as usize] = x.3;
-            }
-            i = j;
-        }
-        EdgeTopology {
-            opposite,
-            opposite_edge,
-        }
-    }
-
-    /// The local edge of `f` shared with `g`.
-    pub fn shared_edge(&self, f: u32, g: u32) -> Option<usize> {
-        self.opposite[f as usize].iter().position(|&h| h == g)
-    }
-}
+pub(crate) use crate::param::topology::EdgeTopology;
 
 /// Traces polylines on one mesh (builds the closest-point index once).
 pub struct LoopEmbedder<'a> {

@@ -13,6 +13,9 @@
 //! units) + w_seam Σ_cut |ΔX_g − R_k ΔX_f|² + w_iso Σ_loops Σ_faces
 //! (entry − exit of the transversal coordinate)² + ε|X|².
 //!
+//! The combing, the cut graph and the wedges are the integer-grid map's
+//! ([`crate::param::cut`]), the transitions its [`Transition`].
+//!
 //! Deviations: seams and loop isolines are soft constraints (weight 10⁴
 //! against the O(1) area-normalized gradient rows) instead of being
 //! eliminated exactly; seams constrain edge vectors only, so charts may be
@@ -20,61 +23,19 @@
 //! the gauge is a 1e-8 Tikhonov term instead of one fixed vertex (1e-6,
 //! then 1e-4 when the factorization fails).
 
-use std::collections::VecDeque;
 use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
 use super::embed::{EdgeTopology, EmbeddedLoop};
-use super::strip_field::{StripField, face_frames, solve_spd};
-use crate::mesh::{TriMesh, UnionFind};
+use super::strip_field::{StripField, face_frames};
+use crate::mesh::TriMesh;
+use crate::param::cut::{CutInput, cut};
+pub use crate::param::seamless::{Transition, rotate};
+use crate::param::solve::{NormalEquations as Normal, solve_spd};
 
 /// Weight of seam and isoline rows.
 const HARD: f64 = 1e4;
-
-/// Rotation of parameter vectors by −k·π/2.
-pub fn rotate(k: u8, x: DVec2) -> DVec2 {
-    match k % 4 {
-        0 => x,
-        1 => DVec2::new(x.y, -x.x),
-        2 => -x,
-        _ => DVec2::new(-x.y, x.x),
-    }
-}
-
-/// A chart transition X' = rotate(k, X) + t.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Transition {
-    pub k: u8,
-    pub t: DVec2,
-}
-
-impl Transition {
-    pub const IDENTITY: Transition = Transition {
-        k: 0,
-        t: DVec2::ZERO,
-    };
-
-    pub fn apply(&self, x: DVec2) -> DVec2 {
-        rotate(self.k, x) + self.t
-    }
-
-    /// `self` after `first`: x ↦ self(first(x)).
-    pub fn after(&self, first: &Transition) -> Transition {
-        Transition {
-            k: (self.k + first.k) % 4,
-            t: rotate(self.k, first.t) + self.t,
-        }
-    }
-
-    pub fn inverse(&self) -> Transition {
-        let k = (4 - self.k % 4) % 4;
-        Transition {
-            k,
-            t: -rotate(k, self.t),
-        }
-    }
-}
 
 /// The map S.
 #[derive(Debug, Clone, PartialEq)]
@@ -189,24 +150,6 @@ pub struct LoopChart {
     pub comp: usize,
 }
 
-/// Accumulates the normal equations of weighted least-squares rows.
-struct Normal {
-    triplets: Vec<(usize, usize, f64)>,
-    rhs: Vec<f64>,
-}
-
-impl Normal {
-    fn row(&mut self, w: f64, entries: &[(usize, f64)], b: f64) {
-        let w2 = w * w;
-        for &(i, ci) in entries {
-            self.rhs[i] += w2 * ci * b;
-            for &(j, cj) in entries {
-                self.triplets.push((i, j, w2 * ci * cj));
-            }
-        }
-    }
-}
-
 /// The §6.1 parametrization for `field` (from [`super::strip_field`]) and
 /// the loops it was built from; None if the solve fails. Loops that are
 /// not valid walks on `mesh` are ignored.
@@ -251,48 +194,18 @@ pub(crate) fn parametrize_with(
         mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
     };
     let angle = |fr: &[DVec3; 2], d: DVec3| d.dot(fr[1]).atan2(d.dot(fr[0]));
-    // Combing along a breadth-first dual spanning tree.
-    let mut tree = vec![[false; 3]; nf];
-    let mut seen = vec![false; nf];
-    for root in 0..nf {
-        if seen[root] {
-            continue;
-        }
-        seen[root] = true;
-        let mut queue = VecDeque::from([root]);
-        while let Some(f) = queue.pop_front() {
-            for e in 0..3 {
-                let g = topology.opposite[f][e];
-                if g == u32::MAX || seen[g as usize] {
-                    continue;
-                }
-                let (g, ge) = (g as usize, topology.opposite_edge[f][e] as usize);
-                seen[g] = true;
-                let d = edge_vector(f, e);
-                let m = ((angle(&frames[g], d) - angle(&frames[f], d)) / FRAC_PI_2).round() as i64;
-                for _ in 0..m.rem_euclid(4) {
-                    frames[g] = [frames[g][1], -frames[g][0]];
-                }
-                tree[f][e] = true;
-                tree[g][ge] = true;
-                queue.push_back(g);
-            }
-        }
-    }
-    // Matchings: the edge's angle drops by k quarter turns from f to g.
-    let mut matching = vec![[0u8; 3]; nf];
+    // Matchings of the uncombed frames, then the shared combing, cut
+    // graph and wedges.
+    let mut raw = vec![[0u8; 3]; nf];
     for f in 0..nf {
         for e in 0..3 {
-            let g = topology.opposite[f][e];
-            if g != u32::MAX {
+            if let Some((g, _)) = topology.across(f, e) {
                 let d = edge_vector(f, e);
-                let k = ((angle(&frames[f], d) - angle(&frames[g as usize], d)) / FRAC_PI_2).round()
-                    as i64;
-                matching[f][e] = k.rem_euclid(4) as u8;
+                let k = ((angle(&frames[f], d) - angle(&frames[g], d)) / FRAC_PI_2).round() as i64;
+                raw[f][e] = k.rem_euclid(4) as u8;
             }
         }
     }
-    // Cut graph: interior non-tree edges, pruned of dangling branches.
     let nv = mesh.positions.len();
     let mut anchored = vec![false; nv];
     for s in &field.singularities {
@@ -300,87 +213,22 @@ pub(crate) fn parametrize_with(
             *a = true;
         }
     }
-    let mut cut_edges: Vec<(usize, usize)> = Vec::new();
-    for f in 0..nf {
-        let t = mesh.triangles[f];
-        for e in 0..3 {
-            let g = topology.opposite[f][e];
-            if g == u32::MAX {
-                anchored[t[e] as usize] = true;
-                anchored[t[(e + 1) % 3] as usize] = true;
-            } else if (g as usize) > f && !tree[f][e] {
-                cut_edges.push((f, e));
-            }
+    let c = cut(&CutInput {
+        triangles: &mesh.triangles,
+        vertex_count: nv,
+        topology: &topology,
+        raw_matching: &raw,
+        anchored: &anchored,
+    });
+    for (f, fr) in frames.iter_mut().enumerate() {
+        for _ in 0..c.comb[f] {
+            *fr = [fr[1], -fr[0]];
         }
     }
-    let mut incident: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for (i, &(f, e)) in cut_edges.iter().enumerate() {
-        let t = mesh.triangles[f];
-        incident[t[e] as usize].push(i as u32);
-        incident[t[(e + 1) % 3] as usize].push(i as u32);
-    }
-    let mut alive = vec![true; cut_edges.len()];
-    let mut degree: Vec<usize> = incident.iter().map(Vec::len).collect();
-    let mut stack: Vec<usize> = (0..nv)
-        .filter(|&v| degree[v] == 1 && !anchored[v])
-        .collect();
-    while let Some(v) = stack.pop() {
-        if degree[v] != 1 {
-            continue;
-        }
-        let Some(&i) = incident[v].iter().find(|&&i| alive[i as usize]) else {
-            continue;
-        };
-        alive[i as usize] = false;
-        let (f, e) = cut_edges[i as usize];
-        let t = mesh.triangles[f];
-        for w in [t[e] as usize, t[(e + 1) % 3] as usize] {
-            degree[w] -= 1;
-            if w != v && degree[w] == 1 && !anchored[w] {
-                stack.push(w);
-            }
-        }
-    }
-    let mut seam = vec![[false; 3]; nf];
-    for (i, &(f, e)) in cut_edges.iter().enumerate() {
-        if alive[i] {
-            let g = topology.opposite[f][e] as usize;
-            seam[f][e] = true;
-            seam[g][topology.opposite_edge[f][e] as usize] = true;
-        }
-    }
-    // Wedges: corners joined across non-seam interior edges.
-    let mut uf = UnionFind::new(3 * nf);
-    for f in 0..nf {
-        for e in 0..3 {
-            let g = topology.opposite[f][e];
-            if g == u32::MAX || seam[f][e] || (g as usize) < f {
-                continue;
-            }
-            let ge = topology.opposite_edge[f][e] as u32;
-            let (f3, g3) = (3 * f as u32, 3 * g);
-            // f's corner e ↔ g's corner ge + 1; f's e + 1 ↔ g's ge.
-            uf.union(f3 + e as u32, g3 + (ge + 1) % 3);
-            uf.union(f3 + (e as u32 + 1) % 3, g3 + ge);
-        }
-    }
-    let mut id = vec![u32::MAX; 3 * nf];
-    let mut wedge = vec![[0u32; 3]; nf];
-    let mut count = 0u32;
-    for c in 0..3 * nf {
-        let r = uf.find(c as u32) as usize;
-        if id[r] == u32::MAX {
-            id[r] = count;
-            count += 1;
-        }
-        wedge[c / 3][c % 3] = id[r];
-    }
+    let (matching, seam, wedge, count) = (c.matching, c.seam, c.wedge, c.wedge_count as u32);
     let n = 2 * count as usize;
     let var = |f: usize, i: usize, comp: usize| 2 * wedge[f][i] as usize + comp;
-    let mut normal = Normal {
-        triplets: Vec::with_capacity(nf * 40),
-        rhs: vec![0.0; n],
-    };
+    let mut normal = Normal::new(n);
     // Area-weighted alignment of the gradients with the frames, with the
     // rows scaled so that area-normalized coefficients are O(1).
     for f in 0..nf {
