@@ -1,5 +1,6 @@
-//! Times the integer-grid map's stages (cross field, parametrization,
-//! rounding) on the shared meshes and prints cones and flips:
+//! Times the integer-grid map's stages — analysis (with the filtered
+//! normals), cross field, parametrization with integer rounding — on the
+//! shared meshes and prints cones, flips and Campen §5's measures:
 //! `cargo run --release --example bench_param [MESH…]` (default: the bunny).
 
 use std::time::Instant;
@@ -24,28 +25,29 @@ fn main() {
                 continue;
             }
         };
-        let mesh = &imported.mesh;
+        let start = Instant::now();
+        let clock = move || start.elapsed().as_secs_f64() * 1e3;
         let params = quadrille::param::Params::default();
-        let t0 = Instant::now();
-        let prepared = quadrille::param::prepare(mesh, &params);
-        let t1 = Instant::now();
-        let field = match quadrille::param::cross_field_of(mesh, &prepared, &params) {
-            Ok(f) => f,
-            Err(e) => {
-                eprintln!("{name}: {e}");
-                continue;
+        match quadrille::param::run(&imported.mesh, &params, &clock) {
+            Ok(r) => {
+                let (t, m) = (r.timings, &r.measures);
+                println!(
+                    "{name}: {} faces | analysis {:.0} ms, cross field {:.0} ms, parametrization + rounding {:.0} ms ({} re-solves) | {} cones {:?} (Σ {}), {} flipped, stretch {:.3}, shear {:.1}°, misalignment {:.1}°",
+                    m.faces,
+                    t.analysis_ms,
+                    t.cross_field_ms,
+                    t.parametrization_ms,
+                    r.map.rounding_steps,
+                    m.cones,
+                    m.cones_by_quarters,
+                    m.cone_index_sum,
+                    m.flipped_triangles,
+                    m.stretch,
+                    m.shear_degrees,
+                    m.misalignment_degrees
+                );
             }
-        };
-        let t2 = Instant::now();
-        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;
-        println!(
-            "{name}: {} faces | analysis {:.0} ms, cross field {:.0} ms | {} cones (Σ {}), E_smooth {:.2}",
-            mesh.face_count(),
-            ms(t0, t1),
-            ms(t1, t2),
-            field.cones.len(),
-            field.index_sum(),
-            field.energy
-        );
+            Err(e) => eprintln!("{name}: {e}"),
+        }
     }
 }

@@ -25,6 +25,9 @@
 //! with their boundary edge (MIQ's boundary alignment), so boundaries can
 //! become integer isolines.
 
+// Parallel per-face arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::{DVec2, DVec3};

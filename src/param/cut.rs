@@ -10,6 +10,9 @@
 //! around one vertex joined across non-cut interior edges — one (u, v)
 //! each. Non-manifold edges count as boundary.
 
+// Parallel per-face arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
 use std::collections::VecDeque;
 
 use super::topology::EdgeTopology;

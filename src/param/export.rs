@@ -2,6 +2,9 @@
 //! coordinates: one `vt` per wedge, so the coordinates split exactly at
 //! the cut graph's seams.
 
+// Parallel per-face arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
 use std::fmt::Write;
 
 use glam::DVec3;

@@ -20,6 +20,9 @@
 //! a symbolic factorization; no stiffening (fold-overs are left to the
 //! extraction, as Ebke §6 does).
 
+// Parallel per-face arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
 use glam::{DVec2, DVec3};
 
 use super::constraints::{Added, Eliminator};
