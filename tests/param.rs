@@ -244,3 +244,53 @@ fn sphere_transitions_map_the_integer_grid_onto_itself() {
     );
     assert_eq!(m.conflicts, 0);
 }
+
+#[test]
+fn cli_writes_split_texture_coordinates_and_stats() {
+    let dir = std::env::temp_dir().join(format!("quadrille-param-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = cylinder(1.0, 2.0, 24, 8);
+    let mut obj = String::new();
+    for p in &mesh.positions {
+        obj.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+    }
+    for t in &mesh.triangles {
+        obj.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    }
+    let (input, output, stats) = (dir.join("in.obj"), dir.join("out.obj"), dir.join("s.json"));
+    std::fs::write(&input, obj).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .args([
+            "param",
+            input.to_str().unwrap(),
+            "-o",
+            output.to_str().unwrap(),
+        ])
+        .args(["--vertices", "60", "--stats", stats.to_str().unwrap()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(&output).unwrap();
+    let count = |prefix: &str| text.lines().filter(|l| l.starts_with(prefix)).count();
+    assert_eq!(count("v "), mesh.positions.len());
+    assert_eq!(count("f "), mesh.triangles.len());
+    // An annulus is cut once, from boundary to boundary: the seam's
+    // vertices (at least one per ring) get a second texture coordinate.
+    let vt = count("vt ");
+    println!(
+        "cylinder: {} vertices, {vt} texture coordinates",
+        mesh.positions.len()
+    );
+    assert!(vt >= mesh.positions.len() + 9, "{vt}");
+    assert!(
+        text.lines()
+            .filter(|l| l.starts_with("f "))
+            .all(|l| l.split_whitespace().skip(1).all(|c| c.contains('/')))
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["measures"]["cones"], 0);
+    assert!(s["measures"]["seam_mismatch"].as_f64().unwrap() < 1e-9);
+    assert!(s["measures"]["translation_integrality"].as_f64().unwrap() < 1e-9);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -87,7 +87,7 @@ pub struct Params {
     /// Default true; false gives the seamless relaxation.
     pub round: bool,
     /// Fraction of the remaining integer variables rounded per re-solve.
-    /// Default 0.25 (1 would round all at once).
+    /// Default 0.5 (1 would round all at once).
     pub batch_fraction: f64,
 }
 
@@ -104,7 +104,7 @@ impl Default for Params {
             region_weight: 5.0,
             cyclic_constraints: false,
             round: true,
-            batch_fraction: 0.25,
+            batch_fraction: 0.5,
         }
     }
 }
