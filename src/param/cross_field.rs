@@ -222,8 +222,9 @@ struct Relaxation<'a> {
     mass: &'a [f64],
 }
 
-/// Step (1): the smoothest field in the 4th-power representation.
-fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
+/// The relaxation's normal equations over the free faces' z (two
+/// variables per face; `var[f]` is `usize::MAX` for fixed faces).
+fn relaxation_system(r: &Relaxation<'_>) -> (NormalEquations, Vec<usize>, usize) {
     let nf = r.fixed.len();
     let mut var = vec![usize::MAX; nf];
     let mut n = 0;
@@ -272,6 +273,13 @@ fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
     let mean_degree = degree.iter().sum::<f64>() / nf.max(1) as f64;
     let shift = 1e-8 * mean_degree.max(1.0);
     eq.triplets.extend((0..n).map(|i| (i, i, shift)));
+    (eq, var, n)
+}
+
+/// Step (1): the smoothest field in the 4th-power representation.
+fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
+    let nf = r.fixed.len();
+    let (eq, var, n) = relaxation_system(r);
     let factor = SpdFactor::new(n, &eq.triplets)?;
     let mut constrained_component = vec![false; nf];
     for f in 0..nf {
