@@ -80,9 +80,6 @@ pub struct Params {
     pub smooth_regions: SmoothRegionParams,
     /// Campen §4.2's w in the {0, w} weight field. Default 5.
     pub region_weight: f64,
-    /// Campen §4.3's closed-isoline constraints on cyclic smooth regions.
-    /// Default false.
-    pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
     pub round: bool,
@@ -102,7 +99,6 @@ impl Default for Params {
             alignment: Alignment::None,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
-            cyclic_constraints: false,
             round: true,
             batch_fraction: 0.5,
         }
@@ -241,6 +237,13 @@ pub fn grid_map_of(
     field: &CrossField,
     params: &Params,
 ) -> Result<GridMap, ParamError> {
+    let dirs: Option<Vec<Option<DVec3>>> = p.regions.as_ref().map(|r| {
+        r.selected_faces()
+            .iter()
+            .zip(&r.faces)
+            .map(|(&s, c)| s.then_some(c.a_min))
+            .collect()
+    });
     seamless::grid_map(&MapInput {
         mesh,
         topology: &p.topology,
@@ -248,6 +251,7 @@ pub fn grid_map_of(
         face_sizing: &p.face_sizing,
         round: params.round,
         batch_fraction: params.batch_fraction,
+        region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
     })
     .ok_or(ParamError::Solve("parametrization"))
 }

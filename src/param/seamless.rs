@@ -14,6 +14,10 @@
 //! then translations and boundary isolines in order of their distance to
 //! an integer, a fraction per re-solve.
 //!
+//! With filtered smooth regions, Campen et al. 2016 §4.2's term
+//! w·A_f·(∇g_c · a_min)² (w = 5 inside the regions) is added for the
+//! coordinate c whose cross axis is transversal to a_min.
+//!
 //! Deviations: the target is Id/S(f) (one parameter unit = one target
 //! edge; Ebke writes S(f)·Id, a density convention); each re-solve
 //! factorizes anew (the eliminated system changes shape) instead of reusing
@@ -97,6 +101,9 @@ pub struct MapInput<'a> {
     pub round: bool,
     /// Fraction of the remaining integer variables fixed per re-solve.
     pub batch_fraction: f64,
+    /// Campen §4.2's {0, w} alignment: per face the unit a_min where the
+    /// weight applies (filtered smooth regions), and w.
+    pub region_alignment: Option<(&'a [Option<DVec3>], f64)>,
 }
 
 /// The integer-grid map.
@@ -301,6 +308,20 @@ fn energy_rows(
                     .collect();
                 let target = if k == comp { w / s } else { 0.0 };
                 rows.push((terms, target));
+            }
+        }
+        if let Some((dirs, weight)) = input.region_alignment {
+            if let Some(a) = dirs.get(f).copied().flatten() {
+                // E_align: ∇g_c · a_min = 0 for the coordinate c whose
+                // cross axis is transversal to a_min.
+                let a = a.reject_from_normalized(n);
+                let comp = usize::from(frames[f][0].dot(a).abs() < frames[f][1].dot(a).abs());
+                let comp = 1 - comp;
+                let wa = (weight.max(0.0) * projected).sqrt();
+                let terms = (0..3)
+                    .map(|i| (lay.w(c.wedge[f][i], comp), wa * grad[i].dot(a)))
+                    .collect();
+                rows.push((terms, 0.0));
             }
         }
     }
