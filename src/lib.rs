@@ -49,6 +49,12 @@
 //!   Kloiber §3.5.3), non-manifold repair (Kloiber §3.6), post-processing
 //!   (Kloiber §3.7) and the pure-quad split (digest §5.11) into a closed
 //!   quad-dominant [`mesh::PolyMesh`];
+//! - [`param`]: the global path's integer-grid map (Bommes et al. 2009 MIQ
+//!   as Ebke et al. 2014 §3–5 and Campen et al. 2016 §4 use it): per-face
+//!   cross field in filtered tangent planes with period jumps and cones
+//!   (Ebke §4), cut graph, wedges and transitions (shared with the
+//!   layout), seamless map with Ebke §5's E_orient and Campen §4.2's
+//!   alignment weight, greedy integer rounding, Campen §5's measures;
 //! - [`subdivision`]: Catmull–Clark subdivision, limit positions and normals
 //!   (Kloiber §3.8, Halstead et al. 1993 stencils), control-mesh fitting
 //!   (Kloiber §3.8) and the limit surface's error (§3.9, §5);
@@ -91,6 +97,7 @@ pub mod layout;
 pub mod mesh;
 pub mod metrics;
 pub mod parallel;
+pub mod param;
 pub mod params_schema;
 pub mod pipeline;
 pub mod progress;

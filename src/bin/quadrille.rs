@@ -48,6 +48,11 @@ enum Command {
     /// one subdivision step, then Kloiber §3.8's normal-offset iterations.
     /// Both meshes are read in the same (file) coordinates.
     Fit(FitArgs),
+    /// Compute the integer-grid map (Ebke et al. 2014 / Campen et al. 2016,
+    /// Bommes et al. 2009's MIQ) and write the input mesh with it as
+    /// per-corner texture coordinates (`vt`, split at the seams; one unit
+    /// is one target edge).
+    Param(ParamArgs),
 }
 
 fn main() -> ExitCode {
@@ -102,6 +107,7 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Metrics { mesh, reference } => metrics_of(&mesh, &reference),
         Command::Fit(args) => fit(args),
         Command::Remesh(args) => remesh(args),
+        Command::Param(args) => param(args),
     }
 }
 
@@ -456,6 +462,84 @@ fn fit(args: FitArgs) -> Result<(), String> {
             "time_ms": { "load": load_ms, "fit": fit_ms },
         });
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+#[derive(clap::Args)]
+struct ParamArgs {
+    input: PathBuf,
+    /// Output OBJ with `vt` per corner.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Target vertex count of the quad mesh (default: input vertices / 16).
+    #[arg(long, conflicts_with = "edge_length")]
+    vertices: Option<usize>,
+    /// Target edge length in the file's units (overrides the count).
+    #[arg(long)]
+    edge_length: Option<f64>,
+    /// Parameters (`quadrille::param::Params`) as JSON, every field optional.
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Write cones, flips, Campen §5's measures and timings as JSON here.
+    #[arg(long)]
+    stats: Option<PathBuf>,
+}
+
+fn param(args: ParamArgs) -> Result<(), String> {
+    use quadrille::param::{Params, run};
+    let name = args.output.display().to_string();
+    if !name.to_ascii_lowercase().ends_with(".obj") {
+        return Err(format!("{name}: param writes .obj files"));
+    }
+    let mut params: Params = match &args.params {
+        None => Params::default(),
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?
+        }
+    };
+    let start = std::time::Instant::now();
+    let imported = import(&args.input)?;
+    if let Some(v) = args.vertices {
+        if v < 4 {
+            return Err("--vertices must be at least 4".into());
+        }
+        params.sizing.target_vertex_count = Some(v);
+        params.sizing.edge_length = None;
+    }
+    if let Some(l) = args.edge_length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err("--edge-length must be a positive number".into());
+        }
+        params.sizing.edge_length = Some(l / imported.frame.scale);
+    }
+    let clock = move || start.elapsed().as_secs_f64() * 1e3;
+    let mesh = &imported.mesh;
+    let result =
+        run(mesh, &params, &clock).map_err(|e| format!("{}: {e}", args.input.display()))?;
+    let world: Vec<_> = mesh
+        .positions
+        .iter()
+        .map(|&p| imported.frame.to_world(p))
+        .collect();
+    let text = quadrille::param::export::obj_with_uv(&world, &mesh.triangles, &result.map);
+    std::fs::write(&args.output, text).map_err(|e| format!("{name}: {e}"))?;
+    if let Some(path) = &args.stats {
+        let stats = serde_json::json!({
+            "input": args.input.display().to_string(),
+            "vertices": mesh.vertex_count(),
+            "measures": result.measures,
+            "cones": result.map.cones,
+            "e_smooth": result.field.energy,
+            "e_orient": result.map.energy,
+            "rounding_steps": result.map.rounding_steps,
+            "integer_conflicts": result.map.conflicts,
+            "timings": result.timings,
+            "total_ms": clock(),
+        });
+        let text = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())

@@ -13,6 +13,9 @@
 //! units) + w_seam Σ_cut |ΔX_g − R_k ΔX_f|² + w_iso Σ_loops Σ_faces
 //! (entry − exit of the transversal coordinate)² + ε|X|².
 //!
+//! The combing, the cut graph and the wedges are the integer-grid map's
+//! ([`crate::param::cut`]), the transitions its [`Transition`].
+//!
 //! Deviations: seams and loop isolines are soft constraints (weight 10⁴
 //! against the O(1) area-normalized gradient rows) instead of being
 //! eliminated exactly; seams constrain edge vectors only, so charts may be
@@ -20,61 +23,19 @@
 //! the gauge is a 1e-8 Tikhonov term instead of one fixed vertex (1e-6,
 //! then 1e-4 when the factorization fails).
 
-use std::collections::VecDeque;
 use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
 use super::embed::{EdgeTopology, EmbeddedLoop};
-use super::strip_field::{StripField, face_frames, solve_spd};
-use crate::mesh::{TriMesh, UnionFind};
+use super::strip_field::{StripField, face_frames};
+use crate::mesh::TriMesh;
+use crate::param::cut::{CutInput, cut};
+pub use crate::param::seamless::{Transition, rotate};
+use crate::param::solve::{NormalEquations as Normal, solve_spd};
 
 /// Weight of seam and isoline rows.
 const HARD: f64 = 1e4;
-
-/// Rotation of parameter vectors by −k·π/2.
-pub fn rotate(k: u8, x: DVec2) -> DVec2 {
-    match k % 4 {
-        0 => x,
-        1 => DVec2::new(x.y, -x.x),
-        2 => -x,
-        _ => DVec2::new(-x.y, x.x),
-    }
-}
-
-/// A chart transition X' = rotate(k, X) + t.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Transition {
-    pub k: u8,
-    pub t: DVec2,
-}
-
-impl Transition {
-    pub const IDENTITY: Transition = Transition {
-        k: 0,
-        t: DVec2::ZERO,
-    };
-
-    pub fn apply(&self, x: DVec2) -> DVec2 {
-        rotate(self.k, x) + self.t
-    }
-
-    /// `self` after `first`: x ↦ self(first(x)).
-    pub fn after(&self, first: &Transition) -> Transition {
-        Transition {
-            k: (self.k + first.k) % 4,
-            t: rotate(self.k, first.t) + self.t,
-        }
-    }
-
-    pub fn inverse(&self) -> Transition {
-        let k = (4 - self.k % 4) % 4;
-        Transition {
-            k,
-            t: -rotate(k, self.t),
-        }
-    }
-}
 
 /// The map S.
 #[derive(Debug, Clone, PartialEq)]
@@ -189,24 +150,6 @@ pub struct LoopChart {
     pub comp: usize,
 }
 
-/// Accumulates the normal equations of weighted least-squares rows.
-struct Normal {
-    triplets: Vec<(usize, usize, f64)>,
-    rhs: Vec<f64>,
-}
-
-impl Normal {
-    fn row(&mut self, w: f64, entries: &[(usize, f64)], b: f64) {
-        let w2 = w * w;
-        for &(i, ci) in entries {
-            self.rhs[i] += w2 * ci * b;
-            for &(j, cj) in entries {
-                self.triplets.push((i, j, w2 * ci * cj));
-            }
-        }
-    }
-}
-
 /// The §6.1 parametrization for `field` (from [`super::strip_field`]) and
 /// the loops it was built from; None if the solve fails. Loops that are
 /// not valid walks on `mesh` are ignored.
@@ -235,74 +178,6 @@ pub(crate) fn parametrize_with(
     if field.cross.len() != nf {
         return None;
     }
-    let (frames, tree) = comb(mesh, &topology, field);
-    let matching = matchings(mesh, &topology, &frames);
-    let seam = cut_graph(mesh, &topology, field, &tree);
-    let (wedge, count) = wedges(&topology, &seam);
-    let n = 2 * count as usize;
-    let mut normal = Normal {
-        triplets: Vec::with_capacity(nf * 40),
-        rhs: vec![0.0; n],
-    };
-    alignment_rows(mesh, field, &frames, &wedge, &mut normal);
-    // Seams: ΔX_g = rotate(k, ΔX_f), scaled by the mean edge length.
-    let mean_edge = {
-        let s: f64 = (0..nf).map(|f| edge_vector(mesh, f, 0).length()).sum();
-        (s / nf.max(1) as f64).max(1e-300)
-    };
-    seam_rows(&topology, &seam, &matching, &wedge, mean_edge, &mut normal);
-    loop_rows(mesh, loops, &frames, &wedge, mean_edge, &mut normal);
-    // The gauge term; raised when the factorization fails (near-singular
-    // systems on small or irregular meshes).
-    let x = [1e-8, 1e-6, 1e-4].iter().find_map(|&relative| {
-        let eps = relative / (mean_edge * mean_edge);
-        let mut triplets = normal.triplets.clone();
-        triplets.extend((0..n).map(|i| (i, i, eps)));
-        solve_spd(n, &triplets, std::slice::from_ref(&normal.rhs))?.pop()
-    })?;
-    let var = |f: usize, i: usize, comp: usize| var(&wedge, f, i, comp);
-    let uv: Vec<[DVec2; 3]> = (0..nf)
-        .map(|f| std::array::from_fn(|i| DVec2::new(x[var(f, i, 0)], x[var(f, i, 1)])))
-        .collect();
-    let folded = uv
-        .iter()
-        .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]) <= 0.0)
-        .collect();
-    Some(Parametrization {
-        uv,
-        folded,
-        frames,
-        matching,
-        seam,
-        wedge,
-        topology,
-    })
-}
-
-/// Face `f`'s edge `e` as a vector, from corner `e` to corner `e + 1`.
-fn edge_vector(mesh: &TriMesh, f: usize, e: usize) -> DVec3 {
-    let t = mesh.triangles[f];
-    mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
-}
-
-/// The angle of `d` in the frame `fr`.
-fn angle(fr: &[DVec3; 2], d: DVec3) -> f64 {
-    d.dot(fr[1]).atan2(d.dot(fr[0]))
-}
-
-/// The unknown of wedge corner (`f`, `i`), component `comp`.
-fn var(wedge: &[[u32; 3]], f: usize, i: usize, comp: usize) -> usize {
-    2 * wedge[f][i] as usize + comp
-}
-
-/// The field's frames, combed along a breadth-first dual spanning tree;
-/// returns them with the tree's edges.
-fn comb(
-    mesh: &TriMesh,
-    topology: &EdgeTopology,
-    field: &StripField,
-) -> (Vec<[DVec3; 2]>, Vec<[bool; 3]>) {
-    let nf = mesh.triangles.len();
     let base = face_frames(mesh);
     let mut frames: Vec<[DVec3; 2]> = (0..nf)
         .map(|f| {
@@ -314,64 +189,23 @@ fn comb(
             [u, base[f][2].cross(u)]
         })
         .collect();
-    // Combing along a breadth-first dual spanning tree.
-    let mut tree = vec![[false; 3]; nf];
-    let mut seen = vec![false; nf];
-    for root in 0..nf {
-        if seen[root] {
-            continue;
-        }
-        seen[root] = true;
-        let mut queue = VecDeque::from([root]);
-        while let Some(f) = queue.pop_front() {
-            for e in 0..3 {
-                let g = topology.opposite[f][e];
-                if g == u32::MAX || seen[g as usize] {
-                    continue;
-                }
-                let (g, ge) = (g as usize, topology.opposite_edge[f][e] as usize);
-                seen[g] = true;
-                let d = edge_vector(mesh, f, e);
-                let m = ((angle(&frames[g], d) - angle(&frames[f], d)) / FRAC_PI_2).round() as i64;
-                for _ in 0..m.rem_euclid(4) {
-                    frames[g] = [frames[g][1], -frames[g][0]];
-                }
-                tree[f][e] = true;
-                tree[g][ge] = true;
-                queue.push_back(g);
-            }
-        }
-    }
-    (frames, tree)
-}
-
-/// Matchings: the edge's angle drops by k quarter turns from f to g.
-fn matchings(mesh: &TriMesh, topology: &EdgeTopology, frames: &[[DVec3; 2]]) -> Vec<[u8; 3]> {
-    let nf = mesh.triangles.len();
-    let mut matching = vec![[0u8; 3]; nf];
+    let edge_vector = |f: usize, e: usize| {
+        let t = mesh.triangles[f];
+        mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
+    };
+    let angle = |fr: &[DVec3; 2], d: DVec3| d.dot(fr[1]).atan2(d.dot(fr[0]));
+    // Matchings of the uncombed frames, then the shared combing, cut
+    // graph and wedges.
+    let mut raw = vec![[0u8; 3]; nf];
     for f in 0..nf {
         for e in 0..3 {
-            let g = topology.opposite[f][e];
-            if g != u32::MAX {
-                let d = edge_vector(mesh, f, e);
-                let k = ((angle(&frames[f], d) - angle(&frames[g as usize], d)) / FRAC_PI_2).round()
-                    as i64;
-                matching[f][e] = k.rem_euclid(4) as u8;
+            if let Some((g, _)) = topology.across(f, e) {
+                let d = edge_vector(f, e);
+                let k = ((angle(&frames[f], d) - angle(&frames[g], d)) / FRAC_PI_2).round() as i64;
+                raw[f][e] = k.rem_euclid(4) as u8;
             }
         }
     }
-    matching
-}
-
-/// Cut graph: interior non-tree edges, pruned of dangling branches; the
-/// seam flag of every face edge.
-fn cut_graph(
-    mesh: &TriMesh,
-    topology: &EdgeTopology,
-    field: &StripField,
-    tree: &[[bool; 3]],
-) -> Vec<[bool; 3]> {
-    let nf = mesh.triangles.len();
     let nv = mesh.positions.len();
     let mut anchored = vec![false; nv];
     for s in &field.singularities {
@@ -379,100 +213,25 @@ fn cut_graph(
             *a = true;
         }
     }
-    let mut cut_edges: Vec<(usize, usize)> = Vec::new();
+    let c = cut(&CutInput {
+        triangles: &mesh.triangles,
+        vertex_count: nv,
+        topology: &topology,
+        raw_matching: &raw,
+        anchored: &anchored,
+    });
+    for (f, fr) in frames.iter_mut().enumerate() {
+        for _ in 0..c.comb[f] {
+            *fr = [fr[1], -fr[0]];
+        }
+    }
+    let (matching, seam, wedge, count) = (c.matching, c.seam, c.wedge, c.wedge_count as u32);
+    let n = 2 * count as usize;
+    let var = |f: usize, i: usize, comp: usize| 2 * wedge[f][i] as usize + comp;
+    let mut normal = Normal::new(n);
+    // Area-weighted alignment of the gradients with the frames, with the
+    // rows scaled so that area-normalized coefficients are O(1).
     for f in 0..nf {
-        let t = mesh.triangles[f];
-        for e in 0..3 {
-            let g = topology.opposite[f][e];
-            if g == u32::MAX {
-                anchored[t[e] as usize] = true;
-                anchored[t[(e + 1) % 3] as usize] = true;
-            } else if (g as usize) > f && !tree[f][e] {
-                cut_edges.push((f, e));
-            }
-        }
-    }
-    let mut incident: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for (i, &(f, e)) in cut_edges.iter().enumerate() {
-        let t = mesh.triangles[f];
-        incident[t[e] as usize].push(i as u32);
-        incident[t[(e + 1) % 3] as usize].push(i as u32);
-    }
-    let mut alive = vec![true; cut_edges.len()];
-    let mut degree: Vec<usize> = incident.iter().map(Vec::len).collect();
-    let mut stack: Vec<usize> = (0..nv)
-        .filter(|&v| degree[v] == 1 && !anchored[v])
-        .collect();
-    while let Some(v) = stack.pop() {
-        if degree[v] != 1 {
-            continue;
-        }
-        let Some(&i) = incident[v].iter().find(|&&i| alive[i as usize]) else {
-            continue;
-        };
-        alive[i as usize] = false;
-        let (f, e) = cut_edges[i as usize];
-        let t = mesh.triangles[f];
-        for w in [t[e] as usize, t[(e + 1) % 3] as usize] {
-            degree[w] -= 1;
-            if w != v && degree[w] == 1 && !anchored[w] {
-                stack.push(w);
-            }
-        }
-    }
-    let mut seam = vec![[false; 3]; nf];
-    for (i, &(f, e)) in cut_edges.iter().enumerate() {
-        if alive[i] {
-            let g = topology.opposite[f][e] as usize;
-            seam[f][e] = true;
-            seam[g][topology.opposite_edge[f][e] as usize] = true;
-        }
-    }
-    seam
-}
-
-/// Wedges: corners joined across non-seam interior edges. Returns every
-/// corner's wedge and the number of wedges.
-fn wedges(topology: &EdgeTopology, seam: &[[bool; 3]]) -> (Vec<[u32; 3]>, u32) {
-    let nf = seam.len();
-    let mut uf = UnionFind::new(3 * nf);
-    for f in 0..nf {
-        for e in 0..3 {
-            let g = topology.opposite[f][e];
-            if g == u32::MAX || seam[f][e] || (g as usize) < f {
-                continue;
-            }
-            let ge = topology.opposite_edge[f][e] as u32;
-            let (f3, g3) = (3 * f as u32, 3 * g);
-            // f's corner e ↔ g's corner ge + 1; f's e + 1 ↔ g's ge.
-            uf.union(f3 + e as u32, g3 + (ge + 1) % 3);
-            uf.union(f3 + (e as u32 + 1) % 3, g3 + ge);
-        }
-    }
-    let mut id = vec![u32::MAX; 3 * nf];
-    let mut wedge = vec![[0u32; 3]; nf];
-    let mut count = 0u32;
-    for c in 0..3 * nf {
-        let r = uf.find(c as u32) as usize;
-        if id[r] == u32::MAX {
-            id[r] = count;
-            count += 1;
-        }
-        wedge[c / 3][c % 3] = id[r];
-    }
-    (wedge, count)
-}
-
-/// Area-weighted alignment of the gradients with the frames, with the
-/// rows scaled so that area-normalized coefficients are O(1).
-fn alignment_rows(
-    mesh: &TriMesh,
-    field: &StripField,
-    frames: &[[DVec3; 2]],
-    wedge: &[[u32; 3]],
-    normal: &mut Normal,
-) {
-    for f in 0..mesh.triangles.len() {
         let c = mesh.corners(f);
         let nrm = mesh.face_normal_unnormalized(f);
         let area2 = nrm.length();
@@ -486,25 +245,18 @@ fn alignment_rows(
         for comp in 0..2 {
             for (axis, frame_axis) in frames[f].iter().enumerate() {
                 let entries: Vec<(usize, f64)> = (0..3)
-                    .map(|i| (var(wedge, f, i, comp), grad[i].dot(*frame_axis)))
+                    .map(|i| (var(f, i, comp), grad[i].dot(*frame_axis)))
                     .collect();
                 normal.row(w, &entries, if axis == comp { 1.0 } else { 0.0 });
             }
         }
     }
-}
-
-/// Seams: ΔX_g = rotate(k, ΔX_f), weighted by `HARD / mean_edge`.
-fn seam_rows(
-    topology: &EdgeTopology,
-    seam: &[[bool; 3]],
-    matching: &[[u8; 3]],
-    wedge: &[[u32; 3]],
-    mean_edge: f64,
-    normal: &mut Normal,
-) {
-    let var = |f: usize, i: usize, comp: usize| var(wedge, f, i, comp);
-    for f in 0..seam.len() {
+    // Seams: ΔX_g = rotate(k, ΔX_f), scaled by the mean edge length.
+    let mean_edge = {
+        let s: f64 = (0..nf).map(|f| edge_vector(f, 0).length()).sum();
+        (s / nf.max(1) as f64).max(1e-300)
+    };
+    for f in 0..nf {
         for e in 0..3 {
             let g = topology.opposite[f][e];
             if !seam[f][e] || (g as usize) < f {
@@ -530,18 +282,44 @@ fn seam_rows(
             }
         }
     }
+    loop_rows(mesh, loops, &frames, &wedge, &mut normal, mean_edge);
+    // The gauge term; raised when the factorization fails (near-singular
+    // systems on small or irregular meshes).
+    let x = [1e-8, 1e-6, 1e-4].iter().find_map(|&relative| {
+        let eps = relative / (mean_edge * mean_edge);
+        let mut triplets = normal.triplets.clone();
+        triplets.extend((0..n).map(|i| (i, i, eps)));
+        solve_spd(n, &triplets, std::slice::from_ref(&normal.rhs))?.pop()
+    })?;
+    let uv: Vec<[DVec2; 3]> = (0..nf)
+        .map(|f| std::array::from_fn(|i| DVec2::new(x[var(f, i, 0)], x[var(f, i, 1)])))
+        .collect();
+    let folded = uv
+        .iter()
+        .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]) <= 0.0)
+        .collect();
+    Some(Parametrization {
+        uv,
+        folded,
+        frames,
+        matching,
+        seam,
+        wedge,
+        topology,
+    })
 }
 
-/// Loops are isolines: in each crossed face the transversal coordinate
-/// is equal at the entry and the exit crossing.
+/// Loops are isolines: in each crossed face the transversal coordinate is
+/// equal at the entry and the exit crossing (hard rows of [`parametrize_with`]).
 fn loop_rows(
     mesh: &TriMesh,
     loops: &[EmbeddedLoop],
     frames: &[[DVec3; 2]],
     wedge: &[[u32; 3]],
-    mean_edge: f64,
     normal: &mut Normal,
+    mean_edge: f64,
 ) {
+    let var = |f: usize, i: usize, comp: usize| 2 * wedge[f][i] as usize + comp;
     for l in loops {
         for (f, c0, c1) in l.segments() {
             let f = f as usize;
@@ -562,8 +340,8 @@ fn loop_rows(
                 ) else {
                     continue;
                 };
-                entries.push((var(wedge, f, ia, comp), sign * (1.0 - c.t)));
-                entries.push((var(wedge, f, ib, comp), sign * c.t));
+                entries.push((var(f, ia, comp), sign * (1.0 - c.t)));
+                entries.push((var(f, ib, comp), sign * c.t));
             }
             if entries.len() == 4 {
                 normal.row(HARD / mean_edge, &entries, 0.0);

@@ -21,9 +21,6 @@
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
 use glam::{DVec2, DVec3};
 
 use super::embed::{EdgeTopology, EmbeddedLoop, Singularity};
@@ -78,35 +75,7 @@ fn polar(angle: f64) -> DVec2 {
     DVec2::new(angle.cos(), angle.sin())
 }
 
-/// Solves the symmetric positive definite system given by (summed)
-/// triplets, for several right-hand sides; None if the factorization fails.
-pub(crate) fn solve_spd(
-    n: usize,
-    triplets: &[(usize, usize, f64)],
-    rhs: &[Vec<f64>],
-) -> Option<Vec<Vec<f64>>> {
-    if n == 0 {
-        return Some(rhs.to_vec());
-    }
-    let entries: Vec<Triplet<usize, usize, f64>> = triplets
-        .iter()
-        .filter(|&&(r, c, _)| r >= c)
-        .map(|&(r, c, v)| Triplet::new(r, c, v))
-        .collect();
-    let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries).ok()?;
-    let llt = a.sp_cholesky(Side::Lower).ok()?;
-    let mut b = Mat::<f64>::zeros(n, rhs.len());
-    for (j, col) in rhs.iter().enumerate() {
-        for (i, &v) in col.iter().enumerate() {
-            b[(i, j)] = v;
-        }
-    }
-    llt.solve_in_place(b.as_mut());
-    let out: Vec<Vec<f64>> = (0..rhs.len())
-        .map(|j| (0..n).map(|i| b[(i, j)]).collect())
-        .collect();
-    out.iter().flatten().all(|v| v.is_finite()).then_some(out)
-}
+pub(crate) use crate::param::solve::solve_spd;
 
 /// The §6.1 cross field aligned with `loops`; None without loops (or when
 /// the solve fails).

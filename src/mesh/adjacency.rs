@@ -189,10 +189,11 @@ fn edge_runs(sides: &[Side]) -> impl Iterator<Item = &[Side]> {
 }
 
 /// Per face and local edge i (from corner i to corner i + 1): the face on
-/// the other side, or `u32::MAX` on the boundary (and at non-manifold
-/// edges).
+/// the other side, or `u32::MAX` on the boundary, at non-manifold edges and
+/// where the two faces are oppositely oriented (a twisted pair would make
+/// charts built across it disagree).
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct EdgeTopology {
+pub struct EdgeTopology {
     pub opposite: Vec<[u32; 3]>,
     /// The local edge index of the same edge in the opposite face.
     pub opposite_edge: Vec<[u8; 3]>,
@@ -204,6 +205,11 @@ impl EdgeTopology {
         let mut opposite_edge = vec![[0u8; 3]; mesh.triangles.len()];
         for run in edge_runs(&sorted_sides(mesh)) {
             if let &[x, y] = run {
+                let tx = mesh.triangles[x.2 as usize];
+                let ty = mesh.triangles[y.2 as usize];
+                if tx[x.3 as usize] != ty[(y.3 as usize + 1) % 3] {
+                    continue;
+                }
                 opposite[x.2 as usize][x.3 as usize] = y.2;
                 opposite_edge[x.2 as usize][x.3 as usize] = y.3;
                 opposite[y.2 as usize][y.3 as usize] = x.2;
@@ -219,6 +225,16 @@ impl EdgeTopology {
     /// The local edge of `f` shared with `g`.
     pub fn shared_edge(&self, f: u32, g: u32) -> Option<usize> {
         self.opposite[f as usize].iter().position(|&h| h == g)
+    }
+
+    pub fn face_count(&self) -> usize {
+        self.opposite.len()
+    }
+
+    /// The face across local edge `e` of `f` and that edge's index there.
+    pub fn across(&self, f: usize, e: usize) -> Option<(usize, usize)> {
+        let g = self.opposite[f][e];
+        (g != u32::MAX).then(|| (g as usize, self.opposite_edge[f][e] as usize))
     }
 }
 

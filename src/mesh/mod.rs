@@ -15,7 +15,7 @@ mod polygon;
 mod topology;
 mod tri;
 
-pub(crate) use adjacency::EdgeTopology;
+pub use adjacency::EdgeTopology;
 pub use adjacency::{
     BoundaryArcs, Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces,
     boundary_vertices,

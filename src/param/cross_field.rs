@@ -1,0 +1,601 @@
+//! The per-face cross field in the filtered tangent planes: Ebke et al.
+//! 2014, *Level-of-Detail Quad Meshing* (`../shared/seeds/000_…`), §4
+//! (angle representation of Li et al. 2006 with the hinge axis
+//! `ê_ij = n̂_i × n̂_j`, transition angles κ_ij, integer period jumps p_ij,
+//! E_smooth of eq. (1) with uniform weights, alignment constraints projected
+//! into the filtered planes, §4.3) and §4.5 (singularity indices with the
+//! Gaussian curvature of the filtered normals' spherical polygons).
+//!
+//! Sign conventions: angles are counter-clockwise about n̂ from the face's
+//! reference direction d_f; κ_ij = ∠_j(ê) − ∠_i(ê), so that a direction at
+//! angle α in face i is at α + κ_ij in face j after the hinge map and
+//! γ_ij = θ_i + κ_ij + (π/2)·p_ij − θ_j is the deviation of eq. (1). Around
+//! an interior vertex, counter-clockwise, the index is
+//! I(v) = (K(v) − Σκ)/(2π) − (1/4)·Σp (Ebke's formula with the edges
+//! oriented the other way round).
+//!
+//! Deviations (the mixed-integer solve): instead of Bommes et al. 2009's
+//! greedy rounding of one period jump at a time, (1) the convex relaxation
+//! in the 4th-power representation z_f = e^{4iθ_f} (Knöppel et al. 2013's
+//! smoothest field; inverse iteration where no face is constrained) gives
+//! the θ, followed by a few unit-length (MBO) diffusion steps that
+//! separate clustered zeros; (2) all p_ij are rounded at once to minimise each γ_ij; (3) θ is
+//! re-solved exactly for E_smooth with those p (a sparse Laplacian); (2)–(3)
+//! repeat (each step lowers E_smooth). Faces on the boundary are aligned
+//! with their boundary edge (MIQ's boundary alignment), so boundaries can
+//! become integer isolines.
+
+// Parallel per-face arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use glam::{DVec2, DVec3};
+
+use super::solve::{NormalEquations, SpdFactor};
+use super::topology::{EdgeTopology, Fan};
+use crate::mesh::{TriMesh, UnionFind};
+
+/// Rounds of period-jump rounding and θ re-solve.
+const ROUNDS: usize = 3;
+/// Inverse-iteration steps of the unconstrained relaxation.
+const INVERSE_ITERATIONS: usize = 30;
+/// λ (against unit mean mass and dual weights) and steps of the unit-length iterations.
+const UNIT_LAMBDA: f64 = 0.1;
+const UNIT_STEPS: usize = 30;
+
+/// What the cross field is computed from.
+pub struct CrossFieldInput<'a> {
+    pub mesh: &'a TriMesh,
+    pub topology: &'a EdgeTopology,
+    pub fans: &'a [Option<Fan>],
+    /// Unit filtered normal per face (the face normals without filtering).
+    pub normals: &'a [DVec3],
+    /// Per face: a direction the cross must contain (projected into the
+    /// filtered plane), or None.
+    pub constraints: &'a [Option<DVec3>],
+}
+
+/// A cone: an interior vertex with nonzero index.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Cone {
+    pub vertex: u32,
+    /// The index in quarter turns (+1: valence 3, −1: valence 5).
+    pub quarters: i32,
+}
+
+impl Cone {
+    pub fn index(&self) -> f64 {
+        self.quarters as f64 / 4.0
+    }
+}
+
+/// The cross field: per face an angle θ against the reference direction,
+/// per interior edge the transition angle and the period jump.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrossField {
+    /// The planes the crosses live in (unit filtered normals).
+    pub normals: Vec<DVec3>,
+    /// Per face: unit reference direction d_f ⊥ n̂_f.
+    pub reference: Vec<DVec3>,
+    pub theta: Vec<f64>,
+    /// Per face and local edge: κ to the face across (0 on the boundary).
+    pub kappa: Vec<[f64; 3]>,
+    /// Per face and local edge: p to the face across (0 on the boundary).
+    pub period_jump: Vec<[i32; 3]>,
+    pub constrained: Vec<bool>,
+    pub cones: Vec<Cone>,
+    /// E_smooth = Σ γ² over interior edges.
+    pub energy: f64,
+    /// Largest distance of 4·I(v) from an integer before rounding (a
+    /// consistency check of K against the κ: ≈ 0).
+    pub index_residual: f64,
+}
+
+impl CrossField {
+    /// The direction of arm 0 in face f (unit, in the filtered plane).
+    pub fn arm(&self, f: usize, quarter_turns: i32) -> DVec3 {
+        let a = self.theta[f] + FRAC_PI_2 * quarter_turns as f64;
+        let (d, n) = (self.reference[f], self.normals[f]);
+        d * a.cos() + n.cross(d) * a.sin()
+    }
+
+    pub fn index_sum(&self) -> f64 {
+        self.cones.iter().map(Cone::index).sum()
+    }
+}
+
+/// Signed angle of `x` about `n` from `d` (x need not be in the plane).
+fn angle_from(d: DVec3, n: DVec3, x: DVec3) -> f64 {
+    x.dot(n.cross(d)).atan2(x.dot(d))
+}
+
+fn wrap(a: f64) -> f64 {
+    a - TAU * ((a + PI) / TAU).floor()
+}
+
+fn reference_directions(mesh: &TriMesh, normals: &[DVec3]) -> Vec<DVec3> {
+    (0..mesh.triangles.len())
+        .map(|f| {
+            let [a, b, _] = mesh.corners(f);
+            let n = normals[f];
+            (b - a)
+                .reject_from_normalized(n)
+                .try_normalize()
+                .unwrap_or_else(|| n.any_orthonormal_vector())
+        })
+        .collect()
+}
+
+/// κ per face-edge (antisymmetric across each interior edge).
+fn transition_angles(input: &CrossFieldInput<'_>, reference: &[DVec3]) -> Vec<[f64; 3]> {
+    let (mesh, top, n) = (input.mesh, input.topology, input.normals);
+    let mut kappa = vec![[0.0; 3]; mesh.triangles.len()];
+    for f in 0..mesh.triangles.len() {
+        for e in 0..3 {
+            let Some((g, ge)) = top.across(f, e) else {
+                continue;
+            };
+            if g < f {
+                continue;
+            }
+            let hinge = n[f].cross(n[g]);
+            let hinge = if hinge.length() > 1e-9 {
+                hinge
+            } else {
+                let t = mesh.triangles[f];
+                mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
+            };
+            let k =
+                wrap(angle_from(reference[g], n[g], hinge) - angle_from(reference[f], n[f], hinge));
+            kappa[f][e] = k;
+            kappa[g][ge] = -k;
+        }
+    }
+    kappa
+}
+
+/// Dual-edge weights |e| / |c_f − c_g| (normalised to mean 1) and face
+/// areas (normalised to mean 1).
+fn dual_weights(mesh: &TriMesh, topology: &EdgeTopology) -> (Vec<[f64; 3]>, Vec<f64>) {
+    let nf = mesh.triangles.len();
+    let centroid = |f: usize| {
+        let [a, b, c] = mesh.corners(f);
+        (a + b + c) / 3.0
+    };
+    let mut weight = vec![[0.0; 3]; nf];
+    let (mut sum, mut count) = (0.0, 0usize);
+    for f in 0..nf {
+        let t = mesh.triangles[f];
+        for e in 0..3 {
+            if let Some((g, _)) = topology.across(f, e) {
+                let len =
+                    mesh.positions[t[e] as usize].distance(mesh.positions[t[(e + 1) % 3] as usize]);
+                let w = len
+                    / centroid(f)
+                        .distance(centroid(g))
+                        .max(1e-12 * len.max(1e-300));
+                let w = if w.is_finite() {
+                    w.clamp(1e-3, 1e3)
+                } else {
+                    1.0
+                };
+                weight[f][e] = w;
+                sum += w;
+                count += 1;
+            }
+        }
+    }
+    let mean = if count > 0 { sum / count as f64 } else { 1.0 };
+    for w in weight.iter_mut().flatten() {
+        *w /= mean;
+    }
+    let area: Vec<f64> = (0..nf).map(|f| mesh.face_area(f)).collect();
+    let mean_area = (area.iter().sum::<f64>() / nf.max(1) as f64).max(1e-300);
+    let mass = area.iter().map(|a| (a / mean_area).max(1e-6)).collect();
+    (weight, mass)
+}
+
+/// Face components of the dual graph (connected across interior edges).
+pub(crate) fn face_components(topology: &EdgeTopology) -> Vec<u32> {
+    let nf = topology.face_count();
+    let mut uf = UnionFind::new(nf);
+    for f in 0..nf {
+        for e in 0..3 {
+            if let Some((g, _)) = topology.across(f, e) {
+                uf.union(f as u32, g as u32);
+            }
+        }
+    }
+    (0..nf as u32).map(|f| uf.find(f)).collect()
+}
+
+struct Relaxation<'a> {
+    topology: &'a EdgeTopology,
+    kappa: &'a [[f64; 3]],
+    /// Fixed θ per face.
+    fixed: &'a [Option<f64>],
+    components: &'a [u32],
+    /// Per face-edge: the relaxation's dual-edge weight |e| / |c_f − c_g|.
+    weight: &'a [[f64; 3]],
+    /// Per face: area (the relaxation's mass).
+    mass: &'a [f64],
+}
+
+/// The relaxation's normal equations over the free faces' z (two
+/// variables per face; `var[f]` is `usize::MAX` for fixed faces).
+fn relaxation_system(r: &Relaxation<'_>) -> (NormalEquations, Vec<usize>, usize) {
+    let nf = r.fixed.len();
+    let mut var = vec![usize::MAX; nf];
+    let mut n = 0;
+    for f in 0..nf {
+        if r.fixed[f].is_none() {
+            var[f] = n;
+            n += 2;
+        }
+    }
+    let z_fixed = |f: usize| r.fixed[f].map(|t| DVec2::from_angle(4.0 * t));
+    let mut eq = NormalEquations::new(n);
+    let mut degree = vec![0.0f64; nf];
+    for f in 0..nf {
+        for e in 0..3 {
+            let Some((g, _)) = r.topology.across(f, e) else {
+                continue;
+            };
+            if g < f {
+                continue;
+            }
+            degree[f] += 1.0;
+            degree[g] += 1.0;
+            let rot = DVec2::from_angle(4.0 * r.kappa[f][e]);
+            let w = r.weight[f][e].sqrt();
+            // Rows: R z_f − z_g = 0, component-wise.
+            let rows = [
+                ([rot.x, -rot.y], [-1.0, 0.0]),
+                ([rot.y, rot.x], [0.0, -1.0]),
+            ];
+            for (cf, cg) in rows {
+                let mut entries = Vec::with_capacity(4);
+                let mut b = 0.0;
+                for (face, c) in [(f, cf), (g, cg)] {
+                    match z_fixed(face) {
+                        Some(z) => b -= c[0] * z.x + c[1] * z.y,
+                        None => {
+                            entries.push((var[face], c[0]));
+                            entries.push((var[face] + 1, c[1]));
+                        }
+                    }
+                }
+                eq.row(w, &entries, b);
+            }
+        }
+    }
+    let mean_degree = degree.iter().sum::<f64>() / nf.max(1) as f64;
+    let shift = 1e-8 * mean_degree.max(1.0);
+    eq.triplets.extend((0..n).map(|i| (i, i, shift)));
+    (eq, var, n)
+}
+
+/// Step (1): the smoothest field in the 4th-power representation.
+fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
+    let nf = r.fixed.len();
+    let (eq, var, n) = relaxation_system(r);
+    let factor = SpdFactor::new(n, &eq.triplets)?;
+    let mut constrained_component = vec![false; nf];
+    for f in 0..nf {
+        if r.fixed[f].is_some() {
+            constrained_component[r.components[f] as usize] = true;
+        }
+    }
+    // Inverse iteration for components without constraints, normalised
+    // per component after every solve; the start is a fixed pseudo-random
+    // z per face, so that symmetric meshes do not pick a symmetric (and
+    // clustered) element of a degenerate lowest eigenspace.
+    let mut rng = rand_pcg::Pcg32::new(0x853c_49e6_748f_ea9b, 0xda3e_39cb_94b9_5bdb);
+    let mut x: Vec<f64> = (0..n)
+        .map(|_| rand_core::RngCore::next_u32(&mut rng) as f64 / u32::MAX as f64 - 0.5)
+        .collect();
+    if !random_start {
+        for (i, v) in x.iter_mut().enumerate() {
+            *v = if i % 2 == 0 { 1.0 } else { 0.0 };
+        }
+    }
+    let iterations = if constrained_component.iter().all(|&c| c) {
+        1
+    } else {
+        INVERSE_ITERATIONS
+    };
+    for _ in 0..iterations {
+        let mut b = eq.rhs.clone();
+        for f in 0..nf {
+            if var[f] != usize::MAX && !constrained_component[r.components[f] as usize] {
+                b[var[f]] += r.mass[f] * x[var[f]];
+                b[var[f] + 1] += r.mass[f] * x[var[f] + 1];
+            }
+        }
+        x = factor.solve(&[b])?.pop()?;
+        normalise_free_components(&mut x, &var, r.components, &constrained_component);
+    }
+    unit_length_iterations(&eq, &var, r.mass, &mut x)?;
+    Some(
+        (0..nf)
+            .map(|f| match r.fixed[f] {
+                Some(t) => t,
+                None => x[var[f] + 1].atan2(x[var[f]]) / 4.0,
+            })
+            .collect(),
+    )
+}
+
+/// Towards unit |z| (the relaxation spreads clustered zeros over
+/// degenerate eigenspaces, e.g. the round sphere's): a few steps of
+/// z ← (L + λM)⁻¹(λM·z/|z| + b), diffusion with re-normalisation per face
+/// (the MBO scheme of Viertel & Osting 2019 for cross fields).
+fn unit_length_iterations(
+    eq: &NormalEquations,
+    var: &[usize],
+    mass: &[f64],
+    x: &mut Vec<f64>,
+) -> Option<()> {
+    let (lambda, steps) = (UNIT_LAMBDA, UNIT_STEPS);
+    if x.is_empty() {
+        return Some(());
+    }
+    let mut triplets = eq.triplets.clone();
+    for (f, &v) in var.iter().enumerate() {
+        if v != usize::MAX {
+            triplets.push((v, v, lambda * mass[f]));
+            triplets.push((v + 1, v + 1, lambda * mass[f]));
+        }
+    }
+    let factor = SpdFactor::new(x.len(), &triplets)?;
+    for _ in 0..steps {
+        let mut b = eq.rhs.clone();
+        for (f, &v) in var.iter().enumerate() {
+            if v != usize::MAX {
+                let z = DVec2::new(x[v], x[v + 1])
+                    .try_normalize()
+                    .unwrap_or(DVec2::X);
+                b[v] += lambda * mass[f] * z.x;
+                b[v + 1] += lambda * mass[f] * z.y;
+            }
+        }
+        *x = factor.solve(&[b])?.pop()?;
+    }
+    Some(())
+}
+
+fn normalise_free_components(
+    x: &mut [f64],
+    var: &[usize],
+    components: &[u32],
+    constrained: &[bool],
+) {
+    let mut norm = vec![0.0f64; components.len()];
+    for (f, &v) in var.iter().enumerate() {
+        if v != usize::MAX && !constrained[components[f] as usize] {
+            norm[components[f] as usize] += x[v] * x[v] + x[v + 1] * x[v + 1];
+        }
+    }
+    for (f, &v) in var.iter().enumerate() {
+        let c = components[f] as usize;
+        if v != usize::MAX && !constrained[c] && norm[c] > 0.0 {
+            let s = norm[c].sqrt().recip();
+            x[v] *= s;
+            x[v + 1] *= s;
+        }
+    }
+}
+
+/// Step (2): each p_ij minimising |γ_ij| for the current θ.
+fn round_period_jumps(topology: &EdgeTopology, kappa: &[[f64; 3]], theta: &[f64]) -> Vec<[i32; 3]> {
+    let mut p = vec![[0i32; 3]; theta.len()];
+    for f in 0..theta.len() {
+        for e in 0..3 {
+            if let Some((g, _)) = topology.across(f, e) {
+                p[f][e] = ((theta[g] - theta[f] - kappa[f][e]) / FRAC_PI_2).round() as i32;
+            }
+        }
+    }
+    p
+}
+
+/// Step (3): θ minimising E_smooth for fixed p (one θ per unconstrained
+/// component is held at its current value as the gauge).
+fn resolve_angles(r: &Relaxation<'_>, p: &[[i32; 3]], theta: &[f64]) -> Option<Vec<f64>> {
+    let nf = theta.len();
+    let mut fixed: Vec<Option<f64>> = r.fixed.to_vec();
+    let mut has_fixed = vec![false; nf];
+    for f in 0..nf {
+        has_fixed[r.components[f] as usize] |= fixed[f].is_some();
+    }
+    for f in 0..nf {
+        let c = r.components[f] as usize;
+        if !has_fixed[c] {
+            fixed[f] = Some(theta[f]);
+            has_fixed[c] = true;
+        }
+    }
+    let mut var = vec![usize::MAX; nf];
+    let mut n = 0;
+    for f in 0..nf {
+        if fixed[f].is_none() {
+            var[f] = n;
+            n += 1;
+        }
+    }
+    let mut eq = NormalEquations::new(n);
+    for f in 0..nf {
+        for e in 0..3 {
+            let Some((g, _)) = r.topology.across(f, e) else {
+                continue;
+            };
+            if g < f {
+                continue;
+            }
+            // θ_f − θ_g = −κ − (π/2) p.
+            let mut b = -r.kappa[f][e] - FRAC_PI_2 * p[f][e] as f64;
+            let mut entries = Vec::with_capacity(2);
+            for (face, c) in [(f, 1.0), (g, -1.0)] {
+                match fixed[face] {
+                    Some(t) => b -= c * t,
+                    None => entries.push((var[face], c)),
+                }
+            }
+            eq.row(1.0, &entries, b);
+        }
+    }
+    let x = SpdFactor::new(n, &eq.triplets)?.solve(&[eq.rhs])?.pop()?;
+    Some(
+        (0..nf)
+            .map(|f| fixed[f].unwrap_or_else(|| x[var[f]]))
+            .collect(),
+    )
+}
+
+fn smoothness_energy(
+    topology: &EdgeTopology,
+    kappa: &[[f64; 3]],
+    p: &[[i32; 3]],
+    theta: &[f64],
+) -> f64 {
+    let mut e_smooth = 0.0;
+    for f in 0..theta.len() {
+        for e in 0..3 {
+            if let Some((g, _)) = topology.across(f, e) {
+                if g > f {
+                    let gamma = theta[f] + kappa[f][e] + FRAC_PI_2 * p[f][e] as f64 - theta[g];
+                    e_smooth += gamma * gamma;
+                }
+            }
+        }
+    }
+    e_smooth
+}
+
+/// Some component has no constrained face.
+fn has_free_component(r: &Relaxation<'_>) -> bool {
+    let nf = r.fixed.len();
+    let mut constrained = vec![false; nf];
+    for f in 0..nf {
+        constrained[r.components[f] as usize] |= r.fixed[f].is_some();
+    }
+    (0..nf).any(|f| r.components[f] as usize == f && !constrained[f])
+}
+
+/// Steps (2)–(3), repeated.
+fn round_and_resolve(r: &Relaxation<'_>, mut theta: Vec<f64>) -> Option<(Vec<f64>, Vec<[i32; 3]>)> {
+    let mut p = round_period_jumps(r.topology, r.kappa, &theta);
+    for _ in 0..ROUNDS {
+        theta = resolve_angles(r, &p, &theta)?;
+        p = round_period_jumps(r.topology, r.kappa, &theta);
+    }
+    theta = resolve_angles(r, &p, &theta)?;
+    Some((theta, p))
+}
+
+/// Computes the cross field; None when a sparse factorization fails.
+pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
+    let nf = input.mesh.triangles.len();
+    let normals = input.normals.to_vec();
+    let reference = reference_directions(input.mesh, &normals);
+    let kappa = transition_angles(input, &reference);
+    let fixed: Vec<Option<f64>> = (0..nf)
+        .map(|f| {
+            let d = input.constraints.get(f).copied().flatten()?;
+            let d = d.reject_from_normalized(normals[f]);
+            (d.length() > 1e-12).then(|| angle_from(reference[f], normals[f], d))
+        })
+        .collect();
+    let components = face_components(input.topology);
+    let (weight, mass) = dual_weights(input.mesh, input.topology);
+    let r = Relaxation {
+        topology: input.topology,
+        kappa: &kappa,
+        fixed: &fixed,
+        components: &components,
+        weight: &weight,
+        mass: &mass,
+    };
+    // Two starts of the relaxation where it matters (unconstrained
+    // components): z = 1 in the reference frames, and pseudo-random z;
+    // the lower E_smooth after rounding wins.
+    let starts: &[bool] = if has_free_component(&r) {
+        &[false, true]
+    } else {
+        &[false]
+    };
+    let mut best: Option<(f64, Vec<f64>, Vec<[i32; 3]>)> = None;
+    for &random in starts {
+        let (theta, p) = round_and_resolve(&r, relaxed_angles(&r, random)?)?;
+        let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
+        if best.as_ref().is_none_or(|b| energy < b.0) {
+            best = Some((energy, theta, p));
+        }
+    }
+    let (energy, theta, p) = best?;
+    let mut field = CrossField {
+        normals,
+        reference,
+        theta,
+        kappa,
+        period_jump: p,
+        constrained: fixed.iter().map(Option::is_some).collect(),
+        cones: Vec::new(),
+        energy,
+        index_residual: 0.0,
+    };
+    let (cones, residual) = cones(&field, input.fans);
+    field.cones = cones;
+    field.index_residual = residual;
+    Some(field)
+}
+
+/// Signed area of the spherical polygon of unit vectors `n` (in order),
+/// fanned from their normalised mean (Van Oosterom & Strackee per
+/// triangle).
+pub fn spherical_polygon_area(n: &[DVec3]) -> f64 {
+    let Some(c) = n.iter().copied().sum::<DVec3>().try_normalize() else {
+        return 0.0;
+    };
+    let m = n.len();
+    (0..m)
+        .map(|k| {
+            let (a, b) = (n[k], n[(k + 1) % m]);
+            let num = c.dot(a.cross(b));
+            let den = 1.0 + c.dot(a) + a.dot(b) + b.dot(c);
+            2.0 * num.atan2(den)
+        })
+        .sum()
+}
+
+/// The cones (§4.5) and the largest distance of 4·I(v) from an integer.
+fn cones(field: &CrossField, fans: &[Option<Fan>]) -> (Vec<Cone>, f64) {
+    let mut cones = Vec::new();
+    let mut residual = 0.0f64;
+    let mut normals = Vec::new();
+    for (v, fan) in fans.iter().enumerate() {
+        let Some(fan) = fan.as_ref().filter(|f| f.closed) else {
+            continue;
+        };
+        normals.clear();
+        let (mut sum_kappa, mut sum_p) = (0.0, 0i32);
+        for &(f, i) in &fan.corners {
+            let (f, e) = (f as usize, (i as usize + 2) % 3);
+            sum_kappa += field.kappa[f][e];
+            sum_p += field.period_jump[f][e];
+            normals.push(field.normals[f]);
+        }
+        let k = spherical_polygon_area(&normals);
+        let quarters = 4.0 * (k - sum_kappa) / TAU - sum_p as f64;
+        let q = quarters.round();
+        residual = residual.max((quarters - q).abs());
+        if q != 0.0 {
+            cones.push(Cone {
+                vertex: v as u32,
+                quarters: q as i32,
+            });
+        }
+    }
+    (cones, residual)
+}

@@ -1,0 +1,303 @@
+//! The global path's integer-grid map (Bommes, Zimmer & Kobbelt 2009,
+//! *Mixed-Integer Quadrangulation*, as Ebke et al. 2014 §3–5 and Campen et
+//! al. 2016 §4 use it; `../shared/reference/integer-grid-maps-digest.md`):
+//!
+//! 1. [`cross_field`]: per-face crosses in the filtered tangent planes with
+//!    period jumps and cones (Ebke §4);
+//! 2. [`cut`]: combing along a dual spanning tree, the cut graph through
+//!    the cones, wedges and matchings (MIQ §4) — shared with the layout
+//!    tool's parametrization;
+//! 3. [`seamless`]: one (u, v) per wedge, transitions with integer
+//!    rotations and translations, Ebke §5's E_orient with projected
+//!    non-orthonormal crosses and the sizing S(f), Campen §4.2's alignment
+//!    weight, boundaries on isolines, exact linear constraints
+//!    ([`constraints`]); greedy integer rounding with re-solves;
+//! 4. [`measures`]: flips, Campen §5's stretch, shear and misalignment;
+//!    [`export`]: the input mesh with per-corner texture coordinates.
+//!
+//! Parameter units: one unit is one target edge of the calibrated sizing
+//! field (the same calibration as the local path's).
+
+pub mod constraints;
+pub mod cross_field;
+pub mod cut;
+pub mod export;
+pub mod measures;
+pub mod seamless;
+pub mod solve;
+pub mod topology;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::filtered_normals::{Sigma, face_sigma_from_sizing, filtered_normals};
+use crate::analysis::smooth_regions::{SmoothRegionParams, SmoothRegions, smooth_regions};
+use crate::analysis::{self, AnalysisParams, FilteredNormalsMode, SurfaceAnalysis};
+use crate::mesh::TriMesh;
+use crate::sizing::SizingParams;
+
+pub use cross_field::{Cone, CrossField, CrossFieldInput};
+pub use cut::{Cut, CutInput};
+pub use seamless::{GridMap, MapInput, Transition, rotate};
+pub use topology::{EdgeTopology, Fan, NO_FACE, vertex_fans};
+
+/// Which principal directions constrain the cross field (besides the
+/// boundary, which is always aligned).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Alignment {
+    /// Only the boundary (the smoothest field otherwise).
+    #[default]
+    None,
+    /// Faces at feature vertices (Kloiber §3.3) get the feature direction.
+    FeatureVertices,
+    /// Faces in filtered smooth regions get a_min (Campen §4.1, weight ∞)
+    /// and the parametrization alignment weight (Campen §4.2).
+    SmoothRegions,
+    /// Both.
+    Both,
+}
+
+/// Parameters of the integer-grid map. Every field has a default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Params {
+    /// Surface analysis (curvature, features); its filtered-normal setting
+    /// is ignored: the map filters with the calibrated sizing itself.
+    pub analysis: AnalysisParams,
+    /// Sizing field; calibrated to the target vertex count as in the
+    /// local path. Default: input vertices / 16.
+    pub sizing: SizingParams,
+    /// Filter the normals (Ebke §3). Default true.
+    pub filtered_normals: bool,
+    /// σ(f) = factor · S(f). Default 0.5 (Ebke: σ = s/2).
+    pub sigma_factor: f64,
+    /// Kernel truncation in units of σ. Default 2.
+    pub truncation: f64,
+    /// Default [`Alignment::None`]: the cones are the field's own.
+    pub alignment: Alignment,
+    /// Smooth-region significance threshold (default 70°).
+    pub smooth_regions: SmoothRegionParams,
+    /// Campen §4.2's w in the {0, w} weight field. Default 5.
+    pub region_weight: f64,
+    /// Round integer variables (translations, cones, boundary isolines).
+    /// Default true; false gives the seamless relaxation.
+    pub round: bool,
+    /// Fraction of the remaining integer variables rounded per re-solve.
+    /// Default 0.5 (1 would round all at once).
+    pub batch_fraction: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            analysis: AnalysisParams::default(),
+            sizing: SizingParams::default(),
+            filtered_normals: true,
+            sigma_factor: 0.5,
+            truncation: 2.0,
+            alignment: Alignment::None,
+            smooth_regions: SmoothRegionParams::default(),
+            region_weight: 5.0,
+            round: true,
+            batch_fraction: 0.5,
+        }
+    }
+}
+
+/// Errors of the map computation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    #[error("the mesh has no faces")]
+    Empty,
+    #[error("the {0} solve failed (singular or non-finite system)")]
+    Solve(&'static str),
+}
+
+/// The surface quantities the map is built from.
+pub struct Prepared {
+    pub analysis: SurfaceAnalysis,
+    /// Target edge length per face (calibrated), S(f).
+    pub face_sizing: Vec<f64>,
+    /// Unit filtered normal per face.
+    pub normals: Vec<DVec3>,
+    pub topology: EdgeTopology,
+    pub fans: Vec<Option<Fan>>,
+    pub regions: Option<SmoothRegions>,
+}
+
+/// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
+/// calibrated field), topology.
+pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
+    let mut ap = params.analysis;
+    ap.filtered_normals.mode = FilteredNormalsMode::Off;
+    let mut analysis = analysis::analyze(mesh, &ap, &params.sizing);
+    let target = crate::pipeline::target_vertex_count(mesh.vertex_count(), &params.sizing);
+    crate::pipeline::calibrate_to_vertex_count(&mut analysis, target);
+    let face_sizing = face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0);
+    let normals = if params.filtered_normals {
+        let sigma: Vec<f64> = face_sizing
+            .iter()
+            .map(|s| params.sigma_factor * s)
+            .collect();
+        let filtered = filtered_normals(
+            mesh,
+            &analysis.face_adjacency,
+            &analysis.face_normals,
+            Sigma::PerFace(&sigma),
+            params.truncation,
+        );
+        if filtered.len() == mesh.face_count() {
+            filtered
+        } else {
+            analysis.face_normals.clone()
+        }
+    } else {
+        analysis.face_normals.clone()
+    };
+    let normals = normals
+        .iter()
+        .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
+        .collect();
+    let topology = EdgeTopology::new(mesh);
+    let fans = vertex_fans(mesh, &topology);
+    let regions = matches!(params.alignment, Alignment::SmoothRegions | Alignment::Both)
+        .then(|| smooth_regions(mesh, &analysis.curvature, &params.smooth_regions));
+    Prepared {
+        analysis,
+        face_sizing,
+        normals,
+        topology,
+        fans,
+        regions,
+    }
+}
+
+/// Per face: the direction its cross must contain — the boundary edge on
+/// boundary faces (the first one), else feature / smooth-region
+/// directions by `params.alignment`.
+pub fn alignment_constraints(mesh: &TriMesh, p: &Prepared, params: &Params) -> Vec<Option<DVec3>> {
+    let nf = mesh.face_count();
+    let mut out: Vec<Option<DVec3>> = vec![None; nf];
+    if let Some(r) = &p.regions {
+        for (f, s) in r.selected_faces().iter().enumerate() {
+            if *s {
+                out[f] = Some(r.faces[f].a_min);
+            }
+        }
+    }
+    if matches!(
+        params.alignment,
+        Alignment::FeatureVertices | Alignment::Both
+    ) {
+        let directions =
+            analysis::orientation_constraints(&p.analysis.features, &p.analysis.curvature);
+        let mut at_vertex: Vec<Option<DVec3>> = vec![None; mesh.vertex_count()];
+        for (v, d) in directions {
+            at_vertex[v as usize] = Some(d);
+        }
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            if let Some(d) = t.iter().find_map(|&v| at_vertex[v as usize]) {
+                out[f] = Some(d);
+            }
+        }
+    }
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if let Some(e) = (0..3).find(|&e| p.topology.opposite[f][e] == NO_FACE) {
+            out[f] = Some(mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]);
+        }
+    }
+    out
+}
+
+/// The cross field of [`prepare`]d data.
+pub fn cross_field_of(
+    mesh: &TriMesh,
+    p: &Prepared,
+    params: &Params,
+) -> Result<CrossField, ParamError> {
+    if mesh.face_count() == 0 {
+        return Err(ParamError::Empty);
+    }
+    let constraints = alignment_constraints(mesh, p, params);
+    cross_field::cross_field(&CrossFieldInput {
+        mesh,
+        topology: &p.topology,
+        fans: &p.fans,
+        normals: &p.normals,
+        constraints: &constraints,
+    })
+    .ok_or(ParamError::Solve("cross field"))
+}
+
+/// The integer-grid map of a cross field.
+pub fn grid_map_of(
+    mesh: &TriMesh,
+    p: &Prepared,
+    field: &CrossField,
+    params: &Params,
+) -> Result<GridMap, ParamError> {
+    let dirs: Option<Vec<Option<DVec3>>> = p.regions.as_ref().map(|r| {
+        r.selected_faces()
+            .iter()
+            .zip(&r.faces)
+            .map(|(&s, c)| s.then_some(c.a_min))
+            .collect()
+    });
+    seamless::grid_map(&MapInput {
+        mesh,
+        topology: &p.topology,
+        field,
+        face_sizing: &p.face_sizing,
+        round: params.round,
+        batch_fraction: params.batch_fraction,
+        region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
+    })
+    .ok_or(ParamError::Solve("parametrization"))
+}
+
+/// Milliseconds per stage of [`run`].
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Timings {
+    pub analysis_ms: f64,
+    pub cross_field_ms: f64,
+    pub parametrization_ms: f64,
+}
+
+/// Everything [`run`] computes.
+pub struct Run {
+    pub prepared: Prepared,
+    pub field: CrossField,
+    pub map: GridMap,
+    pub measures: measures::Measures,
+    pub timings: Timings,
+}
+
+/// The whole map: analysis, cross field, seamless map with rounding and
+/// the measures. `clock` returns milliseconds (the browser has no
+/// `Instant`).
+pub fn run(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> Result<Run, ParamError> {
+    let t0 = clock();
+    let prepared = prepare(mesh, params);
+    let t1 = clock();
+    let field = cross_field_of(mesh, &prepared, params)?;
+    let t2 = clock();
+    let map = grid_map_of(mesh, &prepared, &field, params)?;
+    let t3 = clock();
+    let curvature = prepared.regions.as_ref().map_or_else(
+        || analysis::smooth_regions::face_curvatures(mesh, &prepared.analysis.curvature),
+        |r| r.faces.clone(),
+    );
+    let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
+    Ok(Run {
+        prepared,
+        field,
+        map,
+        measures,
+        timings: Timings {
+            analysis_ms: t1 - t0,
+            cross_field_ms: t2 - t1,
+            parametrization_ms: t3 - t2,
+        },
+    })
+}

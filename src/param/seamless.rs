@@ -1,0 +1,508 @@
+//! The seamless integer-grid map: Bommes et al. 2009 (MIQ) §4 with Ebke et
+//! al. 2014 §5's energy (`../shared/seeds/000_…`).
+//!
+//! Unknowns: (u, v) per wedge of the [`super::cut`] and a translation t per
+//! cut edge. Hard constraints, eliminated exactly ([`super::constraints`]):
+//! across every cut edge both end points map by X_g = R^k·X_f + t (k the
+//! combed matching); boundary edges lie on isolines (the coordinate whose
+//! cross axis is more transversal is constant along them); one wedge per
+//! component is fixed at the origin (at a cone if it has one). Energy:
+//! E_orient = Σ_f A(f̂) ‖∇g·[w̄0 w̄1] − Id/S(f)‖² with w̄_k the crosses
+//! projected from the filtered plane onto the face along n̂ (non-orthonormal
+//! where n ≠ n̂) and A(f̂) the face's area projected into the filtered plane.
+//! Integer rounding (MIQ's greedy scheme, batched): cone coordinates first,
+//! then translations and boundary isolines in order of their distance to
+//! an integer, a fraction per re-solve.
+//!
+//! With filtered smooth regions, Campen et al. 2016 §4.2's term
+//! w·A_f·(∇g_c · a_min)² (w = 5 inside the regions) is added for the
+//! coordinate c whose cross axis is transversal to a_min.
+//!
+//! Deviations: the target is Id/S(f) (one parameter unit = one target
+//! edge; Ebke writes S(f)·Id, a density convention); each re-solve
+//! factorizes anew (the eliminated system changes shape) instead of reusing
+//! a symbolic factorization; no stiffening (fold-overs are left to the
+//! extraction, as Ebke §6 does).
+
+// Parallel per-face arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
+use glam::{DVec2, DVec3};
+
+use super::constraints::{Added, Eliminator};
+use super::cross_field::{Cone, CrossField, face_components};
+use super::cut::{Cut, CutInput, cut};
+use super::solve::{NormalEquations, SpdFactor};
+use super::topology::EdgeTopology;
+use crate::mesh::TriMesh;
+
+/// Rotation of parameter vectors by −k·π/2.
+pub fn rotate(k: u8, x: DVec2) -> DVec2 {
+    match k % 4 {
+        0 => x,
+        1 => DVec2::new(x.y, -x.x),
+        2 => -x,
+        _ => DVec2::new(-x.y, x.x),
+    }
+}
+
+/// `rotate(k, ·)` as a signed component map: out[c] = sign[c] · in[src[c]].
+fn rotation_map(k: u8) -> ([usize; 2], [f64; 2]) {
+    match k % 4 {
+        0 => ([0, 1], [1.0, 1.0]),
+        1 => ([1, 0], [1.0, -1.0]),
+        2 => ([0, 1], [-1.0, -1.0]),
+        _ => ([1, 0], [-1.0, 1.0]),
+    }
+}
+
+/// A chart transition X' = rotate(k, X) + t.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transition {
+    pub k: u8,
+    pub t: DVec2,
+}
+
+impl Transition {
+    pub const IDENTITY: Transition = Transition {
+        k: 0,
+        t: DVec2::ZERO,
+    };
+
+    pub fn apply(&self, x: DVec2) -> DVec2 {
+        rotate(self.k, x) + self.t
+    }
+
+    /// `self` after `first`: x ↦ self(first(x)).
+    pub fn after(&self, first: &Transition) -> Transition {
+        Transition {
+            k: (self.k + first.k) % 4,
+            t: rotate(self.k, first.t) + self.t,
+        }
+    }
+
+    pub fn inverse(&self) -> Transition {
+        let k = (4 - self.k % 4) % 4;
+        Transition {
+            k,
+            t: -rotate(k, self.t),
+        }
+    }
+}
+
+/// What the map is computed from.
+pub struct MapInput<'a> {
+    pub mesh: &'a TriMesh,
+    pub topology: &'a EdgeTopology,
+    pub field: &'a CrossField,
+    /// S(f), the target edge length per face.
+    pub face_sizing: &'a [f64],
+    /// Round the integer variables.
+    pub round: bool,
+    /// Fraction of the remaining integer variables fixed per re-solve.
+    pub batch_fraction: f64,
+    /// Campen §4.2's {0, w} alignment: per face the unit a_min where the
+    /// weight applies (filtered smooth regions), and w.
+    pub region_alignment: Option<(&'a [Option<DVec3>], f64)>,
+}
+
+/// The integer-grid map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridMap {
+    /// Per face corner: (u, v) in the face's chart.
+    pub uv: Vec<[DVec2; 3]>,
+    pub cut: Cut,
+    /// Per face: the combed cross projected onto the face (w̄0, w̄1).
+    pub frames: Vec<[DVec3; 2]>,
+    pub cones: Vec<Cone>,
+    pub topology: EdgeTopology,
+    /// E_orient at the solution.
+    pub energy: f64,
+    /// Re-solves of the rounding.
+    pub rounding_steps: usize,
+    /// Seam constraints that contradicted earlier ones plus integer
+    /// quantities left non-integer (0 in a valid map).
+    pub conflicts: usize,
+}
+
+impl GridMap {
+    /// The transition from face `f`'s chart to the chart across its local
+    /// edge `e` (None on the boundary), from the edge's first end point.
+    pub fn transition(&self, f: usize, e: usize) -> Option<(Transition, DVec2)> {
+        let (g, ge) = self.topology.across(f, e)?;
+        let k = self.cut.matching[f][e];
+        let (fa, fb) = (self.uv[f][e], self.uv[f][(e + 1) % 3]);
+        let (ga, gb) = (self.uv[g][(ge + 1) % 3], self.uv[g][ge]);
+        let ta = ga - rotate(k, fa);
+        let tb = gb - rotate(k, fb);
+        Some((Transition { k, t: ta }, tb - ta))
+    }
+
+    /// Faces whose parametric area is not positive.
+    pub fn flipped(&self) -> Vec<bool> {
+        self.uv
+            .iter()
+            .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]) <= 0.0)
+            .collect()
+    }
+}
+
+struct Layout {
+    wedges: usize,
+    /// Per seam edge (f, e) with g > f.
+    seams: Vec<(usize, usize)>,
+}
+
+impl Layout {
+    fn w(&self, wedge: u32, c: usize) -> usize {
+        2 * wedge as usize + c
+    }
+    fn t(&self, seam: usize, c: usize) -> usize {
+        2 * self.wedges + 2 * seam + c
+    }
+    fn len(&self) -> usize {
+        2 * self.wedges + 2 * self.seams.len()
+    }
+}
+
+fn combed_frames(mesh: &TriMesh, field: &CrossField, c: &Cut) -> Vec<[DVec3; 2]> {
+    (0..mesh.triangles.len())
+        .map(|f| {
+            let n = mesh.face_normal_unnormalized(f).normalize_or_zero();
+            let nh = field.normals[f];
+            let d = n.dot(nh);
+            let d = if d.abs() < 0.05 {
+                0.05f64.copysign(d)
+            } else {
+                d
+            };
+            std::array::from_fn(|k| {
+                let w = field.arm(f, c.comb[f] as i32 + k as i32);
+                w - nh * (n.dot(w) / d)
+            })
+        })
+        .collect()
+}
+
+/// The linear functionals that must become integers, cones first.
+struct Integers {
+    quantities: Vec<Vec<(usize, f64)>>,
+    /// Leading quantities rounded in the first batch.
+    first: usize,
+}
+
+fn seam_constraints(el: &mut Eliminator, input: &MapInput<'_>, c: &Cut, lay: &Layout) -> usize {
+    let mut conflicts = 0;
+    for (s, &(f, e)) in lay.seams.iter().enumerate() {
+        let Some((g, ge)) = input.topology.across(f, e) else {
+            continue;
+        };
+        let (src, sign) = rotation_map(c.matching[f][e]);
+        for (cf, cg) in [(e, (ge + 1) % 3), ((e + 1) % 3, ge)] {
+            for comp in 0..2 {
+                let terms = [
+                    (lay.w(c.wedge[g][cg], comp), 1.0),
+                    (lay.w(c.wedge[f][cf], src[comp]), -sign[comp]),
+                    (lay.t(s, comp), -1.0),
+                ];
+                if let Added::Conflict(_) = el.add(&terms, 0.0, 1e-9) {
+                    conflicts += 1;
+                }
+            }
+        }
+    }
+    conflicts
+}
+
+/// Boundary isolines; returns the integer quantities they add.
+fn boundary_constraints(
+    el: &mut Eliminator,
+    input: &MapInput<'_>,
+    c: &Cut,
+    frames: &[[DVec3; 2]],
+    lay: &Layout,
+) -> Vec<Vec<(usize, f64)>> {
+    let mut out = Vec::new();
+    for (f, t) in input.mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            if input.topology.across(f, e).is_some() {
+                continue;
+            }
+            let d =
+                input.mesh.positions[t[(e + 1) % 3] as usize] - input.mesh.positions[t[e] as usize];
+            let along0 = d.dot(frames[f][0].normalize_or_zero()).abs()
+                >= d.dot(frames[f][1].normalize_or_zero()).abs();
+            let comp = if along0 { 1 } else { 0 };
+            let (a, b) = (
+                lay.w(c.wedge[f][e], comp),
+                lay.w(c.wedge[f][(e + 1) % 3], comp),
+            );
+            el.add(&[(a, 1.0), (b, -1.0)], 0.0, 1e-9);
+            out.push(vec![(a, 1.0)]);
+        }
+    }
+    out
+}
+
+/// One wedge per face component at the origin: at a cone, else on the
+/// boundary, else the component's first face.
+fn gauge(el: &mut Eliminator, input: &MapInput<'_>, c: &Cut, lay: &Layout) {
+    let nf = input.mesh.triangles.len();
+    let comp = face_components(input.topology);
+    let mut done = vec![false; nf];
+    let mut corner_of = vec![None; input.mesh.positions.len()];
+    for (f, t) in input.mesh.triangles.iter().enumerate() {
+        for (i, &v) in t.iter().enumerate() {
+            corner_of[v as usize].get_or_insert((f, i));
+        }
+    }
+    let cones = input
+        .field
+        .cones
+        .iter()
+        .filter_map(|k| corner_of[k.vertex as usize]);
+    let boundary = (0..nf).flat_map(|f| {
+        (0..3)
+            .filter(move |&e| input.topology.across(f, e).is_none())
+            .map(move |e| (f, e))
+    });
+    let faces = (0..nf).map(|f| (f, 0));
+    for (f, i) in cones.chain(boundary).chain(faces) {
+        let k = comp[f] as usize;
+        if done[k] {
+            continue;
+        }
+        done[k] = true;
+        for cc in 0..2 {
+            el.add(&[(lay.w(c.wedge[f][i], cc), 1.0)], 0.0, 1e-9);
+        }
+    }
+}
+
+/// Per face: the four weighted E_orient rows (terms over x, target).
+fn energy_rows(
+    input: &MapInput<'_>,
+    c: &Cut,
+    frames: &[[DVec3; 2]],
+    lay: &Layout,
+) -> Vec<(Vec<(usize, f64)>, f64)> {
+    let mesh = input.mesh;
+    let mut rows = Vec::with_capacity(4 * mesh.triangles.len());
+    for f in 0..mesh.triangles.len() {
+        let p = mesh.corners(f);
+        let nrm = mesh.face_normal_unnormalized(f);
+        let area2 = nrm.length();
+        let s = input.face_sizing.get(f).copied().unwrap_or(1.0);
+        if area2 <= 1e-300 || !(s > 0.0 && s.is_finite()) {
+            continue;
+        }
+        let n = nrm / area2;
+        let projected = 0.5 * area2 * n.dot(input.field.normals[f]).abs().max(1e-3);
+        let w = projected.sqrt();
+        let grad: [DVec3; 3] =
+            std::array::from_fn(|i| n.cross(p[(i + 2) % 3] - p[(i + 1) % 3]) / area2);
+        for comp in 0..2 {
+            for (k, axis) in frames[f].iter().enumerate() {
+                let terms = (0..3)
+                    .map(|i| (lay.w(c.wedge[f][i], comp), w * grad[i].dot(*axis)))
+                    .collect();
+                let target = if k == comp { w / s } else { 0.0 };
+                rows.push((terms, target));
+            }
+        }
+        if let Some((dirs, weight)) = input.region_alignment {
+            if let Some(a) = dirs.get(f).copied().flatten() {
+                // E_align: ∇g_c · a_min = 0 for the coordinate c whose
+                // cross axis is transversal to a_min.
+                let a = a.reject_from_normalized(n);
+                let comp = usize::from(frames[f][0].dot(a).abs() < frames[f][1].dot(a).abs());
+                let comp = 1 - comp;
+                let wa = (weight.max(0.0) * projected).sqrt();
+                let terms = (0..3)
+                    .map(|i| (lay.w(c.wedge[f][i], comp), wa * grad[i].dot(a)))
+                    .collect();
+                rows.push((terms, 0.0));
+            }
+        }
+    }
+    rows
+}
+
+/// Minimises the rows under the eliminator's constraints; x per variable.
+fn solve(el: &Eliminator, rows: &[(Vec<(usize, f64)>, f64)]) -> Option<(Vec<f64>, f64)> {
+    let n = el.len();
+    let mut index = vec![usize::MAX; n];
+    let mut free = Vec::new();
+    for (i, slot) in index.iter_mut().enumerate() {
+        if el.is_free(i) {
+            *slot = free.len();
+            free.push(i);
+        }
+    }
+    let mut eq = NormalEquations::new(free.len());
+    for (terms, target) in rows {
+        let e = el.reduce(terms, 0.0);
+        let compact: Vec<(usize, f64)> = e.terms.iter().map(|&(j, c)| (index[j], c)).collect();
+        eq.row(1.0, &compact, target - e.constant);
+    }
+    let y = [0.0, 1e-10, 1e-7].iter().find_map(|&eps| {
+        let mut t = eq.triplets.clone();
+        t.extend((0..free.len()).map(|i| (i, i, eps)));
+        SpdFactor::new(free.len(), &t)?
+            .solve(std::slice::from_ref(&eq.rhs))?
+            .pop()
+    })?;
+    let mut full = vec![0.0; n];
+    for (k, &i) in free.iter().enumerate() {
+        full[i] = y[k];
+    }
+    let x = el.expand(&full);
+    let energy = rows
+        .iter()
+        .map(|(terms, b)| {
+            let r = terms.iter().map(|&(i, c)| c * x[i]).sum::<f64>() - b;
+            r * r
+        })
+        .sum();
+    Some((x, energy))
+}
+
+/// Greedy rounding with re-solves; returns the final solution.
+fn round(
+    el: &mut Eliminator,
+    rows: &[(Vec<(usize, f64)>, f64)],
+    ints: &Integers,
+    fraction: f64,
+) -> Option<(Vec<f64>, f64, usize, usize)> {
+    let mut done = vec![false; ints.quantities.len()];
+    let mut steps = 0;
+    loop {
+        let (x, energy) = solve(el, rows)?;
+        let mut open: Vec<(f64, usize, f64)> = Vec::new();
+        for (q, terms) in ints.quantities.iter().enumerate() {
+            if done[q] {
+                continue;
+            }
+            if el.reduce(terms, 0.0).terms.is_empty() {
+                done[q] = true;
+                continue;
+            }
+            let value: f64 = terms.iter().map(|&(i, c)| c * x[i]).sum();
+            let priority = if q < ints.first {
+                -1.0
+            } else {
+                (value - value.round()).abs()
+            };
+            open.push((priority, q, value));
+        }
+        if open.is_empty() {
+            // Integer quantities the rounding could not make integer (a
+            // batch's targets can contradict each other).
+            let missed = ints
+                .quantities
+                .iter()
+                .filter(|terms| {
+                    let v: f64 = terms.iter().map(|&(i, c)| c * x[i]).sum();
+                    (v - v.round()).abs() > 1e-6
+                })
+                .count();
+            return Some((x, energy, steps, missed));
+        }
+        open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let cones = open.iter().filter(|o| o.0 < 0.0).count();
+        let batch = if cones > 0 {
+            cones
+        } else {
+            ((open.len() as f64 * fraction).ceil() as usize).max(1)
+        };
+        for &(_, q, value) in open.iter().take(batch) {
+            done[q] = true;
+            el.add(&ints.quantities[q], value.round(), 1e-6);
+        }
+        steps += 1;
+    }
+}
+
+/// Computes the map; None when a solve fails.
+pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
+    let mesh = input.mesh;
+    let nf = mesh.triangles.len();
+    let raw: Vec<[u8; 3]> = input
+        .field
+        .period_jump
+        .iter()
+        .map(|p| p.map(|k| k.rem_euclid(4) as u8))
+        .collect();
+    let mut anchored = vec![false; mesh.positions.len()];
+    for c in &input.field.cones {
+        anchored[c.vertex as usize] = true;
+    }
+    let c = cut(&CutInput {
+        triangles: &mesh.triangles,
+        vertex_count: mesh.positions.len(),
+        topology: input.topology,
+        raw_matching: &raw,
+        anchored: &anchored,
+    });
+    let frames = combed_frames(mesh, input.field, &c);
+    let seams: Vec<(usize, usize)> = (0..nf)
+        .flat_map(|f| (0..3).map(move |e| (f, e)))
+        .filter(|&(f, e)| c.seam[f][e] && input.topology.across(f, e).is_some_and(|(g, _)| g > f))
+        .collect();
+    let lay = Layout {
+        wedges: c.wedge_count,
+        seams,
+    };
+    let mut el = Eliminator::new(lay.len(), 2 * lay.wedges);
+    let mut conflicts = seam_constraints(&mut el, input, &c, &lay);
+    let boundary = boundary_constraints(&mut el, input, &c, &frames, &lay);
+    gauge(&mut el, input, &c, &lay);
+    let mut quantities: Vec<Vec<(usize, f64)>> = Vec::new();
+    for k in &input.field.cones {
+        if let Some((f, i)) = (0..nf).find_map(|f| {
+            mesh.triangles[f]
+                .iter()
+                .position(|&v| v == k.vertex)
+                .map(|i| (f, i))
+        }) {
+            quantities.push(vec![(lay.w(c.wedge[f][i], 0), 1.0)]);
+            quantities.push(vec![(lay.w(c.wedge[f][i], 1), 1.0)]);
+        }
+    }
+    let first = quantities.len();
+    for s in 0..lay.seams.len() {
+        quantities.push(vec![(lay.t(s, 0), 1.0)]);
+        quantities.push(vec![(lay.t(s, 1), 1.0)]);
+    }
+    quantities.extend(boundary);
+    let rows = energy_rows(input, &c, &frames, &lay);
+    let (x, energy, steps, more) = if input.round {
+        round(
+            &mut el,
+            &rows,
+            &Integers { quantities, first },
+            input.batch_fraction.clamp(1e-3, 1.0),
+        )?
+    } else {
+        let (x, e) = solve(&el, &rows)?;
+        (x, e, 0, 0)
+    };
+    conflicts += more;
+    let uv = (0..nf)
+        .map(|f| {
+            std::array::from_fn(|i| {
+                DVec2::new(x[lay.w(c.wedge[f][i], 0)], x[lay.w(c.wedge[f][i], 1)])
+            })
+        })
+        .collect();
+    Some(GridMap {
+        uv,
+        cut: c,
+        frames,
+        cones: input.field.cones.clone(),
+        topology: input.topology.clone(),
+        energy,
+        rounding_steps: steps,
+        conflicts,
+    })
+}
