@@ -3,6 +3,8 @@
 //! surfaces, integer seam transitions, and Ebke §3's claim that filtered
 //! normals remove cones caused by detail below the target edge.
 
+mod common;
+
 use glam::DVec3;
 use quadrille::mesh::TriMesh;
 use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
@@ -295,15 +297,6 @@ fn cli_writes_split_texture_coordinates_and_stats() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-fn shared_mesh(name: &str) -> TriMesh {
-    let dir = std::env::var("QUADRILLE_MESHES").unwrap_or_else(|_| "../shared/meshes".into());
-    let path = format!("{dir}/{name}");
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    quadrille::io::import(&bytes, &path)
-        .expect("a valid mesh")
-        .mesh
-}
-
 /// Campen et al. 2016 §5: with the filtered smooth regions ({0, ∞} cross
 /// field constraints and the {0, 5} parametrization weight) the map is
 /// better aligned with the principal directions than with feature-vertex
@@ -312,7 +305,7 @@ fn shared_mesh(name: &str) -> TriMesh {
 #[test]
 fn smooth_regions_lower_misalignment_on_fandisk_and_rocker_arm() {
     for name in ["fandisk.obj", "rocker-arm.obj"] {
-        let mesh = shared_mesh(name);
+        let mesh = common::mesh(name);
         let mut measured = Vec::new();
         for alignment in [
             param::Alignment::FeatureVertices,

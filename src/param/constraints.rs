@@ -76,20 +76,30 @@ impl Eliminator {
         }
     }
 
-    /// Adds `Σ c_i x_i = b`; the pivot is the first surviving term below
-    /// the preferred index, else the first surviving term.
+    /// Adds `Σ c_i x_i = b`. The pivot is the first surviving term with a
+    /// unit coefficient below the preferred index, else with a unit
+    /// coefficient anywhere, else the first surviving term (below the
+    /// preferred index first). Unit pivots keep integer expressions
+    /// integer: at a quarter cone the seam constraints read
+    /// (I − R) w = t, and solving them for w (coefficients ½) would make
+    /// the translations half-integers once the cone is rounded, where
+    /// solving for t keeps t integer for an integer w.
     pub fn add(&mut self, terms: &[(usize, f64)], b: f64, tolerance: f64) -> Added {
         let e = self.reduce(terms, -b);
         let pick = |e: &Expr| {
             let order: Vec<usize> = terms.iter().map(|t| t.0).collect();
-            let first = |pred: &dyn Fn(usize) -> bool| {
+            let first = |pred: &dyn Fn(usize, f64) -> bool| {
                 order
                     .iter()
                     .copied()
                     .chain(e.terms.iter().map(|t| t.0))
-                    .find(|&i| pred(i) && e.terms.iter().any(|t| t.0 == i && t.1.abs() > 0.5))
+                    .find(|&i| e.terms.iter().any(|t| t.0 == i && pred(i, t.1.abs())))
             };
-            first(&|i| i < self.preferred).or_else(|| first(&|_| true))
+            let unit = |c: f64| (c - 1.0).abs() < 1e-9;
+            first(&|i, c| i < self.preferred && unit(c))
+                .or_else(|| first(&|_, c| unit(c)))
+                .or_else(|| first(&|i, c| i < self.preferred && c > 0.5))
+                .or_else(|| first(&|_, c| c > 0.5))
         };
         let Some(p) = pick(&e).or_else(|| e.terms.first().map(|t| t.0)) else {
             return if e.constant.abs() <= tolerance {
@@ -190,5 +200,26 @@ mod tests {
         assert!(matches!(el.add(&[(2, 1.0)], 5.0, 1e-9), Added::Conflict(_)));
         let x = el.expand(&[0.0, 0.0, 0.0, 7.0]);
         assert_eq!(x, vec![3.0, 3.0, 4.0, 7.0]);
+    }
+
+    /// A quarter cone at w = (w0, w1) with seam translation t = (t0, t1):
+    /// (I − R) w = t with R the quarter rotation, i.e. w0 + w1 = t0 and
+    /// w1 − w0 = t1. With the wedge variables preferred, the unit pivot
+    /// keeps t an integer expression of w: for an integer cone position
+    /// the translations come out integer (solving for w would give
+    /// w = ((t0 − t1)/2, (t0 + t1)/2)).
+    #[test]
+    fn quarter_cone_keeps_the_translations_integer() {
+        let (w0, w1, t0, t1) = (0, 1, 2, 3);
+        let mut el = Eliminator::new(4, 2);
+        el.add(&[(w0, 1.0), (w1, 1.0), (t0, -1.0)], 0.0, 1e-9);
+        el.add(&[(w1, 1.0), (w0, -1.0), (t1, -1.0)], 0.0, 1e-9);
+        el.add(&[(w0, 1.0)], 3.0, 1e-9);
+        el.add(&[(w1, 1.0)], -2.0, 1e-9);
+        let x = el.expand(&[0.0; 4]);
+        assert_eq!(x, vec![3.0, -2.0, 1.0, -5.0]);
+        for q in [t0, t1] {
+            assert!(el.reduce(&[(q, 1.0)], 0.0).terms.is_empty());
+        }
     }
 }

@@ -29,7 +29,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::constraints::{Added, Eliminator};
+use super::constraints::{Added, Eliminator, Expr};
 use super::cross_field::{Cone, CrossField, face_components};
 use super::cut::{Cut, CutInput, cut};
 use super::solve::{NormalEquations, SpdFactor};
@@ -417,10 +417,38 @@ fn round(
         };
         for &(_, q, value) in open.iter().take(batch) {
             done[q] = true;
-            el.add(&ints.quantities[q], value.round(), 1e-6);
+            let target = nearest_reachable_integer(&el.reduce(&ints.quantities[q], 0.0), value);
+            el.add(&ints.quantities[q], target, 1e-6);
         }
         steps += 1;
     }
+}
+
+/// The integer nearest `value` that the quantity `expr` (reduced to free
+/// variables) can take with integer free variables: with integer
+/// coefficients of greatest common divisor g and an integer constant k,
+/// only k + gℤ is reachable (a translation that the earlier roundings
+/// tied to 2t + 13 must become odd, or rounding it would leave t at a
+/// half-integer). Otherwise the nearest integer.
+fn nearest_reachable_integer(expr: &Expr, value: f64) -> f64 {
+    let integral = |x: f64| (x - x.round()).abs() < 1e-9;
+    if !integral(expr.constant) || !expr.terms.iter().all(|t| integral(t.1)) {
+        return value.round();
+    }
+    let g = expr
+        .terms
+        .iter()
+        .map(|t| t.1.round().abs() as u64)
+        .fold(0, gcd);
+    if g <= 1 {
+        return value.round();
+    }
+    let (g, k) = (g as f64, expr.constant.round());
+    k + g * ((value - k) / g).round()
+}
+
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 /// Computes the map; None when a solve fails.
@@ -505,4 +533,38 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
         rounding_steps: steps,
         conflicts,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rounding_targets_are_reachable_with_integer_unknowns() {
+        // q = 2t + 13: only odd values are reachable.
+        let odd = Expr {
+            terms: vec![(7, 2.0)],
+            constant: 13.0,
+        };
+        assert_eq!(nearest_reachable_integer(&odd, 20.2), 21.0);
+        assert_eq!(nearest_reachable_integer(&odd, 18.9), 19.0);
+        // q = 3a − 6b + 1: 1 + 3ℤ.
+        let three = Expr {
+            terms: vec![(0, 3.0), (1, -6.0)],
+            constant: 1.0,
+        };
+        assert_eq!(nearest_reachable_integer(&three, -0.6), -2.0);
+        assert_eq!(nearest_reachable_integer(&three, 2.6), 4.0);
+        // Unit coefficient or fractional data: the nearest integer.
+        let unit = Expr {
+            terms: vec![(0, 1.0), (1, 2.0)],
+            constant: 0.0,
+        };
+        assert_eq!(nearest_reachable_integer(&unit, 2.6), 3.0);
+        let half = Expr {
+            terms: vec![(0, 0.5)],
+            constant: 0.0,
+        };
+        assert_eq!(nearest_reachable_integer(&half, 2.4), 2.0);
+    }
 }
