@@ -78,6 +78,10 @@ ROWS = {
     "+odd-face pairing": {"extraction": {"post": {"pair_non_quads_degrees": 60}}},
     "+3 smoothing steps": {"extraction": {"post": {"smoothing_iterations": 3}}},
     "default": None,
+    # Overlays on the defaults: Instant Meshes' own pure-quad route (extract
+    # at a quarter of the count, one split), with the odd-face pairing off.
+    "default + pure quad": ("default", {"extraction": {"pure_quad": True,
+                                                      "post": {"pair_non_quads_degrees": 0}}}),
 }
 
 
@@ -106,8 +110,10 @@ def run_quadrille(args, src, stem, overlay, target):
     cmd = [args.bin, "remesh", src, "-o", out, "--stats", stats, "--vertices", str(target)]
     if overlay is not None:
         pfile = stem + "-params.json"
+        # ("default", o): o on Quadrille's defaults; a dict: on IM_EQUIVALENT.
+        params = overlay[1] if isinstance(overlay, tuple) else merged(IM_EQUIVALENT, overlay)
         with open(pfile, "w") as f:
-            json.dump(merged(IM_EQUIVALENT, overlay), f)
+            json.dump(params, f)
         cmd += ["--params", pfile]
     rc, _, err, wall, _ = compare.run_measured(cmd, timeout=args.timeout)
     if rc != 0:

@@ -146,3 +146,45 @@ fn same_seed_same_mesh() {
     };
     assert_eq!(run(), run());
 }
+
+/// The pure-quad route (Instant Meshes' step 9 and 10: one split, then the
+/// smoothing): all quads, closed, the target honoured by the split mesh,
+/// every vertex on the input, and the smoothing after the split evens out
+/// the split triangles' and pentagons' quads (lower mean corner deviation
+/// than the split alone).
+#[test]
+fn pure_quad_split_is_closed_on_the_surface_and_smoothed() {
+    let mut deviation = Vec::new();
+    for smoothing in [0, 3] {
+        let mut params = Params::default();
+        params.sizing.target_vertex_count = Some(600);
+        params.extraction.pure_quad = true;
+        params.extraction.post.smoothing_iterations = smoothing;
+        let input = from_mesh(generate::icosphere(1.0, 4));
+        // The import normalises (largest axis 1): the radius it gives.
+        let radius = input.mesh.positions[0].length();
+        let (_, out) = remesh(input, params);
+        let t = out.topology();
+        assert!(t.is_closed_manifold(), "{t:?}");
+        assert_eq!(t.genus(), Some(0));
+        let faces = out.to_face_list();
+        assert!(faces.iter().all(|f| f.len() == 4));
+        let miss = (out.vertex_count() as f64 - 600.0).abs() / 600.0;
+        assert!(miss <= 0.10, "{} vertices for 600", out.vertex_count());
+        // Within the chordal error of the level-4 icosphere (edge ≈ 0.08 r).
+        for p in &out.positions {
+            assert!((p.length() / radius - 1.0).abs() < 2e-3, "{p}");
+        }
+        let q = quadrille::metrics::quad_metrics(&out.positions, &faces);
+        println!(
+            "smoothing {smoothing}: {} vertices, corner deviation {:.2}°",
+            out.vertex_count(),
+            q.corner_angle_deviation_degrees
+        );
+        deviation.push(q.corner_angle_deviation_degrees);
+    }
+    assert!(deviation[1] < deviation[0], "{deviation:?}");
+    // Measured: 8.0° unsmoothed, 5.4° with the smoothing before the split
+    // only, 4.0° with the smoothing after it as well.
+    assert!(deviation[1] < 5.0, "{deviation:?}");
+}

@@ -283,6 +283,8 @@ pub fn post_process(
     };
     let mut repair_report = RepairReport::default();
     let (mut mesh, map) = repair::repair(faces, &mut g, &rules, &mut repair_report);
+    // The graph's attributes per vertex of `mesh`.
+    let mut mesh_graph = g.select(&map);
     // The rebuild's repair can leave odd faces of its own (a removed vertex
     // turns its quads into triangles): pair them once more.
     if p.pair_non_quads_degrees > 0.0 {
@@ -300,15 +302,16 @@ pub fn post_process(
             );
             if m > 0 {
                 report.non_quad_pairs_merged += m;
-                let (again, _) = repair::repair(faces, &mut g2, &rules, &mut repair_report);
+                let (again, map2) = repair::repair(faces, &mut g2, &rules, &mut repair_report);
                 mesh = again;
+                mesh_graph = g2.select(&map2);
             }
         }
     }
     if params.pure_quad {
         progress.report(0.9, "pure-quad split")?;
         if let Ok(split) = pure_quad::catmull_clark_split(&mesh, surface) {
-            mesh = split;
+            mesh = split_and_smooth(&mesh, split, mesh_graph, p, surface);
         }
     }
     Ok(PostProcessed {
@@ -316,4 +319,38 @@ pub fn post_process(
         report,
         repair: repair_report,
     })
+}
+
+/// The split mesh's new points (edge midpoints, face centroids) relaxed by
+/// the post-processing's smoothing, as Instant Meshes smooths after its
+/// split (digest §5.11–5.12): the centroid of a split triangle or pentagon
+/// is a valence-3 or -5 vertex whose quads the smoothing evens out. The
+/// old vertices get the attributes of `graph` (one entry per vertex of
+/// `coarse`); an edge point is on the boundary when its edge is.
+fn split_and_smooth(
+    coarse: &PolyMesh,
+    mut split: PolyMesh,
+    mut graph: Graph,
+    p: &PostProcessParams,
+    surface: Option<&SurfaceIndex>,
+) -> PolyMesh {
+    let nv = coarse.vertex_count();
+    if graph.len() != nv || split.vertex_count() != nv + coarse.edge_count() + coarse.face_count() {
+        return split;
+    }
+    for e in 0..coarse.edge_count() as u32 {
+        let h = 2 * e;
+        let k = graph.push_copy(coarse.origin(h) as usize) as usize;
+        graph.boundary[k] = coarse.is_boundary_halfedge(h) || coarse.is_boundary_halfedge(h ^ 1);
+    }
+    for f in 0..coarse.face_count() as u32 {
+        let corner = coarse.origin(coarse.face_halfedge(f));
+        let k = graph.push_copy(corner as usize) as usize;
+        graph.boundary[k] = false;
+    }
+    graph.pos.clone_from(&split.positions);
+    let faces: Vec<Vec<u32>> = split.to_face_list().iter().map(|f| f.to_vec()).collect();
+    postprocess::smooth(&faces, &mut graph, p, surface);
+    split.positions = graph.pos;
+    split
 }
