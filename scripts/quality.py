@@ -82,6 +82,10 @@ ROWS = {
     # at a quarter of the count, one split), with the odd-face pairing off.
     "default + pure quad": ("default", {"extraction": {"pure_quad": True,
                                                       "post": {"pair_non_quads_degrees": 0}}}),
+    # Folded quads split into triangles before the second pairing, whose
+    # quads keep every corner within 10°–170°.
+    "default + reflex split": ("default", {"extraction": {"post": {"split_reflex_degrees": 170,
+                                                                  "pair_max_corner_deviation": 80}}}),
 }
 
 

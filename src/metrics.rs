@@ -126,6 +126,13 @@ fn interior_angle(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> f64 {
     }
 }
 
+/// The interior corner angles (radians) of quad `p`, its normal the cross
+/// product of its diagonals; a reflex corner reads above π.
+pub fn quad_corner_angles(p: &[DVec3; 4]) -> [f64; 4] {
+    let normal = (p[2] - p[0]).cross(p[3] - p[1]);
+    std::array::from_fn(|i| interior_angle(p[(i + 3) % 4], p[i], p[(i + 1) % 4], normal))
+}
+
 /// The shape of the quads of any polygon soup (manifold or not): corner
 /// angles, planarity, edge ratios, quad quality.
 pub fn quad_metrics(positions: &[DVec3], faces: &FaceList) -> QuadMetrics {
@@ -135,12 +142,9 @@ pub fn quad_metrics(positions: &[DVec3], faces: &FaceList) -> QuadMetrics {
     let mut distorted = 0usize;
     for vs in faces.iter().filter(|f| f.len() == 4) {
         quad.quads += 1;
-        let p: Vec<DVec3> = vs.iter().map(|&v| positions[v as usize]).collect();
+        let p: [DVec3; 4] = std::array::from_fn(|i| positions[vs[i] as usize]);
         planarity += (0.5 * (p[0] + p[2])).distance(0.5 * (p[1] + p[3]));
-        let normal = (p[2] - p[0]).cross(p[3] - p[1]);
-        let a: Vec<f64> = (0..4)
-            .map(|i| interior_angle(p[(i + 3) % 4], p[i], p[(i + 1) % 4], normal))
-            .collect();
+        let a = quad_corner_angles(&p);
         let l: Vec<f64> = (0..4).map(|i| p[i].distance(p[(i + 1) % 4])).collect();
         let half_pi = std::f64::consts::FRAC_PI_2;
         let o: f64 = a.iter().map(|x| (x - half_pi).abs()).sum();
