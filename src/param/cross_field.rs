@@ -276,11 +276,43 @@ fn relaxation_system(r: &Relaxation<'_>) -> (NormalEquations, Vec<usize>, usize)
     (eq, var, n)
 }
 
+/// The relaxation's system, factorized once for both starts: the
+/// smoothness matrix L (inverse iteration) and L + λM (the unit-length
+/// steps).
+struct RelaxedSystem {
+    eq: NormalEquations,
+    var: Vec<usize>,
+    n: usize,
+    factor: SpdFactor,
+    unit_factor: SpdFactor,
+}
+
+impl RelaxedSystem {
+    fn new(r: &Relaxation<'_>) -> Option<RelaxedSystem> {
+        let (eq, var, n) = relaxation_system(r);
+        let factor = SpdFactor::new(n, &eq.triplets)?;
+        let mut triplets = eq.triplets.clone();
+        for (f, &v) in var.iter().enumerate() {
+            if v != usize::MAX {
+                triplets.push((v, v, UNIT_LAMBDA * r.mass[f]));
+                triplets.push((v + 1, v + 1, UNIT_LAMBDA * r.mass[f]));
+            }
+        }
+        let unit_factor = SpdFactor::new(n, &triplets)?;
+        Some(RelaxedSystem {
+            eq,
+            var,
+            n,
+            factor,
+            unit_factor,
+        })
+    }
+}
+
 /// Step (1): the smoothest field in the 4th-power representation.
-fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
+fn relaxed_angles(r: &Relaxation<'_>, sys: &RelaxedSystem, random_start: bool) -> Option<Vec<f64>> {
     let nf = r.fixed.len();
-    let (eq, var, n) = relaxation_system(r);
-    let factor = SpdFactor::new(n, &eq.triplets)?;
+    let (eq, var, n) = (&sys.eq, &sys.var, sys.n);
     let mut constrained_component = vec![false; nf];
     for f in 0..nf {
         if r.fixed[f].is_some() {
@@ -313,10 +345,10 @@ fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
                 b[var[f] + 1] += r.mass[f] * x[var[f] + 1];
             }
         }
-        x = factor.solve(&[b])?.pop()?;
-        normalise_free_components(&mut x, &var, r.components, &constrained_component);
+        x = sys.factor.solve(&[b])?.pop()?;
+        normalise_free_components(&mut x, var, r.components, &constrained_component);
     }
-    unit_length_iterations(&eq, &var, r.mass, &mut x)?;
+    unit_length_iterations(sys, r.mass, &mut x)?;
     Some(
         (0..nf)
             .map(|f| match r.fixed[f] {
@@ -331,36 +363,22 @@ fn relaxed_angles(r: &Relaxation<'_>, random_start: bool) -> Option<Vec<f64>> {
 /// degenerate eigenspaces, e.g. the round sphere's): a few steps of
 /// z ← (L + λM)⁻¹(λM·z/|z| + b), diffusion with re-normalisation per face
 /// (the MBO scheme of Viertel & Osting 2019 for cross fields).
-fn unit_length_iterations(
-    eq: &NormalEquations,
-    var: &[usize],
-    mass: &[f64],
-    x: &mut Vec<f64>,
-) -> Option<()> {
-    let (lambda, steps) = (UNIT_LAMBDA, UNIT_STEPS);
+fn unit_length_iterations(sys: &RelaxedSystem, mass: &[f64], x: &mut Vec<f64>) -> Option<()> {
     if x.is_empty() {
         return Some(());
     }
-    let mut triplets = eq.triplets.clone();
-    for (f, &v) in var.iter().enumerate() {
-        if v != usize::MAX {
-            triplets.push((v, v, lambda * mass[f]));
-            triplets.push((v + 1, v + 1, lambda * mass[f]));
-        }
-    }
-    let factor = SpdFactor::new(x.len(), &triplets)?;
-    for _ in 0..steps {
-        let mut b = eq.rhs.clone();
-        for (f, &v) in var.iter().enumerate() {
+    for _ in 0..UNIT_STEPS {
+        let mut b = sys.eq.rhs.clone();
+        for (f, &v) in sys.var.iter().enumerate() {
             if v != usize::MAX {
                 let z = DVec2::new(x[v], x[v + 1])
                     .try_normalize()
                     .unwrap_or(DVec2::X);
-                b[v] += lambda * mass[f] * z.x;
-                b[v + 1] += lambda * mass[f] * z.y;
+                b[v] += UNIT_LAMBDA * mass[f] * z.x;
+                b[v + 1] += UNIT_LAMBDA * mass[f] * z.y;
             }
         }
-        *x = factor.solve(&[b])?.pop()?;
+        *x = sys.unit_factor.solve(&[b])?.pop()?;
     }
     Some(())
 }
@@ -401,56 +419,86 @@ fn round_period_jumps(topology: &EdgeTopology, kappa: &[[f64; 3]], theta: &[f64]
 }
 
 /// Step (3): θ minimising E_smooth for fixed p (one θ per unconstrained
-/// component is held at its current value as the gauge).
-fn resolve_angles(r: &Relaxation<'_>, p: &[[i32; 3]], theta: &[f64]) -> Option<Vec<f64>> {
-    let nf = theta.len();
-    let mut fixed: Vec<Option<f64>> = r.fixed.to_vec();
-    let mut has_fixed = vec![false; nf];
-    for f in 0..nf {
-        has_fixed[r.components[f] as usize] |= fixed[f].is_some();
-    }
-    for f in 0..nf {
-        let c = r.components[f] as usize;
-        if !has_fixed[c] {
-            fixed[f] = Some(theta[f]);
-            has_fixed[c] = true;
+/// component is held at its value in the first θ as the gauge). The
+/// matrix depends only on which faces are fixed, so it is factorized once
+/// and every round only changes the right-hand side.
+struct AngleSystem {
+    /// The fixed angle per face (constraints and gauges).
+    fixed: Vec<Option<f64>>,
+    /// Unknown index per free face (`usize::MAX` when fixed).
+    var: Vec<usize>,
+    factor: SpdFactor,
+}
+
+impl AngleSystem {
+    fn new(r: &Relaxation<'_>, theta: &[f64]) -> Option<AngleSystem> {
+        let nf = theta.len();
+        let mut fixed: Vec<Option<f64>> = r.fixed.to_vec();
+        let mut has_fixed = vec![false; nf];
+        for f in 0..nf {
+            has_fixed[r.components[f] as usize] |= fixed[f].is_some();
         }
-    }
-    let mut var = vec![usize::MAX; nf];
-    let mut n = 0;
-    for f in 0..nf {
-        if fixed[f].is_none() {
-            var[f] = n;
-            n += 1;
-        }
-    }
-    let mut eq = NormalEquations::new(n);
-    for f in 0..nf {
-        for e in 0..3 {
-            let Some((g, _)) = r.topology.across(f, e) else {
-                continue;
-            };
-            if g < f {
-                continue;
+        for f in 0..nf {
+            let c = r.components[f] as usize;
+            if !has_fixed[c] {
+                fixed[f] = Some(theta[f]);
+                has_fixed[c] = true;
             }
-            // θ_f − θ_g = −κ − (π/2) p.
-            let mut b = -r.kappa[f][e] - FRAC_PI_2 * p[f][e] as f64;
-            let mut entries = Vec::with_capacity(2);
-            for (face, c) in [(f, 1.0), (g, -1.0)] {
-                match fixed[face] {
-                    Some(t) => b -= c * t,
-                    None => entries.push((var[face], c)),
+        }
+        let mut var = vec![usize::MAX; nf];
+        let mut n = 0;
+        for f in 0..nf {
+            if fixed[f].is_none() {
+                var[f] = n;
+                n += 1;
+            }
+        }
+        let mut system = AngleSystem {
+            fixed,
+            var,
+            factor: SpdFactor::new(0, &[])?,
+        };
+        let eq = system.equations(r, n, None);
+        system.factor = SpdFactor::new(n, &eq.triplets)?;
+        Some(system)
+    }
+
+    /// The normal equations of θ_f − θ_g = −κ − (π/2) p over the dual
+    /// edges (the right-hand side zero without `p`).
+    fn equations(&self, r: &Relaxation<'_>, n: usize, p: Option<&[[i32; 3]]>) -> NormalEquations {
+        let mut eq = NormalEquations::new(n);
+        for f in 0..self.fixed.len() {
+            for e in 0..3 {
+                let Some((g, _)) = r.topology.across(f, e) else {
+                    continue;
+                };
+                if g < f {
+                    continue;
                 }
+                let mut b = p.map_or(0.0, |p| -r.kappa[f][e] - FRAC_PI_2 * p[f][e] as f64);
+                let mut entries = Vec::with_capacity(2);
+                for (face, c) in [(f, 1.0), (g, -1.0)] {
+                    match self.fixed[face] {
+                        Some(t) => b -= if p.is_some() { c * t } else { 0.0 },
+                        None => entries.push((self.var[face], c)),
+                    }
+                }
+                eq.row(1.0, &entries, b);
             }
-            eq.row(1.0, &entries, b);
         }
+        eq
     }
-    let x = SpdFactor::new(n, &eq.triplets)?.solve(&[eq.rhs])?.pop()?;
-    Some(
-        (0..nf)
-            .map(|f| fixed[f].unwrap_or_else(|| x[var[f]]))
-            .collect(),
-    )
+
+    fn solve(&self, r: &Relaxation<'_>, p: &[[i32; 3]]) -> Option<Vec<f64>> {
+        let n = self.var.iter().filter(|&&v| v != usize::MAX).count();
+        let eq = self.equations(r, n, Some(p));
+        let x = self.factor.solve(&[eq.rhs])?.pop()?;
+        Some(
+            (0..self.fixed.len())
+                .map(|f| self.fixed[f].unwrap_or_else(|| x[self.var[f]]))
+                .collect(),
+        )
+    }
 }
 
 fn smoothness_energy(
@@ -485,12 +533,13 @@ fn has_free_component(r: &Relaxation<'_>) -> bool {
 
 /// Steps (2)–(3), repeated.
 fn round_and_resolve(r: &Relaxation<'_>, mut theta: Vec<f64>) -> Option<(Vec<f64>, Vec<[i32; 3]>)> {
+    let system = AngleSystem::new(r, &theta)?;
     let mut p = round_period_jumps(r.topology, r.kappa, &theta);
     for _ in 0..ROUNDS {
-        theta = resolve_angles(r, &p, &theta)?;
+        theta = system.solve(r, &p)?;
         p = round_period_jumps(r.topology, r.kappa, &theta);
     }
-    theta = resolve_angles(r, &p, &theta)?;
+    theta = system.solve(r, &p)?;
     Some((theta, p))
 }
 
@@ -525,9 +574,10 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     } else {
         &[false]
     };
+    let system = RelaxedSystem::new(&r)?;
     let mut best: Option<(f64, Vec<f64>, Vec<[i32; 3]>)> = None;
     for &random in starts {
-        let (theta, p) = round_and_resolve(&r, relaxed_angles(&r, random)?)?;
+        let (theta, p) = round_and_resolve(&r, relaxed_angles(&r, &system, random)?)?;
         let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
         if best.as_ref().is_none_or(|b| energy < b.0) {
             best = Some((energy, theta, p));
