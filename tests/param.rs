@@ -333,3 +333,43 @@ fn smooth_regions_lower_misalignment_on_fandisk_and_rocker_arm() {
         assert!(sr.misalignment_degrees < fv.misalignment_degrees);
     }
 }
+
+/// Feature curves on integer isolines (Bommes et al. 2009 §4): with
+/// `feature_curve_degrees`, every edge of fandisk's sharp curves keeps one
+/// coordinate constant along it and at an integer, on both sides, and
+/// the map's cross field follows the curves (misalignment to the
+/// principal directions drops: the features are where curvature is
+/// largest).
+#[test]
+fn fandisk_feature_curves_lie_on_integer_isolines() {
+    let mesh = common::mesh("fandisk.obj");
+    let params = Params {
+        feature_curve_degrees: 60.0,
+        ..Params::default()
+    };
+    let r = param::run(&mesh, &params, &|| 0.0).expect("a map");
+    assert_eq!(r.map.conflicts, 0);
+    let mut count = 0;
+    for (f, edges) in r.prepared.feature_edges.iter().enumerate() {
+        for e in (0..3).filter(|&e| edges[e]) {
+            let (a, b) = (r.map.uv[f][e], r.map.uv[f][(e + 1) % 3]);
+            let on_isoline = |x: f64, y: f64| (x - y).abs() < 1e-9 && (x - x.round()).abs() < 1e-9;
+            assert!(
+                on_isoline(a.x, b.x) || on_isoline(a.y, b.y),
+                "face {f} edge {e}: {a} – {b}"
+            );
+            count += 1;
+        }
+    }
+    // Both sides of every feature edge.
+    assert!(count > 200 && count % 2 == 0, "{count} feature edge sides");
+    let plain = param::run(&mesh, &Params::default(), &|| 0.0).expect("a map");
+    println!(
+        "fandisk: {count} feature edge sides, misalignment {:.2}° → {:.2}°, flips {} → {}",
+        plain.measures.misalignment_degrees,
+        r.measures.misalignment_degrees,
+        plain.measures.flipped_triangles,
+        r.measures.flipped_triangles
+    );
+    assert!(r.measures.misalignment_degrees < 0.5 * plain.measures.misalignment_degrees);
+}

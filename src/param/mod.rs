@@ -80,6 +80,16 @@ pub struct Params {
     pub smooth_regions: SmoothRegionParams,
     /// Campen §4.2's w in the {0, w} weight field. Default 5.
     pub region_weight: f64,
+    /// Sharp edges (face normals more than this many degrees apart) on
+    /// curves at least one target edge long are feature curves: their
+    /// faces' crosses contain them and they lie on integer isolines
+    /// (Bommes et al. 2009 §4, as Ebke §5 keeps them). 0 turns it off.
+    /// Default 0 (off): at 60° fandisk's misalignment falls 25.2° → 5.3°,
+    /// but without cones placed at the curves' corners the map folds
+    /// (flipped triangles fandisk 5 → 144, rocker-arm 26 → 40, bunny
+    /// 76 → 105, cow 694 → 1067; at 40° fandisk 314 and 4 integer
+    /// conflicts on the cow).
+    pub feature_curve_degrees: f64,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
     pub round: bool,
@@ -97,6 +107,7 @@ impl Default for Params {
             sigma_factor: 0.5,
             truncation: 2.0,
             alignment: Alignment::None,
+            feature_curve_degrees: 0.0,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
             round: true,
@@ -124,6 +135,8 @@ pub struct Prepared {
     pub topology: EdgeTopology,
     pub fans: Vec<Option<Fan>>,
     pub regions: Option<SmoothRegions>,
+    /// Per face edge: on a feature curve (see [`Params::feature_curve_degrees`]).
+    pub feature_edges: Vec<[bool; 3]>,
 }
 
 /// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
@@ -163,6 +176,13 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
     let fans = vertex_fans(mesh, &topology);
     let regions = matches!(params.alignment, Alignment::SmoothRegions | Alignment::Both)
         .then(|| smooth_regions(mesh, &analysis.curvature, &params.smooth_regions));
+    let feature_edges = feature_curves(
+        mesh,
+        &topology,
+        &analysis.face_normals,
+        &face_sizing,
+        params,
+    );
     Prepared {
         analysis,
         face_sizing,
@@ -170,11 +190,69 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         topology,
         fans,
         regions,
+        feature_edges,
     }
 }
 
+/// The feature-curve edges: interior edges whose faces' normals differ by
+/// more than `feature_curve_degrees`, grouped into curves by shared
+/// vertices; curves shorter than the mean target edge along them are
+/// dropped (an isolated sharp edge of a scan is noise, and snapping it to
+/// an isoline would only distort the map).
+fn feature_curves(
+    mesh: &TriMesh,
+    topology: &EdgeTopology,
+    face_normals: &[DVec3],
+    face_sizing: &[f64],
+    params: &Params,
+) -> Vec<[bool; 3]> {
+    let nf = mesh.face_count();
+    let mut sharp = vec![[false; 3]; nf];
+    if params.feature_curve_degrees <= 0.0 {
+        return sharp;
+    }
+    let cos = params.feature_curve_degrees.to_radians().cos();
+    let mut curves = crate::mesh::UnionFind::new(mesh.vertex_count());
+    let mut edges = Vec::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let Some((g, _)) = topology.across(f, e) else {
+                continue;
+            };
+            let (nf_, ng) = (
+                face_normals[f].normalize_or_zero(),
+                face_normals[g].normalize_or_zero(),
+            );
+            if f < g && nf_.dot(ng) < cos {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                curves.union(a, b);
+                edges.push((f, e, g, a, b));
+            }
+        }
+    }
+    let mut length = vec![0.0; mesh.vertex_count()];
+    let mut sizing = vec![(0.0, 0.0); mesh.vertex_count()];
+    for &(f, _, g, a, b) in &edges {
+        let r = curves.find(a) as usize;
+        length[r] += mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+        sizing[r].0 += 0.5 * (face_sizing[f] + face_sizing[g]);
+        sizing[r].1 += 1.0;
+    }
+    for &(f, e, g, a, _) in &edges {
+        let r = curves.find(a) as usize;
+        if length[r] >= sizing[r].0 / sizing[r].1 {
+            sharp[f][e] = true;
+            if let Some((_, ge)) = topology.across(f, e) {
+                sharp[g][ge] = true;
+            }
+        }
+    }
+    sharp
+}
+
 /// Per face: the direction its cross must contain — the boundary edge on
-/// boundary faces (the first one), else feature / smooth-region
+/// boundary faces and on feature curves (the first such edge), else
+/// feature-vertex / smooth-region
 /// directions by `params.alignment`.
 pub fn alignment_constraints(mesh: &TriMesh, p: &Prepared, params: &Params) -> Vec<Option<DVec3>> {
     let nf = mesh.face_count();
@@ -203,7 +281,8 @@ pub fn alignment_constraints(mesh: &TriMesh, p: &Prepared, params: &Params) -> V
         }
     }
     for (f, t) in mesh.triangles.iter().enumerate() {
-        if let Some(e) = (0..3).find(|&e| p.topology.opposite[f][e] == NO_FACE) {
+        let edge = (0..3).find(|&e| p.topology.opposite[f][e] == NO_FACE || p.feature_edges[f][e]);
+        if let Some(e) = edge {
             out[f] = Some(mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]);
         }
     }
@@ -252,6 +331,7 @@ pub fn grid_map_of(
         round: params.round,
         batch_fraction: params.batch_fraction,
         region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
+        feature_edges: &p.feature_edges,
     })
     .ok_or(ParamError::Solve("parametrization"))
 }

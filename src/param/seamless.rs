@@ -104,6 +104,9 @@ pub struct MapInput<'a> {
     /// Campen §4.2's {0, w} alignment: per face the unit a_min where the
     /// weight applies (filtered smooth regions), and w.
     pub region_alignment: Option<(&'a [Option<DVec3>], f64)>,
+    /// Per face edge: a feature curve, which lies on an integer isoline
+    /// like the boundary (empty: none).
+    pub feature_edges: &'a [[bool; 3]],
 }
 
 /// The integer-grid map.
@@ -214,7 +217,8 @@ fn seam_constraints(el: &mut Eliminator, input: &MapInput<'_>, c: &Cut, lay: &La
     conflicts
 }
 
-/// Boundary isolines; returns the integer quantities they add.
+/// Boundary and feature-curve isolines; returns the integer quantities
+/// they add.
 fn boundary_constraints(
     el: &mut Eliminator,
     input: &MapInput<'_>,
@@ -225,7 +229,11 @@ fn boundary_constraints(
     let mut out = Vec::new();
     for (f, t) in input.mesh.triangles.iter().enumerate() {
         for e in 0..3 {
-            if input.topology.across(f, e).is_some() {
+            // A feature edge once, from its lower face (the other side
+            // follows through the transition).
+            let feature = input.feature_edges.get(f).is_some_and(|s| s[e])
+                && input.topology.across(f, e).is_some_and(|(g, _)| g > f);
+            if input.topology.across(f, e).is_some() && !feature {
                 continue;
             }
             let d =
