@@ -491,14 +491,14 @@ pub fn smooth(
 /// number of quads split.
 ///
 /// Off by default (0): measured on the shared meshes at their default
-/// targets (docs/QUALITY.md's method, at 170° with
-/// `pair_max_corner_deviation` 80°) it takes the largest corner from
-/// 185–281° to 169–170° on fandisk, rocker-arm, spot, the bunny and the
-/// cow, but the triangles it leaves raise the odd faces by 0.3–1.1
-/// points there and on suzanne (31 vertices) from 6.7 % to 18.8 %, over
-/// the 10 % the extraction tests allow. Putting back the splits the
-/// pairing could not use keeps the odd faces but leaves the folded quads
-/// on spot, the bunny and the cow (212–281°): not kept.
+/// targets (docs/QUALITY.md, "default + reflex split": 170° with
+/// `pair_max_corner_deviation` 80°) it brings the largest corner of all
+/// eight to 163–170° (from 168–281°), but the triangles it leaves raise
+/// the odd faces by 0.3–1.3 points and on suzanne (31 vertices) from
+/// 6.7 % to 18.8 %, over the 10 % the extraction tests allow, and the
+/// cow's Hausdorff distance goes 0.159 → 0.188. Putting back the splits
+/// the pairing could not use keeps the odd faces but leaves the folded
+/// quads on spot, the bunny and the cow (212–281°): not kept.
 pub fn split_reflex_quads(faces: &mut Vec<Vec<u32>>, g: &Graph, max_degrees: f64) -> usize {
     let limit = max_degrees.to_radians();
     let mut edges: std::collections::HashSet<(u32, u32)> = faces
@@ -799,20 +799,7 @@ mod tests {
             DVec3::new(1.0, -1.0, 0.0),
             DVec3::new(0.0, -1.0, 0.0),
         ];
-        let mut g = Graph {
-            normal: vec![DVec3::Z; 7],
-            scale: vec![1.0; 7],
-            curvature: vec![0.0; 7],
-            q: vec![DVec3::X; 7],
-            feature_count: vec![0; 7],
-            size: vec![1; 7],
-            boundary: vec![false; 7],
-            boundary_loop: vec![u32::MAX; 7],
-            input_loop_length: Vec::new(),
-            adj: vec![Vec::new(); 7],
-            pos,
-        };
-        g.pos.truncate(7);
+        let g = plane_graph(pos);
         let mut faces = vec![
             vec![0, 1, 2, 4, 3], // pentagon above, 1 is flat in it
             vec![0, 6, 5, 1],    // quad below left
