@@ -290,11 +290,10 @@ pub fn post_process(
     if p.pair_non_quads_degrees > 0.0 {
         let list = mesh.to_face_list();
         let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
-        let mut g2 = g.select(&map);
         // Quads left folded (by the extraction, the smoothing or the
         // projection onto the input).
         let splits = if p.split_reflex_degrees > 0.0 {
-            postprocess::split_reflex_quads(&mut faces, &g2, p.split_reflex_degrees)
+            postprocess::split_reflex_quads(&mut faces, &mesh_graph, p.split_reflex_degrees)
         } else {
             0
         };
@@ -302,7 +301,7 @@ pub fn post_process(
         if faces.iter().any(|f| f.len() != 4) {
             let m = postprocess::pair_non_quads(
                 &mut faces,
-                &g2,
+                &mesh_graph,
                 p.pair_non_quads_degrees,
                 p.pair_max_quads,
                 p.pair_max_corner_deviation,
@@ -310,9 +309,10 @@ pub fn post_process(
             );
             if m > 0 || splits > 0 {
                 report.non_quad_pairs_merged += m;
-                let (again, map2) = repair::repair(faces, &mut g2, &rules, &mut repair_report);
+                let (again, map2) =
+                    repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
                 mesh = again;
-                mesh_graph = g2.select(&map2);
+                mesh_graph = mesh_graph.select(&map2);
             }
         }
     }

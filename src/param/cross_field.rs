@@ -427,6 +427,8 @@ struct AngleSystem {
     fixed: Vec<Option<f64>>,
     /// Unknown index per free face (`usize::MAX` when fixed).
     var: Vec<usize>,
+    /// Number of unknowns.
+    n: usize,
     factor: SpdFactor,
 }
 
@@ -453,45 +455,19 @@ impl AngleSystem {
                 n += 1;
             }
         }
-        let mut system = AngleSystem {
+        // The matrix does not depend on p: factorize it with p = 0.
+        let eq = equations(r, &fixed, &var, n, &vec![[0; 3]; nf]);
+        let factor = SpdFactor::new(n, &eq.triplets)?;
+        Some(AngleSystem {
             fixed,
             var,
-            factor: SpdFactor::new(0, &[])?,
-        };
-        let eq = system.equations(r, n, None);
-        system.factor = SpdFactor::new(n, &eq.triplets)?;
-        Some(system)
-    }
-
-    /// The normal equations of θ_f − θ_g = −κ − (π/2) p over the dual
-    /// edges (the right-hand side zero without `p`).
-    fn equations(&self, r: &Relaxation<'_>, n: usize, p: Option<&[[i32; 3]]>) -> NormalEquations {
-        let mut eq = NormalEquations::new(n);
-        for f in 0..self.fixed.len() {
-            for e in 0..3 {
-                let Some((g, _)) = r.topology.across(f, e) else {
-                    continue;
-                };
-                if g < f {
-                    continue;
-                }
-                let mut b = p.map_or(0.0, |p| -r.kappa[f][e] - FRAC_PI_2 * p[f][e] as f64);
-                let mut entries = Vec::with_capacity(2);
-                for (face, c) in [(f, 1.0), (g, -1.0)] {
-                    match self.fixed[face] {
-                        Some(t) => b -= if p.is_some() { c * t } else { 0.0 },
-                        None => entries.push((self.var[face], c)),
-                    }
-                }
-                eq.row(1.0, &entries, b);
-            }
-        }
-        eq
+            n,
+            factor,
+        })
     }
 
     fn solve(&self, r: &Relaxation<'_>, p: &[[i32; 3]]) -> Option<Vec<f64>> {
-        let n = self.var.iter().filter(|&&v| v != usize::MAX).count();
-        let eq = self.equations(r, n, Some(p));
+        let eq = equations(r, &self.fixed, &self.var, self.n, p);
         let x = self.factor.solve(&[eq.rhs])?.pop()?;
         Some(
             (0..self.fixed.len())
@@ -499,6 +475,38 @@ impl AngleSystem {
                 .collect(),
         )
     }
+}
+
+/// The normal equations of θ_f − θ_g = −κ − (π/2) p over the dual edges,
+/// the fixed faces' angles moved to the right-hand side.
+fn equations(
+    r: &Relaxation<'_>,
+    fixed: &[Option<f64>],
+    var: &[usize],
+    n: usize,
+    p: &[[i32; 3]],
+) -> NormalEquations {
+    let mut eq = NormalEquations::new(n);
+    for f in 0..fixed.len() {
+        for e in 0..3 {
+            let Some((g, _)) = r.topology.across(f, e) else {
+                continue;
+            };
+            if g < f {
+                continue;
+            }
+            let mut b = -r.kappa[f][e] - FRAC_PI_2 * p[f][e] as f64;
+            let mut entries = Vec::with_capacity(2);
+            for (face, c) in [(f, 1.0), (g, -1.0)] {
+                match fixed[face] {
+                    Some(t) => b -= c * t,
+                    None => entries.push((var[face], c)),
+                }
+            }
+            eq.row(1.0, &entries, b);
+        }
+    }
+    eq
 }
 
 fn smoothness_energy(

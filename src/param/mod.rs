@@ -216,35 +216,36 @@ fn feature_curves(
     let mut edges = Vec::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         for e in 0..3 {
-            let Some((g, _)) = topology.across(f, e) else {
+            let Some((g, ge)) = topology.across(f, e) else {
                 continue;
             };
+            if f > g {
+                continue;
+            }
             let (nf_, ng) = (
                 face_normals[f].normalize_or_zero(),
                 face_normals[g].normalize_or_zero(),
             );
-            if f < g && nf_.dot(ng) < cos {
+            if nf_.dot(ng) < cos {
                 let (a, b) = (t[e], t[(e + 1) % 3]);
                 curves.union(a, b);
-                edges.push((f, e, g, a, b));
+                edges.push((f, e, g, ge, a, b));
             }
         }
     }
     let mut length = vec![0.0; mesh.vertex_count()];
     let mut sizing = vec![(0.0, 0.0); mesh.vertex_count()];
-    for &(f, _, g, a, b) in &edges {
+    for &(f, _, g, _, a, b) in &edges {
         let r = curves.find(a) as usize;
         length[r] += mesh.positions[a as usize].distance(mesh.positions[b as usize]);
         sizing[r].0 += 0.5 * (face_sizing[f] + face_sizing[g]);
         sizing[r].1 += 1.0;
     }
-    for &(f, e, g, a, _) in &edges {
+    for &(f, e, g, ge, a, _) in &edges {
         let r = curves.find(a) as usize;
         if length[r] >= sizing[r].0 / sizing[r].1 {
             sharp[f][e] = true;
-            if let Some((_, ge)) = topology.across(f, e) {
-                sharp[g][ge] = true;
-            }
+            sharp[g][ge] = true;
         }
     }
     sharp

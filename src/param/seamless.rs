@@ -229,11 +229,13 @@ fn boundary_constraints(
     let mut out = Vec::new();
     for (f, t) in input.mesh.triangles.iter().enumerate() {
         for e in 0..3 {
-            // A feature edge once, from its lower face (the other side
-            // follows through the transition).
-            let feature = input.feature_edges.get(f).is_some_and(|s| s[e])
-                && input.topology.across(f, e).is_some_and(|(g, _)| g > f);
-            if input.topology.across(f, e).is_some() && !feature {
+            // The boundary, and a feature edge once, from its lower face
+            // (the other side follows through the transition).
+            let isoline = match input.topology.across(f, e) {
+                None => true,
+                Some((g, _)) => g > f && input.feature_edges.get(f).is_some_and(|s| s[e]),
+            };
+            if !isoline {
                 continue;
             }
             let d =
