@@ -68,6 +68,7 @@ ROWS = {
     "+feature-vertex constraints": {"alignment": {"mode": "feature-vertices"}},
     "+smooth regions": {"alignment": {"mode": "smooth-regions"}},
     "+filtered normals": {"field": {"filtered_normals": True}},
+    "+split long edges": {"field": {"split_long_edges": True}},
     "-snapping": {"extraction": {"snap": False}},
     "+thesis quad score": {"extraction": {"thesis_quad_score": True}},
     "+hole filling (30 corners and fans)": {"extraction": {"max_hole": 30, "fan_large_holes": True}},
@@ -80,6 +81,7 @@ ROWS = {
     "default": None,
     # Overlays on the defaults: Instant Meshes' own pure-quad route (extract
     # at a quarter of the count, one split), with the odd-face pairing off.
+    "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
     "default + pure quad": ("default", {"extraction": {"pure_quad": True,
                                                       "post": {"pair_non_quads_degrees": 0}}}),
     # Folded quads split into triangles before the second pairing, whose

@@ -37,7 +37,7 @@ use crate::field::{
     solve_position,
 };
 use crate::io::Imported;
-use crate::mesh::{PolyMesh, VertexAdjacency};
+use crate::mesh::{PolyMesh, TriMesh, VertexAdjacency};
 use crate::progress::{Cancelled, Progress};
 use crate::sizing::{self, SizingParams};
 use crate::spatial::SurfaceIndex;
@@ -184,6 +184,7 @@ impl Params {
         if self.analysis != other.analysis
             || self.sizing != other.sizing
             || a.filtered_normals != b.filtered_normals
+            || a.split_long_edges != b.split_long_edges
         {
             Some(Stage::Analysis)
         } else if a.level_sizing != b.level_sizing || a.seed != b.seed {
@@ -225,6 +226,10 @@ pub struct AnalysisStage {
     /// The factor applied to the analysis' sizing field (see
     /// [`calibrate_to_vertex_count`]); coarse levels apply it too.
     pub sizing_calibration: f64,
+    /// The input with its long edges split (`field.split_long_edges`), when
+    /// any was: the mesh every later stage works on. Its first vertices are
+    /// the input's, in order; the new ones (edge midpoints) follow.
+    pub refined: Option<TriMesh>,
 }
 
 /// The hierarchy with the lattice spacing of every level.
@@ -413,7 +418,14 @@ impl Pipeline {
     }
 
     fn run_analysis(&self, progress: &mut Progress<'_>) -> Result<AnalysisStage, Cancelled> {
-        let mesh = &self.input.mesh;
+        let target = target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
+        let refined = self
+            .params
+            .field
+            .split_long_edges
+            .then(|| refined_input(&self.input.mesh, &self.params.sizing, target))
+            .flatten();
+        let mesh = refined.as_ref().unwrap_or(&self.input.mesh);
         // Filtered normals only when the fields use them: their Gaussian
         // kernel covers the whole mesh at a coarse target (the bunny at 4
         // vertices took minutes).
@@ -423,16 +435,16 @@ impl Pipeline {
         }
         let mut surface =
             analysis::analyze_with_progress(mesh, &params, &self.params.sizing, progress)?;
-        let target = target_vertex_count(mesh.vertex_count(), &self.params.sizing);
         let sizing_calibration = calibrate_to_vertex_count(&mut surface, target);
         Ok(AnalysisStage {
             surface,
             sizing_calibration,
+            refined,
         })
     }
 
     fn run_hierarchy(&self, progress: &mut Progress<'_>) -> Result<HierarchyStage, Cancelled> {
-        let mesh = &self.input.mesh;
+        let mesh = self.field_mesh();
         let stage = self.analysis.as_ref().expect("analysis runs first");
         let a = &stage.surface;
         let normals = if self.params.field.filtered_normals {
@@ -467,7 +479,7 @@ impl Pipeline {
     }
 
     fn run_orientation(&self, progress: &mut Progress<'_>) -> Result<OrientationStage, Cancelled> {
-        let mesh = &self.input.mesh;
+        let mesh = self.field_mesh();
         let a = &self.analysis.as_ref().expect("analysis runs first").surface;
         let h = &self
             .hierarchy
@@ -522,7 +534,7 @@ impl Pipeline {
         scale_correction: f64,
         seed: u64,
     ) -> Result<PositionStage, Cancelled> {
-        let mesh = &self.input.mesh;
+        let mesh = self.field_mesh();
         let hs = self.hierarchy.as_ref().expect("hierarchy runs first");
         let os = self.orientation.as_ref().expect("orientation runs first");
         let fp = &self.params.field;
@@ -563,6 +575,16 @@ impl Pipeline {
     }
 
     /// The input's BVH, built once.
+    /// The mesh the fields and the extraction work on: the input, or the
+    /// input with its long edges split (see [`AnalysisStage::refined`]).
+    /// The same surface either way.
+    pub fn field_mesh(&self) -> &TriMesh {
+        self.analysis
+            .as_ref()
+            .and_then(|a| a.refined.as_ref())
+            .unwrap_or(&self.input.mesh)
+    }
+
     pub fn surface(&mut self) -> Option<std::sync::Arc<SurfaceIndex>> {
         if self.surface.is_none() {
             self.surface = SurfaceIndex::new(&self.input.mesh).map(std::sync::Arc::new);
@@ -583,8 +605,8 @@ impl Pipeline {
             .iter()
             .map(|&s| s * ps.scale_correction as f32)
             .collect();
-        let boundary = crate::mesh::boundary_vertices(&self.input.mesh);
-        let boundary_arcs = crate::mesh::BoundaryArcs::new(&self.input.mesh);
+        let boundary = crate::mesh::boundary_vertices(self.field_mesh());
+        let boundary_arcs = crate::mesh::BoundaryArcs::new(self.field_mesh());
         let input = ExtractInput {
             level: &hs.hierarchy.levels[0],
             q: &os.q[0],
@@ -818,6 +840,20 @@ pub fn check_target(input_vertices: usize, params: &SizingParams) -> Result<(), 
         )),
         _ => Ok(()),
     }
+}
+
+/// The input with every edge longer than Instant Meshes' threshold split
+/// (digest §1.3), for the global target edge: the explicit length, or the
+/// edge of a quad mesh of `target` vertices covering the input's area.
+/// `None` when no edge is that long.
+fn refined_input(mesh: &TriMesh, params: &SizingParams, target: Option<usize>) -> Option<TriMesh> {
+    let edge = match (params.edge_length, target) {
+        (Some(l), _) => l,
+        (None, Some(t)) => (mesh.total_area() / t.max(1) as f64).sqrt(),
+        (None, None) => return None,
+    };
+    let threshold = crate::mesh::refine::split_threshold(mesh, edge)?;
+    crate::mesh::refine::split_long_edges(mesh, threshold)
 }
 
 pub fn target_vertex_count(input_vertices: usize, params: &SizingParams) -> Option<usize> {

@@ -240,3 +240,55 @@ fn the_sizing_field_is_calibrated_to_the_target_vertex_count() {
         "predicted {predicted} vs {target}"
     );
 }
+
+#[test]
+fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
+    // An open cylinder of 32 × 2 cells whose 1.5-long cells are far longer
+    // than half a target edge at 150 output vertices.
+    let input = from_mesh(generate::cylinder(1.0, 3.0, 32, 2));
+    let n = input.mesh.vertex_count();
+    let mut params = Params::default();
+    params.sizing.target_vertex_count = Some(150);
+    params.field.split_long_edges = true;
+    let mut p = Pipeline::new(input.clone(), params);
+    run(&mut p);
+    let refined = p.analysis.as_ref().unwrap().refined.as_ref().expect("split");
+    refined.validate().unwrap();
+    assert!(refined.vertex_count() > 2 * n, "{}", refined.vertex_count());
+    assert_eq!(&refined.positions[..n], &input.mesh.positions[..]);
+    // Every new vertex lies on the input surface: between the chord polygon
+    // and the circle of the input's radius, inside its height.
+    let radius = |q: DVec3| q.truncate().length();
+    let r0 = radius(input.mesh.positions[0]);
+    let z0 = input.mesh.positions.iter().map(|q| q.z.abs()).fold(0.0, f64::max);
+    let chord = r0 * (std::f64::consts::PI / 32.0).cos();
+    for q in &refined.positions {
+        assert!(radius(*q) >= chord - 1e-9 && radius(*q) <= r0 + 1e-9);
+        assert!(q.z.abs() <= z0 + 1e-9);
+    }
+    // The threshold: min(s/2, 2·mean input edge), s from the area and target.
+    let s = (input.mesh.total_area() / 150.0).sqrt();
+    let longest = refined
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+        .map(|(a, b)| (refined.positions[a as usize] - refined.positions[b as usize]).length())
+        .fold(0.0, f64::max);
+    assert!(longest <= s / 2.0 + 1e-12, "{longest} vs {}", s / 2.0);
+    // The fields live on the refined vertices; the output keeps the two
+    // boundary loops.
+    assert_eq!(
+        p.hierarchy.as_ref().unwrap().hierarchy.levels[0].positions.len(),
+        refined.vertex_count()
+    );
+    assert_eq!(p.position.as_ref().unwrap().o.len(), refined.vertex_count());
+    let out = p.postprocess.as_ref().unwrap().mesh();
+    out.validate().unwrap();
+    assert_eq!(out.boundary_loops().len(), 2);
+    // Without the option the fields stay on the input's vertices.
+    let mut plain = Pipeline::new(input, Params::default());
+    plain.params.sizing.target_vertex_count = Some(150);
+    run(&mut plain);
+    assert!(plain.analysis.as_ref().unwrap().refined.is_none());
+    assert_eq!(plain.position.as_ref().unwrap().o.len(), n);
+}

@@ -50,6 +50,10 @@ pub struct FieldParams {
     /// Let the fields live in the tangent planes of the filtered normals
     /// (Ebke et al. 2014) instead of the vertex normals.
     pub filtered_normals: bool,
+    /// Split every input edge longer than `min(s/2, 2·mean edge)` at its
+    /// midpoint, longest first, before the fields are built (Instant Meshes'
+    /// preprocessing, digest §1.3; [`crate::mesh::refine`]).
+    pub split_long_edges: bool,
     pub seed: u64,
 }
 
@@ -61,6 +65,7 @@ impl Default for FieldParams {
             scale_mode: ScaleMode::PerVertex,
             level_sizing: LevelSizing::PerLevel,
             filtered_normals: false,
+            split_long_edges: false,
             seed: 0,
         }
     }

@@ -12,6 +12,7 @@ mod frame;
 pub mod generate;
 mod poly;
 mod polygon;
+pub mod refine;
 mod topology;
 mod tri;
 

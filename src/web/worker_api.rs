@@ -354,7 +354,10 @@ fn stage_result(
     metrics: Option<&serde_json::Value>,
 ) -> Result<JsValue, JsError> {
     let r = StageResult::new(stage.name(), ms)?;
-    let mesh = &p.input.mesh;
+    // The fields' mesh: the input, or the input with long edges split, whose
+    // first vertices are the input's (the page colours those).
+    let mesh = p.field_mesh();
+    let input_vertices = p.input.mesh.vertex_count();
     let as_vec3 = |v: DVec3| v.as_vec3();
     match stage {
         Stage::Analysis => {
@@ -362,8 +365,9 @@ fn stage_result(
                 return Ok(JsValue::UNDEFINED);
             };
             let s = &a.surface;
-            r.scalar("curvature", &s.averaged, "viridis")?;
-            r.scalar("sizing field", &s.sizing.edge_length, "viridis")?;
+            r.scalar("curvature", &s.averaged[..input_vertices], "viridis")?;
+            let sizing = &s.sizing.edge_length[..input_vertices];
+            r.scalar("sizing field", sizing, "viridis")?;
             let mut segments = Vec::with_capacity(mesh.vertex_count() * 12);
             let mut colors = Vec::with_capacity(mesh.vertex_count() * 8);
             for (v, c) in s.curvature.iter().enumerate() {
