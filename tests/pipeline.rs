@@ -252,7 +252,13 @@ fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
     params.field.split_long_edges = true;
     let mut p = Pipeline::new(input.clone(), params);
     run(&mut p);
-    let refined = p.analysis.as_ref().unwrap().refined.as_ref().expect("split");
+    let refined = p
+        .analysis
+        .as_ref()
+        .unwrap()
+        .refined
+        .as_ref()
+        .expect("split");
     refined.validate().unwrap();
     assert!(refined.vertex_count() > 2 * n, "{}", refined.vertex_count());
     assert_eq!(&refined.positions[..n], &input.mesh.positions[..]);
@@ -260,7 +266,12 @@ fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
     // and the circle of the input's radius, inside its height.
     let radius = |q: DVec3| q.truncate().length();
     let r0 = radius(input.mesh.positions[0]);
-    let z0 = input.mesh.positions.iter().map(|q| q.z.abs()).fold(0.0, f64::max);
+    let z0 = input
+        .mesh
+        .positions
+        .iter()
+        .map(|q| q.z.abs())
+        .fold(0.0, f64::max);
     let chord = r0 * (std::f64::consts::PI / 32.0).cos();
     for q in &refined.positions {
         assert!(radius(*q) >= chord - 1e-9 && radius(*q) <= r0 + 1e-9);
@@ -278,7 +289,9 @@ fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
     // The fields live on the refined vertices; the output keeps the two
     // boundary loops.
     assert_eq!(
-        p.hierarchy.as_ref().unwrap().hierarchy.levels[0].positions.len(),
+        p.hierarchy.as_ref().unwrap().hierarchy.levels[0]
+            .positions
+            .len(),
         refined.vertex_count()
     );
     assert_eq!(p.position.as_ref().unwrap().o.len(), refined.vertex_count());

@@ -56,7 +56,7 @@ pub fn split_threshold(mesh: &TriMesh, target_edge: f64) -> Option<f64> {
             longest = longest.max(l);
         }
     }
-    if count == 0 || !(target_edge > 0.0) {
+    if count == 0 || target_edge.is_nan() || target_edge <= 0.0 {
         return None;
     }
     let threshold = (target_edge / 2.0).min(2.0 * sum / count as f64);
@@ -69,7 +69,7 @@ pub fn split_threshold(mesh: &TriMesh, target_edge: f64) -> Option<f64> {
 /// a triangle (a, b, c) split on ab becomes (a, m, c) and (m, b, c).
 /// Returns `None` when nothing was split.
 pub fn split_long_edges(mesh: &TriMesh, max_length: f64) -> Option<TriMesh> {
-    if !(max_length > 0.0 && max_length.is_finite()) {
+    if !max_length.is_finite() || max_length <= 0.0 {
         return None;
     }
     let mut positions: Vec<DVec3> = mesh.positions.clone();
