@@ -63,9 +63,48 @@ pub fn split_threshold(mesh: &TriMesh, target_edge: f64) -> Option<f64> {
     (longest > threshold).then_some(threshold)
 }
 
+/// At most this many times the input's vertices: a safety bound. The
+/// longest-edge bisection of the faces that are not frozen ends by itself.
+const MAX_GROWTH: usize = 64;
+
+/// Faces that must not be split: those with a long edge that cannot be
+/// split (more than two faces; Instant Meshes skips non-manifold edges),
+/// and, since that edge then stays long, every face reached from them
+/// across long edges. Splitting next to an edge that stays long would never
+/// end: each split makes another edge almost as long as it.
+fn frozen_faces(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    faces_of: &HashMap<(u32, u32), Vec<u32>>,
+    max2: f64,
+) -> Vec<bool> {
+    let long = |(a, b): (u32, u32)| {
+        (positions[a as usize] - positions[b as usize]).length_squared() > max2
+    };
+    let mut frozen = vec![false; triangles.len()];
+    let mut stack: Vec<u32> = Vec::new();
+    for (&edge, faces) in faces_of {
+        if faces.len() > 2 && long(edge) {
+            stack.extend(faces);
+        }
+    }
+    while let Some(f) = stack.pop() {
+        if std::mem::replace(&mut frozen[f as usize], true) {
+            continue;
+        }
+        let t = triangles[f as usize];
+        for k in 0..3 {
+            let edge = edge_key(t[k], t[(k + 1) % 3]);
+            if long(edge) {
+                stack.extend(faces_of[&edge].iter().filter(|&&g| !frozen[g as usize]));
+            }
+        }
+    }
+    frozen
+}
+
 /// Splits every edge longer than `max_length` at its midpoint, longest
-/// first, until none is (digest §1.3). Edges with more than two faces are
-/// left alone (Instant Meshes skips non-manifold ones). Orientation is kept:
+/// first, until none is (digest §1.3), except in [`frozen_faces`]. Orientation is kept:
 /// a triangle (a, b, c) split on ab becomes (a, m, c) and (m, b, c).
 /// Returns `None` when nothing was split.
 pub fn split_long_edges(mesh: &TriMesh, max_length: f64) -> Option<TriMesh> {
@@ -86,6 +125,7 @@ pub fn split_long_edges(mesh: &TriMesh, max_length: f64) -> Option<TriMesh> {
     let max2 = max_length * max_length;
     let length2 =
         |p: &[DVec3], (a, b): (u32, u32)| (p[a as usize] - p[b as usize]).length_squared();
+    let frozen = frozen_faces(&positions, &triangles, &faces_of, max2);
     let mut queue: BinaryHeap<Candidate> = faces_of
         .keys()
         .map(|&edge| Candidate {
@@ -99,8 +139,11 @@ pub fn split_long_edges(mesh: &TriMesh, max_length: f64) -> Option<TriMesh> {
         let Some(faces) = faces_of.get(&edge) else {
             continue; // split already
         };
-        if faces.len() > 2 {
+        if faces.len() > 2 || faces.iter().any(|&f| frozen.get(f as usize) == Some(&true)) {
             continue;
+        }
+        if positions.len() >= MAX_GROWTH * mesh.positions.len().max(1) {
+            break;
         }
         let faces = faces_of.remove(&edge).unwrap_or_default();
         let (a, b) = edge;
@@ -200,6 +243,38 @@ mod tests {
             let [a, b, c] = t.map(|i| out.positions[i as usize]);
             assert!((b - a).cross(c - a).z > 0.0);
         }
+    }
+
+    #[test]
+    fn a_long_non_manifold_edge_and_its_long_neighbourhood_stay_as_they_are() {
+        // Three pages sharing the spine 0–1 (length 10), each page 10 × 1,
+        // next to a small square that is split as usual.
+        let mut positions = vec![DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)];
+        let mut triangles = Vec::new();
+        for k in 0..3 {
+            let a = k as f64 * std::f64::consts::TAU / 3.0;
+            positions.push(DVec3::new(5.0, a.cos(), a.sin()));
+            triangles.push([0, 1, 2 + k]);
+        }
+        let b = positions.len() as u32;
+        positions.extend([
+            DVec3::new(20.0, 0.0, 0.0),
+            DVec3::new(22.0, 0.0, 0.0),
+            DVec3::new(22.0, 2.0, 0.0),
+        ]);
+        triangles.push([b, b + 1, b + 2]);
+        let input = TriMesh::new(positions, triangles).unwrap();
+        let out = split_long_edges(&input, 0.5).expect("the small triangle splits");
+        out.validate().unwrap();
+        assert_eq!(&out.triangles[..3], &input.triangles[..3]);
+        assert!((area(&out) - area(&input)).abs() < 1e-9);
+        // Only the small triangle was refined: all new vertices are on it.
+        assert!(
+            out.positions[input.positions.len()..]
+                .iter()
+                .all(|p| p.x >= 20.0)
+        );
+        assert!(out.vertex_count() < 64);
     }
 
     #[test]
