@@ -73,7 +73,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let p = mesh.positions[v];
             let click = [Anchor::positional(p)];
             let (first, ms) = timed(&mut engine, &click);
-            report(&mut lines, &label, trial, "click", &first, ms, &mut times[0]);
+            report(
+                &mut lines,
+                &label,
+                trial,
+                "click",
+                &first,
+                ms,
+                &mut times[0],
+            );
             let Some(first) = first else { continue };
             let (q, tq) = along(&first, 1.0 / 3.0);
             let n = normal_at(&mesh, &engine, q);

@@ -401,53 +401,13 @@ impl LoopEngine {
                 }
             })
             .collect();
-        // Metaedge weights w̄(a, b) for a ∈ ξ_i, b ∈ ξ_{i+1}.
-        let mut meta: Vec<Vec<f32>> = Vec::with_capacity(n);
-        for i in 0..n {
-            let j = (i + 1) % n;
-            let (li, lj) = (layers[i].clone(), &layers[j]);
-            let only = if lj.len() == 1 { Some(lj[0]) } else { None };
-            let mut w = vec![f32::INFINITY; li.len() * lj.len()];
-            for (ai, &a) in li.iter().enumerate() {
-                self.search(a, verts[j], only, f32::INFINITY, close[j]);
-                for (bi, &b) in lj.iter().enumerate() {
-                    w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
-                }
-            }
-            meta.push(w);
+        // One positional anchor: the hover query's loop (§4.1: a click
+        // keeps the loop shown while hovering), not |ξ₀| full searches.
+        if n == 1 && anchors[0].direction == DVec3::ZERO {
+            let (cost, kind) = self.best_through(verts[0], f32::INFINITY)?;
+            return Some(self.make_loop(kind, cost));
         }
-        // Minimum-weight cycle of the metagraph: layered DP from each node of
-        // the smallest layer back to itself.
-        let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
-        let mut best: (f32, Vec<usize>, bool) = (f32::INFINITY, Vec::new(), true);
-        for start in 0..layers[s].len() {
-            let (cost, choice) = layered_path(&layers, &meta, s, n, Some(start), None);
-            if cost < best.0 {
-                best = (cost, choice, true);
-            }
-        }
-        if self.has_boundary {
-            // A dual curve beats the best loop only if it enters and leaves
-            // ∂ cheaper than that loop: the field is settled that far.
-            self.settle_boundary(best.0);
-            let f = self.boundary_field.as_ref()?;
-            let enter: Vec<f32> = layers[0].iter().map(|&b| f.distance(b)).collect();
-            let leave: Vec<f32> = layers[n - 1]
-                .iter()
-                .map(|&a| {
-                    let r = self.graph.g.reverse[a as usize];
-                    if r == NONE {
-                        f32::INFINITY
-                    } else {
-                        f.distance(r)
-                    }
-                })
-                .collect();
-            let (cost, choice) = layered_path(&layers, &meta, 0, n, None, Some((&enter, &leave)));
-            if cost < best.0 {
-                best = (cost, choice, false);
-            }
-        }
+        let best = self.metagraph_cycle(&verts, &layers, &close);
         if !best.0.is_finite() {
             return None;
         }
@@ -482,6 +442,111 @@ impl LoopEngine {
             // with it; segments end *before* their target, so it does not.
         }
         Some(self.loop_from_nodes(nodes, cost as f64, closed))
+    }
+
+    /// The minimum-weight cycle of §5.4's metagraph (and, with a boundary,
+    /// the cheapest ∂ → ξ₀ → … → ξ_{n−1} → ∂ path, §5.7): cost, chosen index
+    /// per layer, closed.
+    ///
+    /// Exact, and pruned by a radius R: a cycle cheaper than R has each
+    /// segment i cheaper than `R − Σ_{l≠i} LB_l` (LB_l a lower bound of
+    /// segment l: the A* heuristic, tightened to the cheapest metaedge found
+    /// once segment l is searched), so the searches of segment i stop at
+    /// that key and metaedges beyond it are left infinite. If the best
+    /// cycle found costs at most R it is the optimum; otherwise R grows to
+    /// that cost (or doubles) and the round is repeated. Before, every
+    /// search ran until it had reached *all* of ξ_{i+1}, including the
+    /// directions that need a U-turn there (most of g′ per search).
+    fn metagraph_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+    ) -> (f32, Vec<usize>, bool) {
+        let n = layers.len();
+        let lb0: Vec<f32> = (0..n)
+            .map(|i| {
+                let h = self.graph.heuristic_to(verts[(i + 1) % n]);
+                layers[i]
+                    .iter()
+                    .map(|&a| h(a as usize))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0)
+            })
+            .collect();
+        let mut radius = 1.5 * lb0.iter().sum::<f32>() + 0.05;
+        loop {
+            let mut lb = lb0.clone();
+            if self.has_boundary {
+                // A dual curve replaces the closing segment by ∂ (cost ≥ 0).
+                lb[n - 1] = 0.0;
+            }
+            // Metaedge weights w̄(a, b) for a ∈ ξ_i, b ∈ ξ_{i+1}.
+            let mut meta: Vec<Vec<f32>> = Vec::with_capacity(n);
+            for i in 0..n {
+                let j = (i + 1) % n;
+                let others: f32 = (0..n).filter(|&l| l != i).map(|l| lb[l]).sum();
+                let threshold = if radius.is_finite() {
+                    (radius - others).max(0.0) * (1.0 + 1e-5) + 1e-6
+                } else {
+                    f32::INFINITY
+                };
+                let (li, lj) = (&layers[i], &layers[j]);
+                let only = if lj.len() == 1 { Some(lj[0]) } else { None };
+                let mut w = vec![f32::INFINITY; li.len() * lj.len()];
+                for (ai, &a) in li.iter().enumerate() {
+                    self.search(a, verts[j], only, threshold, close[j]);
+                    for (bi, &b) in lj.iter().enumerate() {
+                        w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
+                    }
+                }
+                let cheapest = w.iter().copied().fold(f32::INFINITY, f32::min);
+                if !(self.has_boundary && i == n - 1) {
+                    lb[i] = lb[i].max(cheapest.min(threshold / (1.0 + 1e-5) - 1e-6));
+                }
+                meta.push(w);
+            }
+            let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
+            let mut best: (f32, Vec<usize>, bool) = (f32::INFINITY, Vec::new(), true);
+            for start in 0..layers[s].len() {
+                let (cost, choice) = layered_path(layers, &meta, s, n, Some(start), None);
+                if cost < best.0 {
+                    best = (cost, choice, true);
+                }
+            }
+            if self.has_boundary {
+                // Enter and leave ∂ cheaper than the radius: settled that far.
+                self.settle_boundary(radius);
+                if let Some(f) = self.boundary_field.as_ref() {
+                    let enter: Vec<f32> = layers[0].iter().map(|&b| f.distance(b)).collect();
+                    let leave: Vec<f32> = layers[n - 1]
+                        .iter()
+                        .map(|&a| {
+                            let r = self.graph.g.reverse[a as usize];
+                            if r == NONE {
+                                f32::INFINITY
+                            } else {
+                                f.distance(r)
+                            }
+                        })
+                        .collect();
+                    let (cost, choice) =
+                        layered_path(layers, &meta, 0, n, None, Some((&enter, &leave)));
+                    if cost < best.0 {
+                        best = (cost, choice, false);
+                    }
+                }
+            }
+            if best.0 <= radius || !radius.is_finite() {
+                return best;
+            }
+            radius = if best.0.is_finite() {
+                best.0
+            } else {
+                let r = 2.0 * radius;
+                if r > 1e4 { f32::INFINITY } else { r }
+            };
+        }
     }
 
     /// §6.2: per-vertex covered directions of committed strips (world
