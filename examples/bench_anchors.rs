@@ -7,10 +7,10 @@
 //!
 //! Per mesh, at `BENCH_TRIALS` (default 4) anchor vertices v (PCG32, seed 11):
 //! 1. a click: one positional anchor at v;
-//! 2. a drag: a second, directional anchor at the point one third along that
-//!    loop, across it (tangent turned by 90°);
+//! 2. a drag: a second, directional anchor at the point one third along the
+//!    hover loop at v, across it (tangent turned by 90°);
 //! 3. a grab: three positional anchors, at v and at the points one third and
-//!    two thirds along the first loop, the last moved off the loop by a few
+//!    two thirds along the hover loop, the last moved off the loop by a few
 //!    rings.
 //!
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
@@ -82,7 +82,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ms,
                 &mut times[0],
             );
-            let Some(first) = first else { continue };
+            // Later anchors are placed along the hover loop (the same code in
+            // every version), so the cases compare across versions.
+            let Some(first) = engine.best_loop(p) else {
+                continue;
+            };
             let (q, tq) = along(&first, 1.0 / 3.0);
             let n = normal_at(&mesh, &engine, q);
             let across = n.cross(tq).normalize_or_zero();

@@ -494,10 +494,18 @@ impl LoopEngine {
                 let (li, lj) = (&layers[i], &layers[j]);
                 let only = if lj.len() == 1 { Some(lj[0]) } else { None };
                 let mut w = vec![f32::INFINITY; li.len() * lj.len()];
-                for (ai, &a) in li.iter().enumerate() {
-                    self.search(a, verts[j], only, threshold, close[j]);
-                    for (bi, &b) in lj.iter().enumerate() {
-                        w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
+                if lj.len() == 1 && li.len() > 1 && verts[i] != verts[j] {
+                    // §5.4: one backward search from the singleton.
+                    self.search_back(lj[0], verts[i], threshold, close[j]);
+                    for (ai, &a) in li.iter().enumerate() {
+                        w[ai] = self.cand_of(verts[i], a).0;
+                    }
+                } else {
+                    for (ai, &a) in li.iter().enumerate() {
+                        self.search(a, verts[j], only, threshold, close[j]);
+                        for (bi, &b) in lj.iter().enumerate() {
+                            w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
+                        }
                     }
                 }
                 let cheapest = w.iter().copied().fold(f32::INFINITY, f32::min);
@@ -1119,6 +1127,76 @@ impl LoopEngine {
             let (slot, heap) = (&mut ws.slot, &mut ws.heap);
             graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
+                    return;
+                }
+                let nd = d + w;
+                if slot[y].state < reached || nd < slot[y].dist {
+                    slot[y].state = slot[y].state.max(reached);
+                    slot[y].dist = nd;
+                    slot[y].parent = x as u32;
+                    heap.push(Reverse(key(nd + h(y), y as u32)));
+                }
+            });
+        }
+    }
+
+    /// The backward search of §5.4 into node `b`: by reversal symmetry of
+    /// the g′ weights, the cost of `a ⇝ b` is that of `reverse(b) ⇝
+    /// reverse(a)`, so one A* forward from `reverse(b)` (its first arc, the
+    /// reverse of the arc into `b`, turning at most `close_turn`) yields the
+    /// costs from every out-edge `a` of `goal` into `b` (`ws.cand`, indexed
+    /// like `goal`'s out-edges; no predecessors: the path is searched forward
+    /// once chosen). Stops at key `bound`.
+    fn search_back(&mut self, b: u32, goal: usize, bound: f32, close_turn: f32) {
+        let graph = &self.graph;
+        let g = &graph.g;
+        let ws = &mut self.ws;
+        let row = g.out_edges(goal);
+        ws.cand.clear();
+        ws.cand.resize(row.len(), (f32::INFINITY, NONE));
+        let source = g.reverse.get(b as usize).copied().unwrap_or(NONE);
+        if source == NONE || self.disabled[b as usize] || self.disabled[source as usize] {
+            return;
+        }
+        let mut remaining = row.clone().filter(|&e| !self.disabled[e]).count();
+        let now = ws.next_generation();
+        let (reached, settled) = (2 * now, 2 * now + 1);
+        let h = graph.heuristic_to(goal);
+        ws.heap.clear();
+        let s = source as usize;
+        ws.slot[s].dist = 0.0;
+        ws.slot[s].parent = NONE;
+        ws.slot[s].state = ws.slot[s].state.max(reached);
+        ws.heap.push(Reverse(key(h(s), source)));
+        let threshold = bound;
+        while let Some(Reverse(k)) = ws.heap.pop() {
+            let x = (k & 0xffff_ffff) as usize;
+            if ws.slot[x].state == settled {
+                continue;
+            }
+            if f32::from_bits((k >> 32) as u32) >= threshold {
+                break;
+            }
+            ws.slot[x].state = settled;
+            ws.effort += 1;
+            let d = ws.slot[x].dist;
+            if x != s && g.target[x] as usize == goal {
+                let a = g.reverse[x];
+                if a != NONE && row.contains(&(a as usize)) && !self.disabled[a as usize] {
+                    let c = &mut ws.cand[a as usize - row.start];
+                    if c.1 == NONE {
+                        *c = (d, x as u32);
+                        remaining -= 1;
+                        if remaining == 0 {
+                            break;
+                        }
+                    }
+                }
+            }
+            let disabled = &self.disabled;
+            let (slot, heap) = (&mut ws.slot, &mut ws.heap);
+            graph.for_each_arc(x, |y, w| {
+                if disabled[y] || (x == s && graph.turn(x, y).abs() > close_turn) {
                     return;
                 }
                 let nd = d + w;
