@@ -154,7 +154,7 @@ export function createDesignMode(ctx) {
         actionBusy = false;
         (stats.actionMs[m.action] ??= []).push(m.ms);
         onState(m.state, m.t);
-        if (m.action === 'commit' && m.value === 0 && !m.state.error) ctx.setStatus('nothing to commit: hover over the surface first');
+        if (m.action === 'commit' && m.value === 0 && !m.state.error) { ctx.setStatus('nothing to commit: hover over the surface first'); stats.statusShown = true; }
         if (dragNext) { const d = dragNext; dragNext = null; action(d.name, d.args, d.t); }
         break;
       case 'analysis':
@@ -221,7 +221,8 @@ export function createDesignMode(ctx) {
 
   function onState(state, t) {
     stats.state = state;
-    if (state.error) ctx.setStatus(`design: ${state.error}`);
+    if (state.error) { ctx.setStatus(`design: ${state.error}`); stats.statusShown = true; }
+    else if (stats.statusShown) { ctx.setStatus(''); stats.statusShown = false; }
     // With anchors the proposal is their loop; without, keep the hover's.
     if (state.anchors.length || state.proposal.length) drawProposal(state.proposal, t);
     else if (!state.anchors.length) drawProposal(new Float32Array(0));
@@ -309,6 +310,8 @@ export function createDesignMode(ctx) {
     const fresh = a && s && a.revision === s.revision;
     $('design-status').textContent = fresh ? a.status : strips ? `${strips} strip${strips === 1 ? '' : 's'} · analysing…` : 'Hover over the surface to see the best loop; Enter commits it.';
     $('design-status').classList.toggle('error', !!(fresh && a.counts.red > 0));
+    // Before the first strip the line is a hint, styled as one.
+    $('design-status').classList.toggle('note', !strips);
     const c = fresh ? a.counts : null;
     const t = fresh ? a.timings : null;
     const fmt = (x) => (typeof x === 'number' ? `${x.toFixed(0)} ms` : '—');
@@ -439,7 +442,10 @@ export function createDesignMode(ctx) {
     if ((e.ctrlKey || e.metaKey) && key === 'z') { action(e.shiftKey ? 'redo' : 'undo', []); return true; }
     if ((e.ctrlKey || e.metaKey) && key === 'y') { action('redo', []); return true; }
     if (e.ctrlKey || e.metaKey || e.altKey) return false;
-    if (key === 'enter') { action('commit', []); return true; }
+    // Enter commits the loop on screen: while an action is still being
+    // answered its loop is not drawn yet, so the press is dropped (never
+    // queued to commit a loop nobody saw).
+    if (key === 'enter') { if (actionBusy) stats.droppedEnters = (stats.droppedEnters || 0) + 1; else action('commit', []); return true; }
     if (key === 'escape') { action('clearAnchors', []); return true; }
     return false;
   }

@@ -407,7 +407,7 @@ impl LoopEngine {
             let (cost, kind) = self.best_through(verts[0], f32::INFINITY)?;
             return Some(self.make_loop(kind, cost));
         }
-        let best = self.metagraph_cycle(&verts, &layers, &close);
+        let best = self.metagraph_cycle(&verts, &layers, &close, None);
         if !best.0.is_finite() {
             return None;
         }
@@ -446,7 +446,7 @@ impl LoopEngine {
 
     /// The minimum-weight cycle of §5.4's metagraph (and, with a boundary,
     /// the cheapest ∂ → ξ₀ → … → ξ_{n−1} → ∂ path, §5.7): cost, chosen index
-    /// per layer, closed.
+    /// per layer, closed. `radius`: the first R (tests: ∞, no pruning).
     ///
     /// Exact, and pruned by a radius R: a cycle cheaper than R has each
     /// segment i cheaper than `R − Σ_{l≠i} LB_l` (LB_l a lower bound of
@@ -462,6 +462,7 @@ impl LoopEngine {
         verts: &[usize],
         layers: &[Vec<u32>],
         close: &[f32],
+        radius: Option<f32>,
     ) -> (f32, Vec<usize>, bool) {
         let n = layers.len();
         let lb0: Vec<f32> = (0..n)
@@ -474,7 +475,7 @@ impl LoopEngine {
                     .max(0.0)
             })
             .collect();
-        let mut radius = 1.5 * lb0.iter().sum::<f32>() + 0.05;
+        let mut radius = radius.unwrap_or(1.5 * lb0.iter().sum::<f32>() + 0.05);
         loop {
             let mut lb = lb0.clone();
             if self.has_boundary {
@@ -1541,6 +1542,60 @@ mod tests {
             }
         }
         assert!(open_curves > 0, "no dual curve was the best answer");
+    }
+
+    /// The metagraph cycle pruned by the growing radius equals the unpruned
+    /// one (every search run to all targets) for two and three anchors,
+    /// positional and directional, on closed and open meshes.
+    #[test]
+    fn pruned_metagraph_cycle_equals_the_unpruned_one() {
+        let meshes = [torus(2.0, 0.7, 30, 12), cylinder(1.0, 3.0, 24, 12)];
+        let mut compared = 0;
+        for mesh in &meshes {
+            let mut e = LoopEngine::new(mesh, &ElasticaParams::default());
+            let n = mesh.vertex_count();
+            for k in 0..4 {
+                let vs = [k * 37 % n, (k * 37 + n / 3) % n, (k * 37 + 2 * n / 3) % n];
+                for count in [2usize, 3] {
+                    for directional in [false, true] {
+                        let verts = &vs[..count];
+                        let layers: Vec<Vec<u32>> = verts
+                            .iter()
+                            .enumerate()
+                            .map(|(i, &v)| {
+                                let d = if directional && i == 1 {
+                                    e.graph.g.frame_u[v]
+                                } else {
+                                    DVec3::ZERO
+                                };
+                                e.candidate_edges(v, d)
+                            })
+                            .collect();
+                        let close: Vec<f32> = (0..count)
+                            .map(|i| {
+                                if directional && i == 1 {
+                                    0.5 * e.graph.max_turn
+                                } else {
+                                    f32::INFINITY
+                                }
+                            })
+                            .collect();
+                        let pruned = e.metagraph_cycle(verts, &layers, &close, None);
+                        let full = e.metagraph_cycle(verts, &layers, &close, Some(f32::INFINITY));
+                        assert!(full.0.is_finite(), "{verts:?}: no cycle");
+                        let tol = 1e-4 * full.0.max(1.0);
+                        assert!(
+                            (pruned.0 - full.0).abs() <= tol,
+                            "{verts:?} directional {directional}: pruned {} vs {}",
+                            pruned.0,
+                            full.0
+                        );
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(compared, 32);
     }
 
     #[test]
