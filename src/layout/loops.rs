@@ -558,15 +558,16 @@ impl LoopEngine {
         }
     }
 
-    /// §6.2: per-vertex covered directions of committed strips (world
-    /// tangents; zero or `None` = uncovered). Replaces the previous state.
-    pub fn set_covered(&mut self, covered: &[Option<DVec3>]) {
+    /// §6.2: per vertex the covered directions of every committed strip
+    /// covering it (world tangents; zero ones ignored). Replaces the
+    /// previous state.
+    pub fn set_covered(&mut self, covered: &[Vec<DVec3>]) {
         self.covered = covered
             .iter()
             .enumerate()
-            .filter_map(|(v, d)| {
-                let d = (*d)?.try_normalize()?;
-                Some((v as u32, d))
+            .flat_map(|(v, ds)| {
+                ds.iter()
+                    .filter_map(move |d| Some((v as u32, d.try_normalize()?)))
             })
             .collect();
         self.update_disabled();
