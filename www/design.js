@@ -14,9 +14,10 @@ const COLOURS = {
   loop: [29, 35, 48, 255],
   layoutEdge: [17, 17, 17, 255],
   layoutVertex: [106, 61, 154, 255],
+  selfCrossing: [230, 0, 126, 255],
 };
 // Layers this mode draws (line and point layers of the viewer).
-const LAYER_NAMES = ['design proposal', 'design anchors', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices'];
+const LAYER_NAMES = ['design proposal', 'design anchors', 'design self-crossings', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices'];
 export const REGION_SURFACE = 'layout regions';
 const CLICK_PX = 4;
 
@@ -233,6 +234,14 @@ export function createDesignMode(ctx) {
       colours.set(d[0] || d[1] || d[2] ? COLOURS.directional : COLOURS.anchor, 4 * i);
     }
     setPoints('design anchors', state.anchors, colours, 10);
+    // §8.1: the proposal's self-crossings, highlighted, with a request to adjust.
+    const crossings = state.selfCrossings || new Float32Array(0);
+    setPoints('design self-crossings', crossings, new Uint8Array(COLOURS.selfCrossing), 16);
+    if (crossings.length) {
+      const worst = Math.min(...state.selfCrossingAngles);
+      ctx.setStatus(`design: the loop crosses itself ${crossings.length / 3}× (smallest angle ${worst.toFixed(0)}°): move or add anchors to adjust it`);
+      stats.statusShown = true;
+    }
     // Committed loops (spines): drawn at once; the stripes follow with the analysis.
     const loops = state.loops.map((l) => segmentsOf(l.points));
     const loopColours = new Uint8Array(loops.reduce((n, l) => n + l.length / 6, 0) * 4);
@@ -454,7 +463,7 @@ export function createDesignMode(ctx) {
     const v = ctx.viewer();
     if (!v) return;
     for (const name of LAYER_NAMES) {
-      if (name.endsWith('anchors') || name.endsWith('vertices') || name.endsWith('singularities')) v.set_points(name, new Float32Array(0), new Uint8Array(4), 1);
+      if (name.endsWith('anchors') || name.endsWith('vertices') || name.endsWith('singularities') || name.endsWith('crossings')) v.set_points(name, new Float32Array(0), new Uint8Array(4), 1);
       else v.set_lines(name, new Float32Array(0), new Uint8Array(4));
     }
     ctx.setRegionSurface(null);

@@ -120,6 +120,17 @@ impl DualLoop {
     }
 }
 
+/// A place where a loop crosses itself (§8.1: nothing in the optimisation
+/// controls self-crossings, "it is easy to automatically detect such a loop
+/// and highlight it accordingly, asking for adjustment").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfCrossing {
+    /// World position.
+    pub point: DVec3,
+    /// The crossing angle between the two passes, degrees in [0, 90].
+    pub angle_degrees: f64,
+}
+
 /// Per-node search state, one 32-byte record so that a relaxation touches
 /// one cache line per node (the bidirectional search reads the other
 /// colour of `reverse(y)` right after writing `y`).
@@ -556,6 +567,57 @@ impl LoopEngine {
                 if r > 1e4 { f32::INFINITY } else { r }
             };
         }
+    }
+
+    /// §8.1: the self-crossings of a loop's polyline. Two non-neighbouring
+    /// segments cross when they come closer than half the median segment
+    /// length and, projected into the tangent plane of the nearest vertex,
+    /// intersect; crossings closer than two tolerances are one.
+    pub fn self_crossings(&self, l: &DualLoop) -> Vec<SelfCrossing> {
+        let p = &l.points;
+        let m = p.len();
+        let mut lengths: Vec<f64> = p.windows(2).map(|w| w[0].distance(w[1])).collect();
+        if m < 5 {
+            return Vec::new();
+        }
+        lengths.sort_by(f64::total_cmp);
+        let tol = 0.5 * lengths[lengths.len() / 2];
+        let segments = m - 1;
+        let mut out: Vec<SelfCrossing> = Vec::new();
+        for i in 0..segments {
+            for j in i + 2..segments {
+                // Neighbours along a closed loop (the last and first) touch.
+                if l.closed && i == 0 && j == segments - 1 {
+                    continue;
+                }
+                let (a0, a1, b0, b1) = (p[i], p[i + 1], p[j], p[j + 1]);
+                let (pa, pb) = closest_points(a0, a1, b0, b1);
+                if pa.distance(pb) > tol {
+                    continue;
+                }
+                let mid = 0.5 * (pa + pb);
+                let normal = self
+                    .nearest_vertex(mid)
+                    .map_or(DVec3::Z, |v| self.graph.g.normals[v]);
+                let (u, w) = normal.any_orthonormal_pair();
+                let flat = |q: DVec3| ((q - mid).dot(u), (q - mid).dot(w));
+                if !segments_intersect_2d(flat(a0), flat(a1), flat(b0), flat(b1)) {
+                    continue;
+                }
+                let (da, db) = (a1 - a0, b1 - b0);
+                let (da, db) = (da - normal * da.dot(normal), db - normal * db.dot(normal));
+                let c = (da.dot(db).abs() / (da.length() * db.length()).max(1e-300)).min(1.0);
+                let angle_degrees = c.acos().to_degrees();
+                match out.iter_mut().find(|x| x.point.distance(mid) < 2.0 * tol) {
+                    Some(x) => x.angle_degrees = x.angle_degrees.min(angle_degrees),
+                    None => out.push(SelfCrossing {
+                        point: mid,
+                        angle_degrees,
+                    }),
+                }
+            }
+        }
+        out
     }
 
     /// §6.2: per vertex the covered directions of every committed strip
@@ -1379,6 +1441,47 @@ fn layered_path(
     (total, choice)
 }
 
+/// The closest points of segments `a0a1` and `b0b1`.
+fn closest_points(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3) -> (DVec3, DVec3) {
+    let (d1, d2, r) = (a1 - a0, b1 - b0, a0 - b0);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    let c = d1.dot(r);
+    let b = d1.dot(d2);
+    let denom = a * e - b * b;
+    let mut s = if denom > 1e-300 {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut t = if e > 1e-300 { (b * s + f) / e } else { 0.0 };
+    if t < 0.0 {
+        t = 0.0;
+        s = if a > 1e-300 {
+            (-c / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+    } else if t > 1.0 {
+        t = 1.0;
+        s = if a > 1e-300 {
+            ((b - c) / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+    }
+    (a0 + d1 * s, b0 + d2 * t)
+}
+
+/// Whether the closed 2D segments `pq` and `rs` intersect.
+fn segments_intersect_2d(p: (f64, f64), q: (f64, f64), r: (f64, f64), s: (f64, f64)) -> bool {
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let (d1, d2) = (cross(r, s, p), cross(r, s, q));
+    let (d3, d4) = (cross(p, q, r), cross(p, q, s));
+    d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != d2 || d3 != d4)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1597,6 +1700,37 @@ mod tests {
             }
         }
         assert_eq!(compared, 32);
+    }
+
+    /// §8.1: a figure eight (lemniscate of Gerono) on a plane crosses
+    /// itself once, at the origin, at 90°; a circle never.
+    #[test]
+    fn self_crossings_of_a_figure_eight_and_a_circle() {
+        let e = LoopEngine::new(&flat_grid(1.0, 12), &ElasticaParams::default());
+        let curve = |f: &dyn Fn(f64) -> DVec3| {
+            let points: Vec<DVec3> = (0..=200)
+                .map(|k| f(std::f64::consts::TAU * k as f64 / 200.0))
+                .collect();
+            DualLoop {
+                nodes: Vec::new(),
+                points,
+                cost: 0.0,
+                closed: true,
+            }
+        };
+        let eight = curve(&|t| DVec3::new(0.6 * t.sin(), 0.6 * t.sin() * t.cos(), 0.0));
+        let x = e.self_crossings(&eight);
+        assert_eq!(x.len(), 1, "{x:?}");
+        assert!(x[0].point.length() < 0.02, "{x:?}");
+        assert!((x[0].angle_degrees - 90.0).abs() < 2.0, "{x:?}");
+        let circle = curve(&|t| DVec3::new(0.6 * t.cos(), 0.6 * t.sin(), 0.0));
+        assert!(e.self_crossings(&circle).is_empty());
+        // A flatter eight crosses at a smaller angle: 2·atan(0.5) ≈ 53.1°.
+        let flat = curve(&|t| DVec3::new(0.6 * t.sin(), 0.3 * t.sin() * t.cos(), 0.0));
+        let x = e.self_crossings(&flat);
+        assert_eq!(x.len(), 1, "{x:?}");
+        let expected = 2.0 * 0.5f64.atan().to_degrees();
+        assert!((x[0].angle_degrees - expected).abs() < 2.0, "{x:?}");
     }
 
     #[test]
