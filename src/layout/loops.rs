@@ -1477,8 +1477,16 @@ fn segments_intersect_2d(p: (f64, f64), q: (f64, f64), r: (f64, f64), s: (f64, f
     let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
         (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
     };
-    let (d1, d2) = (cross(r, s, p), cross(r, s, q));
-    let (d3, d4) = (cross(p, q, r), cross(p, q, s));
+    // Orientations within rounding of zero count as zero, so passes that
+    // meet exactly at a shared sample point (an endpoint of both) cross.
+    let scale = [q, r, s]
+        .iter()
+        .map(|a| (a.0 - p.0).abs().max((a.1 - p.1).abs()))
+        .fold(0.0f64, f64::max);
+    let eps = 1e-9 * scale * scale;
+    let snap = |d: f64| if d.abs() <= eps { 0.0 } else { d };
+    let (d1, d2) = (snap(cross(r, s, p)), snap(cross(r, s, q)));
+    let (d3, d4) = (snap(cross(p, q, r)), snap(cross(p, q, s)));
     d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != d2 || d3 != d4)
 }
 
