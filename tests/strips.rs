@@ -373,7 +373,10 @@ fn cylinder_strip_covers_the_cylinder_with_circular_stripes() {
             mesh.triangles.len(),
             "{name}: the strip covers everything"
         );
-        assert!(a.covered.iter().all(Option::is_some));
+        assert!(
+            a.covered.iter().all(|c| c.len() == 1),
+            "one strip, one direction per vertex"
+        );
         let worst_dir = a
             .covered
             .iter()
@@ -488,12 +491,38 @@ fn sphere_strip_stops_at_the_singularities() {
     }
     // The three strips overlap and together cover the sphere except next to
     // the singularities (§6.2).
-    let covered = a.covered.iter().filter(|c| c.is_some()).count();
+    let covered = a.covered.iter().filter(|c| !c.is_empty()).count();
     println!(
         "sphere, 3 circles: {covered} / {} vertices covered",
         sphere.positions.len()
     );
     assert!(covered as f64 > 0.99 * sphere.positions.len() as f64);
+    // Where strips overlap, every strip keeps its own direction (§6.2): at a
+    // vertex on the circle z = 0 (strip Z's spine, tangent ⟂ z) covered by
+    // strip X or Y too, both directions are kept, and they are transversal.
+    let mut doubly = 0;
+    for (v, ds) in a.covered.iter().enumerate() {
+        if ds.len() >= 2 {
+            doubly += 1;
+            let p = sphere.positions[v];
+            if p.z.abs() < 0.02 {
+                assert!(
+                    ds.iter().any(|d| d.z.abs() < 0.5),
+                    "vertex {v} on strip Z's spine lost its direction: {ds:?}"
+                );
+                assert!(
+                    ds.iter().any(|d| d.z.abs() > 0.5),
+                    "vertex {v}: the crossing strip's direction is lost: {ds:?}"
+                );
+            }
+        }
+        assert!(ds.len() <= 3, "at most one direction per strip");
+    }
+    println!("sphere, 3 circles: {doubly} vertices covered by two or three strips");
+    assert!(
+        doubly as f64 > 0.3 * sphere.positions.len() as f64,
+        "strips overlap: {doubly}"
+    );
 }
 
 #[test]

@@ -14,9 +14,10 @@ const COLOURS = {
   loop: [29, 35, 48, 255],
   layoutEdge: [17, 17, 17, 255],
   layoutVertex: [106, 61, 154, 255],
+  selfCrossing: [230, 0, 126, 255],
 };
 // Layers this mode draws (line and point layers of the viewer).
-const LAYER_NAMES = ['design proposal', 'design anchors', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices'];
+const LAYER_NAMES = ['design proposal', 'design anchors', 'design self-crossings', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices'];
 export const REGION_SURFACE = 'layout regions';
 const CLICK_PX = 4;
 
@@ -154,7 +155,7 @@ export function createDesignMode(ctx) {
         actionBusy = false;
         (stats.actionMs[m.action] ??= []).push(m.ms);
         onState(m.state, m.t);
-        if (m.action === 'commit' && m.value === 0 && !m.state.error) ctx.setStatus('nothing to commit: hover over the surface first');
+        if (m.action === 'commit' && m.value === 0 && !m.state.error) { ctx.setStatus('nothing to commit: hover over the surface first'); stats.statusShown = true; }
         if (dragNext) { const d = dragNext; dragNext = null; action(d.name, d.args, d.t); }
         break;
       case 'analysis':
@@ -221,7 +222,8 @@ export function createDesignMode(ctx) {
 
   function onState(state, t) {
     stats.state = state;
-    if (state.error) ctx.setStatus(`design: ${state.error}`);
+    if (state.error) { ctx.setStatus(`design: ${state.error}`); stats.statusShown = true; }
+    else if (stats.statusShown) { ctx.setStatus(''); stats.statusShown = false; }
     // With anchors the proposal is their loop; without, keep the hover's.
     if (state.anchors.length || state.proposal.length) drawProposal(state.proposal, t);
     else if (!state.anchors.length) drawProposal(new Float32Array(0));
@@ -232,6 +234,14 @@ export function createDesignMode(ctx) {
       colours.set(d[0] || d[1] || d[2] ? COLOURS.directional : COLOURS.anchor, 4 * i);
     }
     setPoints('design anchors', state.anchors, colours, 10);
+    // §8.1: the proposal's self-crossings, highlighted, with a request to adjust.
+    const crossings = state.selfCrossings || new Float32Array(0);
+    setPoints('design self-crossings', crossings, new Uint8Array(COLOURS.selfCrossing), 16);
+    if (crossings.length) {
+      const worst = Math.min(...state.selfCrossingAngles);
+      ctx.setStatus(`design: the loop crosses itself ${crossings.length / 3}× (smallest angle ${worst.toFixed(0)}°): move or add anchors to adjust it`);
+      stats.statusShown = true;
+    }
     // Committed loops (spines): drawn at once; the stripes follow with the analysis.
     const loops = state.loops.map((l) => segmentsOf(l.points));
     const loopColours = new Uint8Array(loops.reduce((n, l) => n + l.length / 6, 0) * 4);
@@ -309,6 +319,8 @@ export function createDesignMode(ctx) {
     const fresh = a && s && a.revision === s.revision;
     $('design-status').textContent = fresh ? a.status : strips ? `${strips} strip${strips === 1 ? '' : 's'} · analysing…` : 'Hover over the surface to see the best loop; Enter commits it.';
     $('design-status').classList.toggle('error', !!(fresh && a.counts.red > 0));
+    // Before the first strip the line is a hint, styled as one.
+    $('design-status').classList.toggle('note', !strips);
     const c = fresh ? a.counts : null;
     const t = fresh ? a.timings : null;
     const fmt = (x) => (typeof x === 'number' ? `${x.toFixed(0)} ms` : '—');
@@ -439,7 +451,10 @@ export function createDesignMode(ctx) {
     if ((e.ctrlKey || e.metaKey) && key === 'z') { action(e.shiftKey ? 'redo' : 'undo', []); return true; }
     if ((e.ctrlKey || e.metaKey) && key === 'y') { action('redo', []); return true; }
     if (e.ctrlKey || e.metaKey || e.altKey) return false;
-    if (key === 'enter') { action('commit', []); return true; }
+    // Enter commits the loop on screen: while an action is still being
+    // answered its loop is not drawn yet, so the press is dropped (never
+    // queued to commit a loop nobody saw).
+    if (key === 'enter') { if (actionBusy) stats.droppedEnters = (stats.droppedEnters || 0) + 1; else action('commit', []); return true; }
     if (key === 'escape') { action('clearAnchors', []); return true; }
     return false;
   }
@@ -448,7 +463,7 @@ export function createDesignMode(ctx) {
     const v = ctx.viewer();
     if (!v) return;
     for (const name of LAYER_NAMES) {
-      if (name.endsWith('anchors') || name.endsWith('vertices') || name.endsWith('singularities')) v.set_points(name, new Float32Array(0), new Uint8Array(4), 1);
+      if (name.endsWith('anchors') || name.endsWith('vertices') || name.endsWith('singularities') || name.endsWith('crossings')) v.set_points(name, new Float32Array(0), new Uint8Array(4), 1);
       else v.set_lines(name, new Float32Array(0), new Uint8Array(4));
     }
     ctx.setRegionSurface(null);

@@ -388,7 +388,7 @@ impl LayoutDesign {
     /// §6.2 from the strip analysis: per-vertex covered directions of the
     /// strips of revision `revision` (ignored when stale). Returns whether
     /// they were applied.
-    pub fn apply_covered(&mut self, revision: u64, covered: &[Option<DVec3>]) -> bool {
+    pub fn apply_covered(&mut self, revision: u64, covered: &[Vec<DVec3>]) -> bool {
         if revision != self.revision {
             return false;
         }
@@ -749,8 +749,8 @@ mod tests {
         let rev = d.revision();
         let n = d.engine.graph.g.vertex_count();
         d.undo().unwrap();
-        assert!(!d.apply_covered(rev, &vec![None; n]));
-        assert!(d.apply_covered(d.revision(), &vec![None; n]));
+        assert!(!d.apply_covered(rev, &vec![Vec::new(); n]));
+        assert!(d.apply_covered(d.revision(), &vec![Vec::new(); n]));
         assert_eq!(d.engine.disabled_count(), 0);
     }
 

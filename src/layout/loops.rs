@@ -120,6 +120,17 @@ impl DualLoop {
     }
 }
 
+/// A place where a loop crosses itself (§8.1: nothing in the optimisation
+/// controls self-crossings, "it is easy to automatically detect such a loop
+/// and highlight it accordingly, asking for adjustment").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfCrossing {
+    /// World position.
+    pub point: DVec3,
+    /// The crossing angle between the two passes, degrees in [0, 90].
+    pub angle_degrees: f64,
+}
+
 /// Per-node search state, one 32-byte record so that a relaxation touches
 /// one cache line per node (the bidirectional search reads the other
 /// colour of `reverse(y)` right after writing `y`).
@@ -401,53 +412,13 @@ impl LoopEngine {
                 }
             })
             .collect();
-        // Metaedge weights w̄(a, b) for a ∈ ξ_i, b ∈ ξ_{i+1}.
-        let mut meta: Vec<Vec<f32>> = Vec::with_capacity(n);
-        for i in 0..n {
-            let j = (i + 1) % n;
-            let (li, lj) = (layers[i].clone(), &layers[j]);
-            let only = if lj.len() == 1 { Some(lj[0]) } else { None };
-            let mut w = vec![f32::INFINITY; li.len() * lj.len()];
-            for (ai, &a) in li.iter().enumerate() {
-                self.search(a, verts[j], only, f32::INFINITY, close[j]);
-                for (bi, &b) in lj.iter().enumerate() {
-                    w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
-                }
-            }
-            meta.push(w);
+        // One positional anchor: the hover query's loop (§4.1: a click
+        // keeps the loop shown while hovering), not |ξ₀| full searches.
+        if n == 1 && anchors[0].direction == DVec3::ZERO {
+            let (cost, kind) = self.best_through(verts[0], f32::INFINITY)?;
+            return Some(self.make_loop(kind, cost));
         }
-        // Minimum-weight cycle of the metagraph: layered DP from each node of
-        // the smallest layer back to itself.
-        let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
-        let mut best: (f32, Vec<usize>, bool) = (f32::INFINITY, Vec::new(), true);
-        for start in 0..layers[s].len() {
-            let (cost, choice) = layered_path(&layers, &meta, s, n, Some(start), None);
-            if cost < best.0 {
-                best = (cost, choice, true);
-            }
-        }
-        if self.has_boundary {
-            // A dual curve beats the best loop only if it enters and leaves
-            // ∂ cheaper than that loop: the field is settled that far.
-            self.settle_boundary(best.0);
-            let f = self.boundary_field.as_ref()?;
-            let enter: Vec<f32> = layers[0].iter().map(|&b| f.distance(b)).collect();
-            let leave: Vec<f32> = layers[n - 1]
-                .iter()
-                .map(|&a| {
-                    let r = self.graph.g.reverse[a as usize];
-                    if r == NONE {
-                        f32::INFINITY
-                    } else {
-                        f.distance(r)
-                    }
-                })
-                .collect();
-            let (cost, choice) = layered_path(&layers, &meta, 0, n, None, Some((&enter, &leave)));
-            if cost < best.0 {
-                best = (cost, choice, false);
-            }
-        }
+        let best = self.metagraph_cycle(&verts, &layers, &close, None);
         if !best.0.is_finite() {
             return None;
         }
@@ -484,15 +455,181 @@ impl LoopEngine {
         Some(self.loop_from_nodes(nodes, cost as f64, closed))
     }
 
-    /// §6.2: per-vertex covered directions of committed strips (world
-    /// tangents; zero or `None` = uncovered). Replaces the previous state.
-    pub fn set_covered(&mut self, covered: &[Option<DVec3>]) {
+    /// The minimum-weight cycle of §5.4's metagraph (and, with a boundary,
+    /// the cheapest ∂ → ξ₀ → … → ξ_{n−1} → ∂ path, §5.7): cost, chosen index
+    /// per layer, closed. `radius`: the first R (tests: ∞, no pruning).
+    ///
+    /// Exact, and pruned by a radius R: a cycle cheaper than R has each
+    /// segment i cheaper than `R − Σ_{l≠i} LB_l` (LB_l a lower bound of
+    /// segment l: the A* heuristic, tightened to the cheapest metaedge found
+    /// once segment l is searched), so the searches of segment i stop at
+    /// that key and metaedges beyond it are left infinite. If the best
+    /// cycle found costs at most R it is the optimum; otherwise R grows to
+    /// that cost (or doubles) and the round is repeated. Before, every
+    /// search ran until it had reached *all* of ξ_{i+1}, including the
+    /// directions that need a U-turn there (most of g′ per search).
+    fn metagraph_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        radius: Option<f32>,
+    ) -> (f32, Vec<usize>, bool) {
+        let n = layers.len();
+        let lb0: Vec<f32> = (0..n)
+            .map(|i| {
+                let h = self.graph.heuristic_to(verts[(i + 1) % n]);
+                layers[i]
+                    .iter()
+                    .map(|&a| h(a as usize))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0)
+            })
+            .collect();
+        let mut radius = radius.unwrap_or(1.5 * lb0.iter().sum::<f32>() + 0.05);
+        loop {
+            let mut lb = lb0.clone();
+            if self.has_boundary {
+                // A dual curve replaces the closing segment by ∂ (cost ≥ 0).
+                lb[n - 1] = 0.0;
+            }
+            // Metaedge weights w̄(a, b) for a ∈ ξ_i, b ∈ ξ_{i+1}.
+            let mut meta: Vec<Vec<f32>> = Vec::with_capacity(n);
+            for i in 0..n {
+                let j = (i + 1) % n;
+                let others: f32 = (0..n).filter(|&l| l != i).map(|l| lb[l]).sum();
+                let threshold = if radius.is_finite() {
+                    (radius - others).max(0.0) * (1.0 + 1e-5) + 1e-6
+                } else {
+                    f32::INFINITY
+                };
+                let (li, lj) = (&layers[i], &layers[j]);
+                let only = if lj.len() == 1 { Some(lj[0]) } else { None };
+                let mut w = vec![f32::INFINITY; li.len() * lj.len()];
+                if lj.len() == 1 && li.len() > 1 && verts[i] != verts[j] {
+                    // §5.4: one backward search from the singleton.
+                    self.search_back(lj[0], verts[i], threshold, close[j]);
+                    for (ai, &a) in li.iter().enumerate() {
+                        w[ai] = self.cand_of(verts[i], a).0;
+                    }
+                } else {
+                    for (ai, &a) in li.iter().enumerate() {
+                        self.search(a, verts[j], only, threshold, close[j]);
+                        for (bi, &b) in lj.iter().enumerate() {
+                            w[ai * lj.len() + bi] = self.cand_of(verts[j], b).0;
+                        }
+                    }
+                }
+                let cheapest = w.iter().copied().fold(f32::INFINITY, f32::min);
+                if !(self.has_boundary && i == n - 1) {
+                    lb[i] = lb[i].max(cheapest.min(threshold / (1.0 + 1e-5) - 1e-6));
+                }
+                meta.push(w);
+            }
+            let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
+            let mut best: (f32, Vec<usize>, bool) = (f32::INFINITY, Vec::new(), true);
+            for start in 0..layers[s].len() {
+                let (cost, choice) = layered_path(layers, &meta, s, n, Some(start), None);
+                if cost < best.0 {
+                    best = (cost, choice, true);
+                }
+            }
+            if self.has_boundary {
+                // Enter and leave ∂ cheaper than the radius: settled that far.
+                self.settle_boundary(radius);
+                if let Some(f) = self.boundary_field.as_ref() {
+                    let enter: Vec<f32> = layers[0].iter().map(|&b| f.distance(b)).collect();
+                    let leave: Vec<f32> = layers[n - 1]
+                        .iter()
+                        .map(|&a| {
+                            let r = self.graph.g.reverse[a as usize];
+                            if r == NONE {
+                                f32::INFINITY
+                            } else {
+                                f.distance(r)
+                            }
+                        })
+                        .collect();
+                    let (cost, choice) =
+                        layered_path(layers, &meta, 0, n, None, Some((&enter, &leave)));
+                    if cost < best.0 {
+                        best = (cost, choice, false);
+                    }
+                }
+            }
+            if best.0 <= radius || !radius.is_finite() {
+                return best;
+            }
+            radius = if best.0.is_finite() {
+                best.0
+            } else {
+                let r = 2.0 * radius;
+                if r > 1e4 { f32::INFINITY } else { r }
+            };
+        }
+    }
+
+    /// §8.1: the self-crossings of a loop's polyline. Two non-neighbouring
+    /// segments cross when they come closer than half the median segment
+    /// length and, projected into the tangent plane of the nearest vertex,
+    /// intersect; crossings closer than two tolerances are one.
+    pub fn self_crossings(&self, l: &DualLoop) -> Vec<SelfCrossing> {
+        let p = &l.points;
+        let m = p.len();
+        let mut lengths: Vec<f64> = p.windows(2).map(|w| w[0].distance(w[1])).collect();
+        if m < 5 {
+            return Vec::new();
+        }
+        lengths.sort_by(f64::total_cmp);
+        let tol = 0.5 * lengths[lengths.len() / 2];
+        let segments = m - 1;
+        let mut out: Vec<SelfCrossing> = Vec::new();
+        for i in 0..segments {
+            for j in i + 2..segments {
+                // Neighbours along a closed loop (the last and first) touch.
+                if l.closed && i == 0 && j == segments - 1 {
+                    continue;
+                }
+                let (a0, a1, b0, b1) = (p[i], p[i + 1], p[j], p[j + 1]);
+                let (pa, pb) = closest_points(a0, a1, b0, b1);
+                if pa.distance(pb) > tol {
+                    continue;
+                }
+                let mid = 0.5 * (pa + pb);
+                let normal = self
+                    .nearest_vertex(mid)
+                    .map_or(DVec3::Z, |v| self.graph.g.normals[v]);
+                let (u, w) = normal.any_orthonormal_pair();
+                let flat = |q: DVec3| ((q - mid).dot(u), (q - mid).dot(w));
+                if !segments_intersect_2d(flat(a0), flat(a1), flat(b0), flat(b1)) {
+                    continue;
+                }
+                let (da, db) = (a1 - a0, b1 - b0);
+                let (da, db) = (da - normal * da.dot(normal), db - normal * db.dot(normal));
+                let c = (da.dot(db).abs() / (da.length() * db.length()).max(1e-300)).min(1.0);
+                let angle_degrees = c.acos().to_degrees();
+                match out.iter_mut().find(|x| x.point.distance(mid) < 2.0 * tol) {
+                    Some(x) => x.angle_degrees = x.angle_degrees.min(angle_degrees),
+                    None => out.push(SelfCrossing {
+                        point: mid,
+                        angle_degrees,
+                    }),
+                }
+            }
+        }
+        out
+    }
+
+    /// §6.2: per vertex the covered directions of every committed strip
+    /// covering it (world tangents; zero ones ignored). Replaces the
+    /// previous state.
+    pub fn set_covered(&mut self, covered: &[Vec<DVec3>]) {
         self.covered = covered
             .iter()
             .enumerate()
-            .filter_map(|(v, d)| {
-                let d = (*d)?.try_normalize()?;
-                Some((v as u32, d))
+            .flat_map(|(v, ds)| {
+                ds.iter()
+                    .filter_map(move |d| Some((v as u32, d.try_normalize()?)))
             })
             .collect();
         self.update_disabled();
@@ -1067,6 +1204,76 @@ impl LoopEngine {
         }
     }
 
+    /// The backward search of §5.4 into node `b`: by reversal symmetry of
+    /// the g′ weights, the cost of `a ⇝ b` is that of `reverse(b) ⇝
+    /// reverse(a)`, so one A* forward from `reverse(b)` (its first arc, the
+    /// reverse of the arc into `b`, turning at most `close_turn`) yields the
+    /// costs from every out-edge `a` of `goal` into `b` (`ws.cand`, indexed
+    /// like `goal`'s out-edges; no predecessors: the path is searched forward
+    /// once chosen). Stops at key `bound`.
+    fn search_back(&mut self, b: u32, goal: usize, bound: f32, close_turn: f32) {
+        let graph = &self.graph;
+        let g = &graph.g;
+        let ws = &mut self.ws;
+        let row = g.out_edges(goal);
+        ws.cand.clear();
+        ws.cand.resize(row.len(), (f32::INFINITY, NONE));
+        let source = g.reverse.get(b as usize).copied().unwrap_or(NONE);
+        if source == NONE || self.disabled[b as usize] || self.disabled[source as usize] {
+            return;
+        }
+        let mut remaining = row.clone().filter(|&e| !self.disabled[e]).count();
+        let now = ws.next_generation();
+        let (reached, settled) = (2 * now, 2 * now + 1);
+        let h = graph.heuristic_to(goal);
+        ws.heap.clear();
+        let s = source as usize;
+        ws.slot[s].dist = 0.0;
+        ws.slot[s].parent = NONE;
+        ws.slot[s].state = ws.slot[s].state.max(reached);
+        ws.heap.push(Reverse(key(h(s), source)));
+        let threshold = bound;
+        while let Some(Reverse(k)) = ws.heap.pop() {
+            let x = (k & 0xffff_ffff) as usize;
+            if ws.slot[x].state == settled {
+                continue;
+            }
+            if f32::from_bits((k >> 32) as u32) >= threshold {
+                break;
+            }
+            ws.slot[x].state = settled;
+            ws.effort += 1;
+            let d = ws.slot[x].dist;
+            if x != s && g.target[x] as usize == goal {
+                let a = g.reverse[x];
+                if a != NONE && row.contains(&(a as usize)) && !self.disabled[a as usize] {
+                    let c = &mut ws.cand[a as usize - row.start];
+                    if c.1 == NONE {
+                        *c = (d, x as u32);
+                        remaining -= 1;
+                        if remaining == 0 {
+                            break;
+                        }
+                    }
+                }
+            }
+            let disabled = &self.disabled;
+            let (slot, heap) = (&mut ws.slot, &mut ws.heap);
+            graph.for_each_arc(x, |y, w| {
+                if disabled[y] || (x == s && graph.turn(x, y).abs() > close_turn) {
+                    return;
+                }
+                let nd = d + w;
+                if slot[y].state < reached || nd < slot[y].dist {
+                    slot[y].state = slot[y].state.max(reached);
+                    slot[y].dist = nd;
+                    slot[y].parent = x as u32;
+                    heap.push(Reverse(key(nd + h(y), y as u32)));
+                }
+            });
+        }
+    }
+
     fn cand_of(&self, goal: usize, b: u32) -> (f32, u32) {
         let row = self.graph.g.out_edges(goal);
         if !row.contains(&(b as usize)) {
@@ -1234,6 +1441,55 @@ fn layered_path(
     (total, choice)
 }
 
+/// The closest points of segments `a0a1` and `b0b1`.
+fn closest_points(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3) -> (DVec3, DVec3) {
+    let (d1, d2, r) = (a1 - a0, b1 - b0, a0 - b0);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    let c = d1.dot(r);
+    let b = d1.dot(d2);
+    let denom = a * e - b * b;
+    let mut s = if denom > 1e-300 {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut t = if e > 1e-300 { (b * s + f) / e } else { 0.0 };
+    if t < 0.0 {
+        t = 0.0;
+        s = if a > 1e-300 {
+            (-c / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+    } else if t > 1.0 {
+        t = 1.0;
+        s = if a > 1e-300 {
+            ((b - c) / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+    }
+    (a0 + d1 * s, b0 + d2 * t)
+}
+
+/// Whether the closed 2D segments `pq` and `rs` intersect.
+fn segments_intersect_2d(p: (f64, f64), q: (f64, f64), r: (f64, f64), s: (f64, f64)) -> bool {
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    // Orientations within rounding of zero count as zero, so passes that
+    // meet exactly at a shared sample point (an endpoint of both) cross.
+    let scale = [q, r, s]
+        .iter()
+        .map(|a| (a.0 - p.0).abs().max((a.1 - p.1).abs()))
+        .fold(0.0f64, f64::max);
+    let eps = 1e-9 * scale * scale;
+    let snap = |d: f64| if d.abs() <= eps { 0.0 } else { d };
+    let (d1, d2) = (snap(cross(r, s, p)), snap(cross(r, s, q)));
+    let (d3, d4) = (snap(cross(p, q, r)), snap(cross(p, q, s)));
+    d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != d2 || d3 != d4)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1398,6 +1654,91 @@ mod tests {
             }
         }
         assert!(open_curves > 0, "no dual curve was the best answer");
+    }
+
+    /// The metagraph cycle pruned by the growing radius equals the unpruned
+    /// one (every search run to all targets) for two and three anchors,
+    /// positional and directional, on closed and open meshes.
+    #[test]
+    fn pruned_metagraph_cycle_equals_the_unpruned_one() {
+        let meshes = [torus(2.0, 0.7, 30, 12), cylinder(1.0, 3.0, 24, 12)];
+        let mut compared = 0;
+        for mesh in &meshes {
+            let mut e = LoopEngine::new(mesh, &ElasticaParams::default());
+            let n = mesh.vertex_count();
+            for k in 0..4 {
+                let vs = [k * 37 % n, (k * 37 + n / 3) % n, (k * 37 + 2 * n / 3) % n];
+                for count in [2usize, 3] {
+                    for directional in [false, true] {
+                        let verts = &vs[..count];
+                        let layers: Vec<Vec<u32>> = verts
+                            .iter()
+                            .enumerate()
+                            .map(|(i, &v)| {
+                                let d = if directional && i == 1 {
+                                    e.graph.g.frame_u[v]
+                                } else {
+                                    DVec3::ZERO
+                                };
+                                e.candidate_edges(v, d)
+                            })
+                            .collect();
+                        let close: Vec<f32> = (0..count)
+                            .map(|i| {
+                                if directional && i == 1 {
+                                    0.5 * e.graph.max_turn
+                                } else {
+                                    f32::INFINITY
+                                }
+                            })
+                            .collect();
+                        let pruned = e.metagraph_cycle(verts, &layers, &close, None);
+                        let full = e.metagraph_cycle(verts, &layers, &close, Some(f32::INFINITY));
+                        assert!(full.0.is_finite(), "{verts:?}: no cycle");
+                        let tol = 1e-4 * full.0.max(1.0);
+                        assert!(
+                            (pruned.0 - full.0).abs() <= tol,
+                            "{verts:?} directional {directional}: pruned {} vs {}",
+                            pruned.0,
+                            full.0
+                        );
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(compared, 32);
+    }
+
+    /// §8.1: a figure eight (lemniscate of Gerono) on a plane crosses
+    /// itself once, at the origin, at 90°; a circle never.
+    #[test]
+    fn self_crossings_of_a_figure_eight_and_a_circle() {
+        let e = LoopEngine::new(&flat_grid(1.0, 12), &ElasticaParams::default());
+        let curve = |f: &dyn Fn(f64) -> DVec3| {
+            let points: Vec<DVec3> = (0..=200)
+                .map(|k| f(std::f64::consts::TAU * k as f64 / 200.0))
+                .collect();
+            DualLoop {
+                nodes: Vec::new(),
+                points,
+                cost: 0.0,
+                closed: true,
+            }
+        };
+        let eight = curve(&|t| DVec3::new(0.6 * t.sin(), 0.6 * t.sin() * t.cos(), 0.0));
+        let x = e.self_crossings(&eight);
+        assert_eq!(x.len(), 1, "{x:?}");
+        assert!(x[0].point.length() < 0.02, "{x:?}");
+        assert!((x[0].angle_degrees - 90.0).abs() < 2.0, "{x:?}");
+        let circle = curve(&|t| DVec3::new(0.6 * t.cos(), 0.6 * t.sin(), 0.0));
+        assert!(e.self_crossings(&circle).is_empty());
+        // A flatter eight crosses at a smaller angle: 2·atan(0.5) ≈ 53.1°.
+        let flat = curve(&|t| DVec3::new(0.6 * t.sin(), 0.3 * t.sin() * t.cos(), 0.0));
+        let x = e.self_crossings(&flat);
+        assert_eq!(x.len(), 1, "{x:?}");
+        let expected = 2.0 * 0.5f64.atan().to_degrees();
+        assert!((x[0].angle_degrees - expected).abs() < 2.0, "{x:?}");
     }
 
     #[test]

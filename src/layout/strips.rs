@@ -105,7 +105,7 @@ pub struct StripAnalysis {
     pub strips: Vec<Strip>,
     /// Per vertex: the isocurve tangent (world) of the first strip covering
     /// it (§6.2), for `LoopEngine::set_covered`.
-    pub covered: Vec<Option<DVec3>>,
+    pub covered: Vec<Vec<DVec3>>,
     /// Stripe spacing in world units.
     pub spacing: f64,
     /// Why something is missing (a failed solve, a loop that was skipped).
@@ -143,7 +143,7 @@ pub fn strip_analysis(
     let nv = mesh.positions.len();
     let mut out = StripAnalysis {
         cross: vec![DVec3::ZERO; mesh.triangles.len()],
-        covered: vec![None; nv],
+        covered: vec![Vec::new(); nv],
         spacing: params.spacing * mesh.bbox().map_or(0.0, |b| b.diagonal()),
         ..StripAnalysis::default()
     };
@@ -334,10 +334,11 @@ fn gradient(mesh: &TriMesh, f: usize, w: &[f64; 3]) -> DVec3 {
 }
 
 /// §6.2: per vertex the isocurve tangent (n × ∇w, averaged over the
-/// vertex's faces in the strip) of the first strip covering it.
-fn covered_directions(mesh: &TriMesh, strips: &[Strip]) -> Vec<Option<DVec3>> {
+/// vertex's faces in the strip) of every strip covering it (overlapping
+/// strips each keep their own constraint).
+fn covered_directions(mesh: &TriMesh, strips: &[Strip]) -> Vec<Vec<DVec3>> {
     let nv = mesh.positions.len();
-    let mut out = vec![None; nv];
+    let mut out = vec![Vec::new(); nv];
     for s in strips {
         let mut sum = vec![DVec3::ZERO; nv];
         for (&f, g) in s.faces.iter().zip(&s.gradient) {
@@ -350,8 +351,8 @@ fn covered_directions(mesh: &TriMesh, strips: &[Strip]) -> Vec<Option<DVec3>> {
             }
         }
         for v in 0..nv {
-            if out[v].is_none() && sum[v].length_squared() > 0.0 {
-                out[v] = Some(sum[v].normalize());
+            if sum[v].length_squared() > 0.0 {
+                out[v].push(sum[v].normalize());
             }
         }
     }

@@ -312,7 +312,8 @@ impl LayoutDesigner {
 
     /// The design state: `{ revision, loops: [{ points, mirrored, closed }],
     /// anchors: Float32Array (xyz), anchorDirections: Float32Array (xyz,
-    /// zero = positional), proposal: Float32Array, browse: [index, count],
+    /// zero = positional), proposal: Float32Array, selfCrossings: Float32Array
+    /// (xyz), selfCrossingAngles: Float32Array (degrees), browse: [index, count],
     /// canUndo, canRedo, error }`.
     pub fn state(&mut self) -> Result<Object, JsError> {
         let d = &self.design;
@@ -333,6 +334,14 @@ impl LayoutDesigner {
         set(&out, "anchorDirections", polyline(&directions))?;
         let proposal = d.proposal().map_or_else(Vec::new, |l| l.points.clone());
         set(&out, "proposal", polyline(&proposal))?;
+        // §8.1: where the proposal crosses itself, and at what angles.
+        let crossings = d
+            .proposal()
+            .map_or_else(Vec::new, |l| d.engine.self_crossings(l));
+        let points: Vec<DVec3> = crossings.iter().map(|c| c.point).collect();
+        let angles: Vec<f32> = crossings.iter().map(|c| c.angle_degrees as f32).collect();
+        set(&out, "selfCrossings", polyline(&points))?;
+        set(&out, "selfCrossingAngles", Float32Array::from(&angles[..]))?;
         let (i, n) = d.browse_position();
         set(
             &out,

@@ -159,7 +159,14 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
     let started = clock();
     let mut layout = None;
     let mut regions_failed = None;
-    match Regions::compute(mesh, &embedded, &strips.singularities) {
+    // Before the first strip the mode is neutral (§4.2 colours regions
+    // *enclosed by loops*; there are none yet): no region colours, no red.
+    let regions = if embedded.is_empty() {
+        Err(None)
+    } else {
+        Regions::compute(mesh, &embedded, &strips.singularities).map_err(Some)
+    };
+    match regions {
         Ok(regions) => {
             a.counts.regions = regions.regions.len();
             for r in &regions.regions {
@@ -201,7 +208,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
                 a.timings.layout_ms = clock() - started;
             }
         }
-        Err(e) => regions_failed = Some(e.to_string()),
+        Err(e) => regions_failed = e.map(|e| e.to_string()),
     }
     if let Some(l) = &layout {
         for v in &l.vertices {
@@ -351,6 +358,28 @@ mod tests {
     fn commit_through(d: &mut LayoutDesign, p: DVec3, direction: DVec3) {
         d.add_anchor(p, Some(direction));
         d.commit().expect("a loop through the anchor");
+    }
+
+    #[test]
+    fn the_mode_opens_neutral_without_region_colours() {
+        let (mesh, mut d) = torus_design();
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        assert_eq!(a.counts.strips, 0);
+        assert!(
+            a.region_category.is_empty(),
+            "no region colours before a strip"
+        );
+        assert_eq!((a.counts.regions, a.counts.red), (0, 0));
+        assert!(!a.sufficient);
+        assert_eq!(
+            a.status,
+            "no strips yet: hover over the surface and press Enter"
+        );
+        // After the first strip the guidance appears (the annulus is red).
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        assert_eq!(a.counts.red, 1, "{}", a.status);
+        assert_eq!(a.region_category.len(), mesh.face_count());
     }
 
     #[test]

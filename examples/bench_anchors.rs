@@ -1,0 +1,176 @@
+//! Benchmarks the loop through anchors of dual strip weaving (Campen &
+//! Kobbelt 2014, §5.4: the metagraph of shortest paths between consecutive
+//! anchors) as the design mode uses it, single threaded:
+//! `cargo run --release --example bench_anchors [mesh-file[@faces] …]`
+//! (default: the torus sample, rocker-arm, fandisk and stanford-bunny
+//! decimated to ~30k faces, the design mode's proxy).
+//!
+//! Per mesh, at `BENCH_TRIALS` (default 4) anchor vertices v (PCG32, seed 11):
+//! 1. a click: one positional anchor at v;
+//! 2. a drag: a second, directional anchor at the point one third along the
+//!    hover loop at v, across it (tangent turned by 90°);
+//! 3. a grab: three positional anchors, at v and at the points one third and
+//!    two thirds along the hover loop, the last moved off the loop by a few
+//!    rings.
+//!
+//! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
+//! per case (mesh, trial, case, cost) for comparing loop energies between
+//! versions.
+
+use std::time::Instant;
+
+use glam::DVec3;
+use quadrille::layout::proxy::decimate;
+use quadrille::layout::{Anchor, DualLoop, ElasticaParams, LoopEngine};
+use quadrille::mesh::TriMesh;
+use rand_core::{RngCore, SeedableRng};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut specs: Vec<String> = std::env::args().skip(1).collect();
+    let root = env!("CARGO_MANIFEST_DIR");
+    if specs.is_empty() {
+        let dir = format!("{root}/../shared/meshes");
+        specs = vec![
+            format!("{root}/www/samples/torus.obj"),
+            format!("{dir}/rocker-arm.obj"),
+            format!("{dir}/fandisk.obj"),
+            format!("{dir}/stanford-bunny.obj@30000"),
+        ];
+    }
+    let trials: usize = std::env::var("BENCH_TRIALS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4);
+    let mut lines = String::new();
+    for spec in specs {
+        let (path, target) = match spec.rsplit_once('@') {
+            Some((p, n)) => (p.to_string(), Some(n.parse::<usize>()?)),
+            None => (spec.clone(), None),
+        };
+        let bytes = std::fs::read(&path)?;
+        let name = path.rsplit('/').next().unwrap_or(&path).to_string();
+        let imported = quadrille::io::import(&bytes, &name)?;
+        let mesh = match target {
+            Some(n) => decimate(&imported.mesh, n),
+            None => imported.mesh,
+        };
+        let label = match target {
+            Some(n) => format!("{name}@{n}"),
+            None => name.clone(),
+        };
+        let t = Instant::now();
+        let mut engine = LoopEngine::new(&mesh, &ElasticaParams::default());
+        println!(
+            "{label}: {} faces, g′ {} nodes, built in {:.2} s",
+            mesh.face_count(),
+            engine.graph.node_count(),
+            t.elapsed().as_secs_f64()
+        );
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
+        let mut times: [Vec<f64>; 3] = Default::default();
+        for trial in 0..trials {
+            let v = rng.next_u32() as usize % mesh.vertex_count().max(1);
+            let p = mesh.positions[v];
+            let click = [Anchor::positional(p)];
+            let (first, ms) = timed(&mut engine, &click);
+            report(
+                &mut lines,
+                &label,
+                trial,
+                "click",
+                &first,
+                ms,
+                &mut times[0],
+            );
+            // Later anchors are placed along the hover loop (the same code in
+            // every version), so the cases compare across versions.
+            let Some(first) = engine.best_loop(p) else {
+                continue;
+            };
+            let (q, tq) = along(&first, 1.0 / 3.0);
+            let n = normal_at(&mesh, &engine, q);
+            let across = n.cross(tq).normalize_or_zero();
+            let drag = [click[0], Anchor::directional(q, across)];
+            let (l, ms) = timed(&mut engine, &drag);
+            report(&mut lines, &label, trial, "drag", &l, ms, &mut times[1]);
+            let (r, tr) = along(&first, 2.0 / 3.0);
+            let n = normal_at(&mesh, &engine, r);
+            let off = r + n.cross(tr).normalize_or_zero() * 0.03 * engine.graph.g.diagonal;
+            let grab = [
+                click[0],
+                Anchor::positional(q),
+                Anchor::positional(snap(&engine, off)),
+            ];
+            let (l, ms) = timed(&mut engine, &grab);
+            report(&mut lines, &label, trial, "grab", &l, ms, &mut times[2]);
+        }
+        for (case, t) in ["click", "drag", "grab"].iter().zip(&mut times) {
+            t.sort_by(f64::total_cmp);
+            if t.is_empty() {
+                continue;
+            }
+            println!(
+                "  {case}: median {:.1} ms, max {:.1} ms over {}",
+                t[t.len() / 2],
+                t[t.len() - 1],
+                t.len()
+            );
+        }
+    }
+    if let Some(file) = std::env::var_os("BENCH_COSTS") {
+        std::fs::write(file, lines)?;
+    }
+    Ok(())
+}
+
+fn timed(engine: &mut LoopEngine, anchors: &[Anchor]) -> (Option<DualLoop>, f64) {
+    let t = Instant::now();
+    let l = engine.constrained_loop(anchors);
+    (l, t.elapsed().as_secs_f64() * 1e3)
+}
+
+fn report(
+    lines: &mut String,
+    mesh: &str,
+    trial: usize,
+    case: &str,
+    l: &Option<DualLoop>,
+    ms: f64,
+    times: &mut Vec<f64>,
+) {
+    times.push(ms);
+    let cost = l.as_ref().map_or(f64::NAN, |l| l.cost);
+    let closed = l.as_ref().is_some_and(|l| l.closed);
+    println!("  trial {trial} {case}: {ms:.1} ms, cost {cost:.6}, closed {closed}");
+    *lines += &format!("{mesh} {trial} {case} {cost}\n");
+}
+
+/// The point at fraction `s` of a polyline's length, and the unit tangent.
+fn along(l: &DualLoop, s: f64) -> (DVec3, DVec3) {
+    let total = l.length();
+    let mut walked = 0.0;
+    for w in l.points.windows(2) {
+        let len = w[0].distance(w[1]);
+        if len > 0.0 && walked + len >= s * total {
+            let t = (s * total - walked) / len;
+            return (w[0].lerp(w[1], t), (w[1] - w[0]) / len);
+        }
+        walked += len;
+    }
+    (l.points[0], DVec3::X)
+}
+
+/// The normal of the vertex nearest to `p` (world units).
+fn normal_at(mesh: &TriMesh, engine: &LoopEngine, p: DVec3) -> DVec3 {
+    let _ = mesh;
+    engine
+        .nearest_vertex(p)
+        .map_or(DVec3::Z, |v| engine.graph.g.normals[v])
+}
+
+/// The nearest vertex's world position.
+fn snap(engine: &LoopEngine, p: DVec3) -> DVec3 {
+    engine
+        .nearest_vertex(p)
+        .map_or(p, |v| engine.vertex_position(v))
+}
