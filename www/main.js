@@ -26,6 +26,60 @@ function setStatus(text, isError = false) {
 function showError(message) {
   window.quadrille.lastError = message;
   setStatus(message, true);
+  hideLoading();
+}
+
+// The loading indicator over the view: shown from the start until the
+// module is up and the first mesh is on screen (or something failed).
+function setLoading(text) {
+  $('loading').querySelector('.loading-text').textContent = text;
+}
+function hideLoading() {
+  $('loading').hidden = true;
+}
+
+// What each stage does, for the status line while it runs.
+const STAGE_TEXT = {
+  import: 'reading the file',
+  analysis: 'measuring curvature and features',
+  hierarchy: 'building the multi-resolution hierarchy',
+  orientation: 'solving the cross field (orientation)',
+  position: 'solving the position field',
+  extraction: 'extracting the quad mesh',
+  postprocess: 'cleaning up the quad mesh',
+  fit: 'fitting the Catmull–Clark control mesh',
+};
+
+// The result in one line: vertices, quad share, singularities, limit error.
+// Returns null when no quad came out.
+function resultSummary(run) {
+  const c = run.counts || {};
+  const m = run.metrics;
+  const faces = m ? m.topology.faces : c.quad_mesh_faces;
+  const quads = m ? m.quads.quads : 0;
+  if (!faces || !quads) return null;
+  const parts = [
+    `${c.quad_mesh_vertices.toLocaleString('en-US')} vertices`,
+    `${(100 * quads / faces).toFixed(1)} % quads`,
+    `${(c.orientation_singularities ?? 0).toLocaleString('en-US')} singularities`,
+  ];
+  const l = run.limit_surface;
+  if (l) parts.push(`limit error ${Number((100 * l.after.hausdorff).toPrecision(2))} % of the size`);
+  return parts.join(' · ');
+}
+
+function showTimings(stages) {
+  const rows = Object.entries(stages).map(([stage, ms]) => {
+    const tr = document.createElement('tr');
+    const a = document.createElement('td');
+    a.textContent = stage;
+    const b = document.createElement('td');
+    b.textContent = `${ms.toFixed(0)} ms`;
+    tr.append(a, b);
+    return tr;
+  });
+  $('timings').replaceChildren(...rows);
+  $('timings-panel').hidden = rows.length === 0;
 }
 
 const progressEl = $('progress');
@@ -335,6 +389,7 @@ function showMesh(name, mesh) {
     available.add('surface').add('polygon edges').add('picked');
     if (mesh.boundaryEdges.length) available.add('boundary');
     meshInfo = { name, vertices: mesh.positions.length / 3 };
+    hideLoading();
   } catch (error) {
     showError(`could not show ${name}: ${error.message}`);
   }
@@ -350,6 +405,7 @@ function onStage(job, result) {
     window.quadrille.lastImport = result.report;
     window.quadrille.lastError = null;
     showReport(result.report);
+    updateTargetControl();
     showMesh(job.name, result.mesh);
     return;
   }
@@ -477,6 +533,10 @@ function onWorkerMessage(m) {
   switch (m.type) {
     case 'progress': {
       showProgress(`${job.name}: ${m.stage} — ${m.text}`, m.fraction, m.stage);
+      if (job.stage !== m.stage) {
+        job.stage = m.stage;
+        setStatus(`${job.name}: ${STAGE_TEXT[m.stage] || m.stage}…`);
+      }
       break;
     }
     case 'stage':
@@ -492,13 +552,24 @@ function onWorkerMessage(m) {
       window.quadrille.progressGapsMs = m.progressGapsMs;
       workerHasInput = true;
       if (m.summary.metrics) showMetrics(m.summary.metrics, m.summary.limit_surface);
-      finishJob(`${job.name}: ${Object.entries(job.stages).map(([s, ms]) => `${s} ${ms.toFixed(0)} ms`).join(', ')}.`);
+      showTimings(job.stages);
+      {
+        const summary = resultSummary(m.summary);
+        if (summary) finishJob(`${job.name}: ${summary}`);
+        else finishJob(`No quads came out of ${job.name}: the run finished but the quad mesh is empty (the input is too small or degenerate for this target).`, true);
+      }
       break;
     case 'cancelled':
       finishJob(`${job.name}: cancelled.`);
       break;
     case 'error':
-      finishJob(m.message, true);
+      // The file was read but the remesher could not make quads of it.
+      if (job.stages.import !== undefined && !m.fatal) {
+        const reason = m.message.startsWith(`${job.name}: `) ? m.message.slice(job.name.length + 2) : m.message;
+        finishJob(`No quads came out of ${job.name}: ${reason}.`, true);
+      } else {
+        finishJob(m.message, true);
+      }
       break;
   }
 }
@@ -522,7 +593,7 @@ function run(name, bytes, sample = null) {
   current = { job: nextJob++, name, started: performance.now(), stages: {}, flag, deadline: 0 };
   resetStageBars();
   showProgress(`${name}: reading ${(bytes.byteLength / 1024).toFixed(0)} KiB…`, 0);
-  setStatus(`Reading ${name}…`);
+  setStatus(`${name}: ${STAGE_TEXT.import}…`);
   worker.postMessage({ type: 'run', job: current.job, name, bytes, params: JSON.stringify(paramValues), cancelFlag: flag }, [bytes]);
 }
 
@@ -778,32 +849,153 @@ function paramInput(e) {
   input.id = `param-${e.path}`;
   input.dataset.path = e.path;
   input.addEventListener('change', () => {
-    const v = readInput(e, input);
-    if (v === undefined) {
-      showError(`${e.path}: not a valid value`);
-      input.value = e.kind === 'json' ? JSON.stringify(getPath(paramValues, e.path)) : getPath(paramValues, e.path) ?? '';
-      return;
-    }
-    setPath(paramValues, e.path, v);
-    input.closest('.param').classList.toggle('changed', !same(v, e.default));
-    clearTimeout(paramsTimer);
-    paramsTimer = setTimeout(rerun, 250);
+    const { value: v, error } = readInput(e, input.type === 'checkbox' ? input.checked : input.value);
+    const row = input.closest('.param');
+    // An invalid value stays in the field, explained next to it, and is not run.
+    showFieldError(row.querySelector('.field-error'), input, error);
+    row.classList.toggle('invalid', !!error);
+    if (error) return;
+    commitParam(e, v);
   });
   return input;
 }
 
-// The value of an input, or undefined when it is not valid.
-function readInput(e, input) {
-  if (e.kind === 'bool') return input.checked;
-  if (e.kind === 'choice') return input.value;
-  if (e.kind === 'json') {
-    try { return JSON.parse(input.value); } catch { return undefined; }
+// Sets a parameter from a control, keeps the other control of the same
+// parameter in step, and re-runs shortly after.
+function commitParam(e, v) {
+  setPath(paramValues, e.path, v);
+  const input = document.getElementById(`param-${e.path}`);
+  if (input) {
+    const row = input.closest('.param');
+    row.classList.toggle('changed', !same(v, e.default));
+    row.classList.remove('invalid');
+    showFieldError(row.querySelector('.field-error'), input, null);
+    if (input.type !== 'checkbox' && document.activeElement !== input) input.value = e.kind === 'json' ? JSON.stringify(v) : v ?? '';
   }
-  if (input.value.trim() === '') return e.nullable ? null : undefined;
-  const x = Number(input.value);
-  if (!Number.isFinite(x) || (e.kind === 'integer' && !Number.isInteger(x))) return undefined;
-  if ((e.min !== undefined && x < e.min) || (e.max !== undefined && x > e.max)) return undefined;
-  return x;
+  if (e.path === TARGET_PATH) updateTargetControl();
+  clearTimeout(paramsTimer);
+  paramsTimer = setTimeout(rerun, 250);
+}
+
+function showFieldError(el, input, error) {
+  if (!el) return;
+  el.hidden = !error;
+  el.textContent = error || '';
+  if (error) input.setAttribute('aria-invalid', 'true');
+  else input.removeAttribute('aria-invalid');
+}
+
+// The target vertex count's valid range for the mesh on screen (the
+// pipeline's check_target: at least 8, at most a third of the input's vertices).
+const MIN_TARGET = 8;
+function targetRange() {
+  const n = window.quadrille.lastImport?.vertices;
+  return n ? { min: MIN_TARGET, max: Math.max(MIN_TARGET, Math.floor(n / 3)), input: n } : null;
+}
+
+// `{ value }` of a control's raw value (text, or a checkbox's state), or
+// `{ error }` saying why it is not valid.
+function readInput(e, raw) {
+  if (e.kind === 'bool') return { value: !!raw };
+  if (e.kind === 'choice') return { value: raw };
+  if (e.kind === 'json') {
+    try { return { value: JSON.parse(raw) }; } catch (error) { return { error: `Not valid JSON: ${error.message}.` }; }
+  }
+  const text = String(raw).trim();
+  if (text === '') return e.nullable ? { value: null } : { error: 'A value is needed here.' };
+  const x = Number(text);
+  if (!Number.isFinite(x)) return { error: `“${text}” is not a number.` };
+  if (e.kind === 'integer' && !Number.isInteger(x)) return { error: `${text} is not a whole number.` };
+  if (e.path === TARGET_PATH && targetRange()) {
+    const r = targetRange();
+    if (x < r.min || x > r.max) {
+      return { error: `${x.toLocaleString('en-US')} is outside what this mesh supports: between ${r.min} and ${r.max.toLocaleString('en-US')} (a third of its ${r.input.toLocaleString('en-US')} input vertices).` };
+    }
+  }
+  if ((e.min !== undefined && x < e.min) || (e.max !== undefined && x > e.max)) {
+    return { error: `${text} is out of range: between ${e.min} and ${e.max}.` };
+  }
+  return { value: x };
+}
+
+// ---------------------------------------------------------------- target vertex count
+
+const TARGET_PATH = 'sizing.target_vertex_count';
+const targetEntry = () => schema.find((e) => e.path === TARGET_PATH);
+// The slider is logarithmic over the valid range.
+function sliderToCount(t, r) {
+  return Math.round(Math.exp(Math.log(r.min) + (Math.log(r.max) - Math.log(r.min)) * t / 1000));
+}
+function countToSlider(n, r) {
+  if (r.max <= r.min) return 0;
+  return Math.round(1000 * (Math.log(Math.min(r.max, Math.max(r.min, n))) - Math.log(r.min)) / (Math.log(r.max) - Math.log(r.min)));
+}
+
+function updateTargetControl() {
+  const number = $('target-count');
+  const slider = $('target-slider');
+  const r = targetRange();
+  const value = getPath(paramValues, TARGET_PATH);
+  const auto = r ? Math.round(r.input / 16) : null;
+  number.placeholder = auto ? `auto (${auto.toLocaleString('en-US')})` : 'auto';
+  if (document.activeElement !== number && number.getAttribute('aria-invalid') !== 'true') number.value = value ?? '';
+  if (r) {
+    number.min = r.min;
+    number.max = r.max;
+    slider.disabled = false;
+    slider.value = countToSlider(value ?? auto, r);
+  } else {
+    slider.disabled = true;
+  }
+  const edge = getPath(paramValues, 'sizing.edge_length');
+  $('target-note').textContent = edge != null
+    ? `Ignored while sizing.edge_length is set (${edge}).`
+    : r ? `Empty: auto, the input's vertices / 16. Valid for this mesh: ${r.min}–${r.max.toLocaleString('en-US')}.` : '';
+}
+
+function attachTargetControl() {
+  const number = $('target-count');
+  const slider = $('target-slider');
+  slider.addEventListener('input', () => {
+    const r = targetRange();
+    if (!r) return;
+    number.value = sliderToCount(Number(slider.value), r);
+    showFieldError($('target-error'), number, null);
+  });
+  slider.addEventListener('change', () => {
+    const r = targetRange();
+    if (r && targetEntry()) commitParam(targetEntry(), sliderToCount(Number(slider.value), r));
+  });
+  number.addEventListener('change', () => {
+    const e = targetEntry();
+    if (!e) return;
+    const { value, error } = readInput(e, number.value);
+    showFieldError($('target-error'), number, error);
+    if (!error) commitParam(e, value);
+  });
+}
+
+// ---------------------------------------------------------------- parameter search
+
+// Shows the parameters whose path or help has every word of the query,
+// opening their groups; an empty query shows all, groups collapsed.
+function filterParams() {
+  const words = $('param-search').value.toLowerCase().split(/\s+/).filter(Boolean);
+  let shown = 0;
+  for (const group of document.querySelectorAll('#params .group')) {
+    let any = false;
+    for (const row of group.querySelectorAll('.param')) {
+      const text = `${row.dataset.path} ${row.querySelector('.help').textContent}`.toLowerCase();
+      const match = words.every((w) => text.includes(w));
+      row.hidden = !match;
+      if (match) any = true;
+      if (match && words.length) shown++;
+    }
+    group.hidden = !any;
+    group.open = words.length > 0 && any;
+  }
+  if (words.length) $('params-panel').open = true;
+  $('param-search-note').textContent = words.length ? `${shown} match${shown === 1 ? '' : 'es'}` : '';
 }
 
 function buildParamsPanel() {
@@ -822,6 +1014,7 @@ function buildParamsPanel() {
     for (const e of entries) {
       const row = document.createElement('div');
       row.className = 'param';
+      row.dataset.path = e.path;
       row.classList.toggle('changed', !same(getPath(paramValues, e.path), e.default));
       const input = paramInput(e);
       const label = document.createElement('label');
@@ -835,11 +1028,17 @@ function buildParamsPanel() {
       def.className = 'default';
       def.textContent = `Default: ${e.default === null ? 'auto' : JSON.stringify(e.default)}.`;
       help.append(def);
-      row.append(label, input, help);
+      const error = document.createElement('div');
+      error.className = 'field-error';
+      error.setAttribute('role', 'alert');
+      error.hidden = true;
+      row.append(label, input, error, help);
       details.append(row);
     }
     return details;
   }));
+  if ($('param-search').value) filterParams();
+  updateTargetControl();
 }
 
 // Parameters from the address (`p=` JSON of { path: value }), over the defaults.
@@ -1015,6 +1214,8 @@ $('screenshot').addEventListener('click', saveScreenshot);
 for (const b of document.querySelectorAll('#exports button')) b.addEventListener('click', () => downloadMesh(b.dataset.kind, b.dataset.format));
 $('share').addEventListener('click', share);
 $('params-reset').addEventListener('click', resetParams);
+$('param-search').addEventListener('input', filterParams);
+attachTargetControl();
 $('shortcuts-close').addEventListener('click', () => toggleShortcuts(false));
 
 // Dropping anywhere on the page opens the file.
@@ -1138,6 +1339,7 @@ const schemaReady = request({ type: 'schema' }).then((s) => {
 // link's parameters; its mesh is shown once the viewer is up.
 Promise.all([viewerReady, schemaReady]).then(() => {
   const sample = params.get('sample');
+  setLoading(`Opening ${SAMPLES.includes(sample) ? sample : DEFAULT_SAMPLE}…`);
   if (params.get('p') && !sample) {
     $('share-note').textContent = 'This link carries parameters only (the mesh was someone\u2019s own file, which never leaves their page): open your file to run it with them.';
   }

@@ -764,6 +764,81 @@ test('design mode on real meshes: hover latency and a designed layout', async (e
   }
 });
 
+// ---------------------------------------------------------------- page as a teaching tool (issue 22)
+
+test('a loading indicator shows until the module and the first sample are ready', async (env) => {
+  const page = await env.context.newPage();
+  // Hold the wasm module back: until it arrives the indicator must be up.
+  let release;
+  const held = new Promise((r) => { release = r; });
+  await page.route('**/quadrille_bg.wasm', async (route) => { await held; await route.continue(); });
+  await page.goto(env.url + (env.query ? `?${env.query}` : ''));
+  await page.waitForSelector('#loading');
+  assert(!(await page.isHidden('#loading')), 'the loading indicator is shown while the module loads');
+  assert((await page.textContent('#loading')).includes('Loading'), 'it says what is loading');
+  release();
+  await waitForRun(page, 'stanford-bunny.obj');
+  assert(await page.isHidden('#loading'), 'the indicator is gone once the sample is shown');
+  await page.close();
+});
+
+test('the status line ends with the result summary; stage times are in their own details', async (env) => {
+  const { page, errors } = await open(env, 'sample=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  const status = (await page.textContent('#status')).trim();
+  const share = (100 * run.metrics.quads.quads / run.metrics.topology.faces).toFixed(1);
+  const expected = `${run.counts.quad_mesh_vertices.toLocaleString('en-US')} vertices · ${share} % quads · `
+    + `${run.counts.orientation_singularities} singularities · limit error ${Number((100 * run.limit_surface.after.hausdorff).toPrecision(2))} % of the size`;
+  assert(status.endsWith(expected), `status "${status}" ends with "${expected}"`);
+  assert(!/\d ms/.test(status), `no stage milliseconds in the status: ${status}`);
+  assert((await page.textContent('#timings')).includes('orientation'), 'the stage times are listed apart');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('a one-triangle file says that no quads came out', async (env) => {
+  const { page } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  await dropFile(page, '#view', 'one-triangle.obj', Buffer.from('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n'));
+  await page.waitForFunction(() => /one-triangle/.test(document.getElementById('status').textContent) && document.getElementById('progress').hidden, null, { timeout: 30000 });
+  const status = await page.textContent('#status');
+  assert(/no quads came out of one-triangle\.obj/i.test(status), `the status says no quads came out: ${status}`);
+  await page.screenshot({ path: join(artifacts, `no-quads-${env.backend}.png`) });
+});
+
+test('the target vertex count is the first control: slider and number, invalid values explained next to it', async (env) => {
+  const { page } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const target = await page.locator('#target-panel').boundingBox();
+  const layers = await page.locator('#layers-panel').boundingBox();
+  assert(target.y < layers.y, 'the target control is above the layers');
+  // Too many for spot (2,930 vertices): explained next to the field, kept, not run.
+  await page.fill('#target-count', '5000');
+  await page.dispatchEvent('#target-count', 'change');
+  const error = await page.textContent('#target-error');
+  assert(!(await page.isHidden('#target-error')) && error.includes('976'), `the error names the limit: ${error}`);
+  assert(await page.inputValue('#target-count') === '5000', 'the invalid value is not reverted');
+  const field = await page.locator('#target-count').boundingBox();
+  const message = await page.locator('#target-error').boundingBox();
+  assert(Math.abs(message.y - (field.y + field.height)) < 40, 'the message sits right under the field');
+  assert(await page.evaluate(() => window.quadrille.params().sizing.target_vertex_count) === null, 'the invalid value is not used');
+  // A valid value runs; the parameter panel follows.
+  await page.fill('#target-count', '500');
+  await page.dispatchEvent('#target-count', 'change');
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.sizing.target_vertex_count === 500, null, { timeout: 60000 });
+  assert(await page.isHidden('#target-error'), 'the error is gone');
+  assert(await page.inputValue('#param-sizing\\.target_vertex_count') === '500', 'the parameter panel shows the value');
+  const slider = Number(await page.inputValue('#target-slider'));
+  assert(slider > 0 && slider < 1000, `the slider follows: ${slider}`);
+  // The parameter search opens the groups with matches and hides the rest.
+  await page.fill('#param-search', 'seed');
+  const rows = await page.$$eval('#params .param', (rs) => rs.filter((r) => r.offsetParent !== null).map((r) => r.textContent.toLowerCase()));
+  const total = await page.$$eval('#params .param', (rs) => rs.length);
+  assert(rows.some((t) => t.includes('field.seed') || t.startsWith('seed')) && rows.length < total, `search shows ${rows.length} of ${total}`);
+  assert(rows.every((t) => t.includes('seed')), 'only matching rows are shown');
+  await page.screenshot({ path: join(artifacts, `target-${env.backend}.png`) });
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();
