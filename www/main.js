@@ -198,7 +198,7 @@ const STYLES = {
   'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 5 },
   'feature vertices': { key: 'v', color: '#e68a00', size: 6, hidden: true },
   'orientation singularities': { key: 'g', color: '#1f6fdd', color2: '#d8342c', size: 10 },
-  'position field': { key: 'l', color: '#6a3d9a', size: 3, hidden: true },
+  'position field': { key: 'l', color: '#ff7f0e', size: 5, hidden: true },
   'position singularities': { key: 'k', color: '#1b9e4b', size: 8, hidden: true },
   'control cage': { key: 'w', color: '#3b6fd8', hidden: true },
   'smooth regions': { key: 'r', color: '#1f78b4', color2: '#33a02c', hidden: true },
@@ -277,13 +277,18 @@ function updateLayersPanel() {
       const select = document.createElement('select');
       select.id = 'scalar-select';
       select.disabled = !Object.keys(scalars).length;
-      for (const name of ['none', ...Object.keys(scalars)]) {
+      // A result surface brings its own colouring: the select says so.
+      const own = drawnSurface !== 'input' ? extraSurfaces[drawnSurface]?.scalar : null;
+      const names = ['none', ...Object.keys(scalars)];
+      for (const name of own ? [...names, '@surface'] : names) {
         const option = document.createElement('option');
-        option.value = option.textContent = name;
-        option.selected = (scalarName || 'none') === name;
+        option.value = name;
+        option.textContent = name === '@surface' ? `${own.name} (${drawnSurface})` : name;
+        option.selected = own ? name === '@surface' : (scalarName || 'none') === name;
         select.append(option);
       }
       select.addEventListener('change', () => {
+        if (select.value === '@surface') return;
         setScalar(select.value);
         // The scalars belong to the input: show it.
         if (drawnSurface !== 'input') {
@@ -305,7 +310,52 @@ function updateLayersPanel() {
   updateLegend();
 }
 
+// What each encoding layer means: [colour, text] rows (point layers get
+// round swatches), or one line of explanation.
+const LAYER_LEGENDS = {
+  'orientation singularities': { title: 'Orientation singularities (cross field)', dots: true,
+    rows: [['#1f6fdd', 'valence 3 · index +\u00bc'], ['#d8342c', 'valence 5 · index \u2212\u00bc']] },
+  'position singularities': { title: 'Position singularities', dots: true,
+    rows: [['#1b9e4b', 'faces where the position lattice does not close up: the extraction mends the mesh there']] },
+  'non-quad faces': { title: 'Non-quad faces', dots: true, rows: [['#f28e2b', 'triangle'], ['#8e44ad', 'five or more sides']] },
+  'principal directions': { title: 'Principal curvature directions', rows: [['#c0392b', 'most curved'], ['#1f5fbf', 'least curved']] },
+  'feature vertices': { title: 'Feature vertices', dots: true, rows: [['#e68a00', 'on sharp edges and corners (kept by the remesher)']] },
+  'position field': { title: 'Position field', dots: true, rows: [['#ff7f0e', 'lattice points: where output vertices go']] },
+  'cross field': { title: 'Cross field', rows: [['#1d2330', 'the four directions the quads follow']] },
+  boundary: { title: 'Boundary', rows: [['#d8342c', 'open edges (holes)']] },
+};
+
+function updateLayerLegend() {
+  const el = $('layer-legend');
+  const shown = LAYERS.filter((l) => LAYER_LEGENDS[l.name] && l.visible && available.has(l.name));
+  el.replaceChildren(...shown.map((l) => {
+    const { title, rows, dots } = LAYER_LEGENDS[l.name];
+    const block = document.createElement('div');
+    block.className = 'legend-block';
+    block.dataset.layer = l.name;
+    const h = document.createElement('div');
+    h.className = 'legend-name';
+    h.textContent = title;
+    block.append(h);
+    for (const [color, text] of rows) {
+      const row = document.createElement('div');
+      row.className = 'legend-row';
+      const swatch = document.createElement('span');
+      swatch.className = dots ? 'legend-dot' : 'legend-line';
+      swatch.style.background = color;
+      swatch.dataset.color = color;
+      const label = document.createElement('span');
+      label.textContent = text;
+      row.append(swatch, label);
+      block.append(row);
+    }
+    return block;
+  }));
+  el.hidden = shown.length === 0;
+}
+
 function updateLegend() {
+  updateLayerLegend();
   const legend = viewer && viewer.legend();
   const el = $('legend');
   el.hidden = !legend;
@@ -338,6 +388,8 @@ const dpr = () => window.devicePixelRatio || 1;
 // ---------------------------------------------------------------- results
 
 let meshInfo = null; // { name, vertices } of the mesh on screen
+// The camera from the share link (`cam=` yaw,pitch,distance,target xyz).
+let linkCamera = params.get('cam') ? params.get('cam').split(',').map(Number) : null;
 let inputSurface = null; // the import's arrays, kept to swap back
 // Result surfaces by layer name ('quad mesh faces', 'limit surface'):
 // { positions, triangles, normals, scalar } from the worker.
@@ -389,6 +441,11 @@ function showMesh(name, mesh) {
     available.add('surface').add('polygon edges').add('picked');
     if (mesh.boundaryEdges.length) available.add('boundary');
     meshInfo = { name, vertices: mesh.positions.length / 3 };
+    // The link's camera, once, for the linked sample.
+    if (linkCamera && lastInput?.sample === params.get('sample')) {
+      if (!viewer.set_camera_state(new Float32Array(linkCamera))) showError('the link\u2019s camera is not readable');
+      linkCamera = null;
+    }
     hideLoading();
   } catch (error) {
     showError(`could not show ${name}: ${error.message}`);
@@ -676,7 +733,15 @@ function pickAt(clientX, clientY) {
         : ` · smooth region ${r}: significance ${formatNumber(regions.regionSignificance[r])}°${regions.regionFiltered[r] ? '' : ' (discarded)'}`;
       window.quadrille.lastPickRegion = r < 0 ? null : { region: r, significance: regions.regionSignificance[r], filtered: !!regions.regionFiltered[r] };
     } else if (value !== undefined) {
-      text += ` · value ${formatNumber(value)}`;
+      const legend = viewer.legend();
+      const what = legend ? legend.name : 'value';
+      const degree = { 3: 'triangle', 4: 'quad', 5: 'pentagon' };
+      const shown = what === 'face degree' ? `${value} (${degree[value] || `${value} sides`})` : formatNumber(value);
+      text += ` · ${what} ${shown}`;
+    }
+    if (drawnSurface !== 'input' && !regions) {
+      // Vertex and triangle indices of a result surface's drawing mean nothing to the user.
+      text = `${drawnSurface} · (${[...p].map((x) => x.toFixed(3)).join(', ')})${text.slice(text.indexOf(')') + 1)}`;
     }
     info.textContent = text;
     info.hidden = false;
@@ -719,7 +784,11 @@ function attachInput() {
       const other = a === last ? b : a;
       const before = Math.hypot(last.x - other.x, last.y - other.y);
       const after = Math.hypot(e.clientX - other.x, e.clientY - other.y);
-      if (before > 0 && after > 0) viewer.zoom(before / after);
+      if (before > 0 && after > 0) {
+        // Pinch: zoom toward the point between the fingers.
+        const rect = canvas.getBoundingClientRect();
+        viewer.zoom_at(before / after, ((e.clientX + other.x) / 2 - rect.left) * k, ((e.clientY + other.y) / 2 - rect.top) * k);
+      }
       viewer.pan((e.clientX - last.x) * k / 2, (e.clientY - last.y) * k / 2);
     }
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
@@ -742,7 +811,9 @@ function attachInput() {
     const lines = e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? 400 : 1;
     // Shift turns the wheel sideways in some browsers.
     const delta = e.deltaY || (e.shiftKey ? e.deltaX : 0);
-    viewer.zoom(Math.exp(Math.max(-200, Math.min(200, delta * lines)) * 0.0015));
+    const rect = canvas.getBoundingClientRect();
+    const k = canvas.width / rect.width;
+    viewer.zoom_at(Math.exp(Math.max(-200, Math.min(200, delta * lines)) * 0.0015), (e.clientX - rect.left) * k, (e.clientY - rect.top) * k);
     requestRender();
   }, { passive: false });
   canvas.addEventListener('dblclick', () => fitView());
@@ -763,8 +834,65 @@ function screenshot() {
       return;
     }
     renderNow();
-    canvas.toBlob((blob) => (blob ? resolve(blob) : reject(new Error('the canvas gave no image'))), 'image/png');
+    // The view and, over it, the legends as the page shows them.
+    const out = document.createElement('canvas');
+    out.width = canvas.width;
+    out.height = canvas.height;
+    const ctx = out.getContext('2d');
+    ctx.drawImage(canvas, 0, 0);
+    drawLegends(ctx, canvas.width / canvas.getBoundingClientRect().width);
+    out.toBlob((blob) => (blob ? resolve(blob) : reject(new Error('the canvas gave no image'))), 'image/png');
   });
+}
+
+// Paints the visible legend boxes onto a 2D context of the canvas's size
+// (`k`: drawing-buffer pixels per CSS pixel), at their places on the page.
+function drawLegends(ctx, k) {
+  const origin = canvas.getBoundingClientRect();
+  const box = (el) => {
+    const r = el.getBoundingClientRect();
+    return [(r.left - origin.left) * k, (r.top - origin.top) * k, r.width * k, r.height * k];
+  };
+  const text = (el, bold = false) => {
+    const [x, y, , h] = box(el);
+    ctx.font = `${bold ? '600 ' : ''}${parseFloat(getComputedStyle(el).fontSize) * k}px system-ui, sans-serif`;
+    ctx.fillStyle = '#1d2330';
+    ctx.textBaseline = 'middle';
+    ctx.fillText(el.textContent, x, y + h / 2);
+  };
+  for (const id of ['legend', 'layer-legend']) {
+    const el = $(id);
+    if (el.hidden) continue;
+    const [x, y, w, h] = box(el);
+    ctx.fillStyle = '#ffffff';
+    ctx.fillRect(x, y, w, h);
+    for (const name of el.querySelectorAll('.legend-name')) text(name, true);
+    for (const row of el.querySelectorAll('.legend-row')) {
+      const swatch = row.firstChild;
+      const [sx, sy, sw, sh] = box(swatch);
+      ctx.fillStyle = swatch.dataset.color;
+      if (swatch.className === 'legend-dot') {
+        ctx.beginPath();
+        ctx.arc(sx + sw / 2, sy + sh / 2, sw / 2, 0, 2 * Math.PI);
+        ctx.fill();
+      } else {
+        ctx.fillRect(sx, sy, sw, sh);
+      }
+      text(row.lastChild);
+    }
+    const bar = el.querySelector('.legend-bar');
+    if (bar) {
+      const [bx, by, bw, bh] = box(bar);
+      const legend = viewer.legend();
+      if (legend) {
+        const g = ctx.createLinearGradient(bx, 0, bx + bw, 0);
+        legend.stops.forEach((c, i) => g.addColorStop(i / (legend.stops.length - 1), c));
+        ctx.fillStyle = g;
+        ctx.fillRect(bx, by, bw, bh);
+      }
+      for (const span of el.querySelectorAll('.legend-range span')) if (span.textContent) text(span);
+    }
+  }
 }
 
 async function saveScreenshot() {
@@ -1146,6 +1274,7 @@ function shareUrl() {
   if (lastInput?.sample) url.searchParams.set('sample', lastInput.sample);
   const changed = changedParams();
   if (Object.keys(changed).length) url.searchParams.set('p', JSON.stringify(changed));
+  if (viewer && lastInput?.sample) url.searchParams.set('cam', [...viewer.camera_state()].map((x) => Number(x.toFixed(5))).join(','));
   return url.toString();
 }
 async function share() {
@@ -1210,6 +1339,18 @@ $('file').addEventListener('change', (e) => {
 });
 $('cancel').addEventListener('click', () => cancel());
 $('fit').addEventListener('click', fitView);
+for (const b of document.querySelectorAll('[data-preset]')) {
+  b.addEventListener('click', () => { if (viewer) { viewer.view_preset(b.dataset.preset); requestRender(); } });
+}
+$('flat-shading').addEventListener('change', () => { if (viewer) { viewer.set_flat_shading($('flat-shading').checked); requestRender(); } });
+// Small screens: the panel is a drawer over the view.
+$('panel-toggle').addEventListener('click', () => {
+  const open = !document.body.classList.contains('panel-open');
+  document.body.classList.toggle('panel-open', open);
+  $('panel-toggle').setAttribute('aria-expanded', String(open));
+  $('panel-toggle').textContent = open ? 'Close the panel' : 'Layers & controls';
+});
+window.quadrille.camera = () => (viewer ? [...viewer.camera_state()] : null);
 $('screenshot').addEventListener('click', saveScreenshot);
 for (const b of document.querySelectorAll('#exports button')) b.addEventListener('click', () => downloadMesh(b.dataset.kind, b.dataset.format));
 $('share').addEventListener('click', share);
