@@ -26,6 +26,60 @@ function setStatus(text, isError = false) {
 function showError(message) {
   window.quadrille.lastError = message;
   setStatus(message, true);
+  hideLoading();
+}
+
+// The loading indicator over the view: shown from the start until the
+// module is up and the first mesh is on screen (or something failed).
+function setLoading(text) {
+  $('loading').querySelector('.loading-text').textContent = text;
+}
+function hideLoading() {
+  $('loading').hidden = true;
+}
+
+// What each stage does, for the status line while it runs.
+const STAGE_TEXT = {
+  import: 'reading the file',
+  analysis: 'measuring curvature and features',
+  hierarchy: 'building the multi-resolution hierarchy',
+  orientation: 'solving the cross field (orientation)',
+  position: 'solving the position field',
+  extraction: 'extracting the quad mesh',
+  postprocess: 'cleaning up the quad mesh',
+  fit: 'fitting the Catmull–Clark control mesh',
+};
+
+// The result in one line: vertices, quad share, singularities, limit error.
+// Returns null when no quad came out.
+function resultSummary(run) {
+  const c = run.counts || {};
+  const m = run.metrics;
+  const faces = m ? m.topology.faces : c.quad_mesh_faces;
+  const quads = m ? m.quads.quads : 0;
+  if (!faces || !quads) return null;
+  const parts = [
+    `${c.quad_mesh_vertices.toLocaleString('en-US')} vertices`,
+    `${(100 * quads / faces).toFixed(1)} % quads`,
+    `${(c.orientation_singularities ?? 0).toLocaleString('en-US')} singularities`,
+  ];
+  const l = run.limit_surface;
+  if (l) parts.push(`limit error ${Number((100 * l.after.hausdorff).toPrecision(2))} % of the size`);
+  return parts.join(' · ');
+}
+
+function showTimings(stages) {
+  const rows = Object.entries(stages).map(([stage, ms]) => {
+    const tr = document.createElement('tr');
+    const a = document.createElement('td');
+    a.textContent = stage;
+    const b = document.createElement('td');
+    b.textContent = `${ms.toFixed(0)} ms`;
+    tr.append(a, b);
+    return tr;
+  });
+  $('timings').replaceChildren(...rows);
+  $('timings-panel').hidden = rows.length === 0;
 }
 
 const progressEl = $('progress');
@@ -144,7 +198,7 @@ const STYLES = {
   'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 5 },
   'feature vertices': { key: 'v', color: '#e68a00', size: 6, hidden: true },
   'orientation singularities': { key: 'g', color: '#1f6fdd', color2: '#d8342c', size: 10 },
-  'position field': { key: 'l', color: '#6a3d9a', size: 3, hidden: true },
+  'position field': { key: 'l', color: '#ff7f0e', size: 5, hidden: true },
   'position singularities': { key: 'k', color: '#1b9e4b', size: 8, hidden: true },
   'control cage': { key: 'w', color: '#3b6fd8', hidden: true },
   'smooth regions': { key: 'r', color: '#1f78b4', color2: '#33a02c', hidden: true },
@@ -223,13 +277,18 @@ function updateLayersPanel() {
       const select = document.createElement('select');
       select.id = 'scalar-select';
       select.disabled = !Object.keys(scalars).length;
-      for (const name of ['none', ...Object.keys(scalars)]) {
+      // A result surface brings its own colouring: the select says so.
+      const own = drawnSurface !== 'input' ? extraSurfaces[drawnSurface]?.scalar : null;
+      const names = ['none', ...Object.keys(scalars)];
+      for (const name of own ? [...names, '@surface'] : names) {
         const option = document.createElement('option');
-        option.value = option.textContent = name;
-        option.selected = (scalarName || 'none') === name;
+        option.value = name;
+        option.textContent = name === '@surface' ? `${own.name} (${drawnSurface})` : name;
+        option.selected = own ? name === '@surface' : (scalarName || 'none') === name;
         select.append(option);
       }
       select.addEventListener('change', () => {
+        if (select.value === '@surface') return;
         setScalar(select.value);
         // The scalars belong to the input: show it.
         if (drawnSurface !== 'input') {
@@ -251,7 +310,52 @@ function updateLayersPanel() {
   updateLegend();
 }
 
+// What each encoding layer means: [colour, text] rows (point layers get
+// round swatches), or one line of explanation.
+const LAYER_LEGENDS = {
+  'orientation singularities': { title: 'Orientation singularities (cross field)', dots: true,
+    rows: [['#1f6fdd', 'valence 3 · index +\u00bc'], ['#d8342c', 'valence 5 · index \u2212\u00bc']] },
+  'position singularities': { title: 'Position singularities', dots: true,
+    rows: [['#1b9e4b', 'faces where the position lattice does not close up: the extraction mends the mesh there']] },
+  'non-quad faces': { title: 'Non-quad faces', dots: true, rows: [['#f28e2b', 'triangle'], ['#8e44ad', 'five or more sides']] },
+  'principal directions': { title: 'Principal curvature directions', rows: [['#c0392b', 'most curved'], ['#1f5fbf', 'least curved']] },
+  'feature vertices': { title: 'Feature vertices', dots: true, rows: [['#e68a00', 'on sharp edges and corners (kept by the remesher)']] },
+  'position field': { title: 'Position field', dots: true, rows: [['#ff7f0e', 'lattice points: where output vertices go']] },
+  'cross field': { title: 'Cross field', rows: [['#1d2330', 'the four directions the quads follow']] },
+  boundary: { title: 'Boundary', rows: [['#d8342c', 'open edges (holes)']] },
+};
+
+function updateLayerLegend() {
+  const el = $('layer-legend');
+  const shown = LAYERS.filter((l) => LAYER_LEGENDS[l.name] && l.visible && available.has(l.name));
+  el.replaceChildren(...shown.map((l) => {
+    const { title, rows, dots } = LAYER_LEGENDS[l.name];
+    const block = document.createElement('div');
+    block.className = 'legend-block';
+    block.dataset.layer = l.name;
+    const h = document.createElement('div');
+    h.className = 'legend-name';
+    h.textContent = title;
+    block.append(h);
+    for (const [color, text] of rows) {
+      const row = document.createElement('div');
+      row.className = 'legend-row';
+      const swatch = document.createElement('span');
+      swatch.className = dots ? 'legend-dot' : 'legend-line';
+      swatch.style.background = color;
+      swatch.dataset.color = color;
+      const label = document.createElement('span');
+      label.textContent = text;
+      row.append(swatch, label);
+      block.append(row);
+    }
+    return block;
+  }));
+  el.hidden = shown.length === 0;
+}
+
 function updateLegend() {
+  updateLayerLegend();
   const legend = viewer && viewer.legend();
   const el = $('legend');
   el.hidden = !legend;
@@ -284,6 +388,8 @@ const dpr = () => window.devicePixelRatio || 1;
 // ---------------------------------------------------------------- results
 
 let meshInfo = null; // { name, vertices } of the mesh on screen
+// The camera from the share link (`cam=` yaw,pitch,distance,target xyz).
+let linkCamera = params.get('cam') ? params.get('cam').split(',').map(Number) : null;
 let inputSurface = null; // the import's arrays, kept to swap back
 // Result surfaces by layer name ('quad mesh faces', 'limit surface'):
 // { positions, triangles, normals, scalar } from the worker.
@@ -335,6 +441,12 @@ function showMesh(name, mesh) {
     available.add('surface').add('polygon edges').add('picked');
     if (mesh.boundaryEdges.length) available.add('boundary');
     meshInfo = { name, vertices: mesh.positions.length / 3 };
+    // The link's camera, once, for the linked sample.
+    if (linkCamera && lastInput?.sample === params.get('sample')) {
+      if (!viewer.set_camera_state(new Float32Array(linkCamera))) showError('the link\u2019s camera is not readable');
+      linkCamera = null;
+    }
+    hideLoading();
   } catch (error) {
     showError(`could not show ${name}: ${error.message}`);
   }
@@ -350,6 +462,7 @@ function onStage(job, result) {
     window.quadrille.lastImport = result.report;
     window.quadrille.lastError = null;
     showReport(result.report);
+    updateTargetControl();
     showMesh(job.name, result.mesh);
     return;
   }
@@ -477,6 +590,10 @@ function onWorkerMessage(m) {
   switch (m.type) {
     case 'progress': {
       showProgress(`${job.name}: ${m.stage} — ${m.text}`, m.fraction, m.stage);
+      if (job.stage !== m.stage) {
+        job.stage = m.stage;
+        setStatus(`${job.name}: ${STAGE_TEXT[m.stage] || m.stage}…`);
+      }
       break;
     }
     case 'stage':
@@ -492,13 +609,24 @@ function onWorkerMessage(m) {
       window.quadrille.progressGapsMs = m.progressGapsMs;
       workerHasInput = true;
       if (m.summary.metrics) showMetrics(m.summary.metrics, m.summary.limit_surface);
-      finishJob(`${job.name}: ${Object.entries(job.stages).map(([s, ms]) => `${s} ${ms.toFixed(0)} ms`).join(', ')}.`);
+      showTimings(job.stages);
+      {
+        const summary = resultSummary(m.summary);
+        if (summary) finishJob(`${job.name}: ${summary}`);
+        else finishJob(`No quads came out of ${job.name}: the run finished but the quad mesh is empty (the input is too small or degenerate for this target).`, true);
+      }
       break;
     case 'cancelled':
       finishJob(`${job.name}: cancelled.`);
       break;
     case 'error':
-      finishJob(m.message, true);
+      // The file was read but the remesher could not make quads of it.
+      if (job.stages.import !== undefined && !m.fatal) {
+        const reason = m.message.startsWith(`${job.name}: `) ? m.message.slice(job.name.length + 2) : m.message;
+        finishJob(`No quads came out of ${job.name}: ${reason}.`, true);
+      } else {
+        finishJob(m.message, true);
+      }
       break;
   }
 }
@@ -522,7 +650,7 @@ function run(name, bytes, sample = null) {
   current = { job: nextJob++, name, started: performance.now(), stages: {}, flag, deadline: 0 };
   resetStageBars();
   showProgress(`${name}: reading ${(bytes.byteLength / 1024).toFixed(0)} KiB…`, 0);
-  setStatus(`Reading ${name}…`);
+  setStatus(`${name}: ${STAGE_TEXT.import}…`);
   worker.postMessage({ type: 'run', job: current.job, name, bytes, params: JSON.stringify(paramValues), cancelFlag: flag }, [bytes]);
 }
 
@@ -605,7 +733,15 @@ function pickAt(clientX, clientY) {
         : ` · smooth region ${r}: significance ${formatNumber(regions.regionSignificance[r])}°${regions.regionFiltered[r] ? '' : ' (discarded)'}`;
       window.quadrille.lastPickRegion = r < 0 ? null : { region: r, significance: regions.regionSignificance[r], filtered: !!regions.regionFiltered[r] };
     } else if (value !== undefined) {
-      text += ` · value ${formatNumber(value)}`;
+      const legend = viewer.legend();
+      const what = legend ? legend.name : 'value';
+      const degree = { 3: 'triangle', 4: 'quad', 5: 'pentagon' };
+      const shown = what === 'face degree' ? `${value} (${degree[value] || `${value} sides`})` : formatNumber(value);
+      text += ` · ${what} ${shown}`;
+    }
+    if (drawnSurface !== 'input' && !regions) {
+      // Vertex and triangle indices of a result surface's drawing mean nothing to the user.
+      text = `${drawnSurface} · (${[...p].map((x) => x.toFixed(3)).join(', ')})${text.slice(text.indexOf(')') + 1)}`;
     }
     info.textContent = text;
     info.hidden = false;
@@ -648,7 +784,11 @@ function attachInput() {
       const other = a === last ? b : a;
       const before = Math.hypot(last.x - other.x, last.y - other.y);
       const after = Math.hypot(e.clientX - other.x, e.clientY - other.y);
-      if (before > 0 && after > 0) viewer.zoom(before / after);
+      if (before > 0 && after > 0) {
+        // Pinch: zoom toward the point between the fingers.
+        const rect = canvas.getBoundingClientRect();
+        viewer.zoom_at(before / after, ((e.clientX + other.x) / 2 - rect.left) * k, ((e.clientY + other.y) / 2 - rect.top) * k);
+      }
       viewer.pan((e.clientX - last.x) * k / 2, (e.clientY - last.y) * k / 2);
     }
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
@@ -671,7 +811,9 @@ function attachInput() {
     const lines = e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? 400 : 1;
     // Shift turns the wheel sideways in some browsers.
     const delta = e.deltaY || (e.shiftKey ? e.deltaX : 0);
-    viewer.zoom(Math.exp(Math.max(-200, Math.min(200, delta * lines)) * 0.0015));
+    const rect = canvas.getBoundingClientRect();
+    const k = canvas.width / rect.width;
+    viewer.zoom_at(Math.exp(Math.max(-200, Math.min(200, delta * lines)) * 0.0015), (e.clientX - rect.left) * k, (e.clientY - rect.top) * k);
     requestRender();
   }, { passive: false });
   canvas.addEventListener('dblclick', () => fitView());
@@ -692,8 +834,65 @@ function screenshot() {
       return;
     }
     renderNow();
-    canvas.toBlob((blob) => (blob ? resolve(blob) : reject(new Error('the canvas gave no image'))), 'image/png');
+    // The view and, over it, the legends as the page shows them.
+    const out = document.createElement('canvas');
+    out.width = canvas.width;
+    out.height = canvas.height;
+    const ctx = out.getContext('2d');
+    ctx.drawImage(canvas, 0, 0);
+    drawLegends(ctx, canvas.width / canvas.getBoundingClientRect().width);
+    out.toBlob((blob) => (blob ? resolve(blob) : reject(new Error('the canvas gave no image'))), 'image/png');
   });
+}
+
+// Paints the visible legend boxes onto a 2D context of the canvas's size
+// (`k`: drawing-buffer pixels per CSS pixel), at their places on the page.
+function drawLegends(ctx, k) {
+  const origin = canvas.getBoundingClientRect();
+  const box = (el) => {
+    const r = el.getBoundingClientRect();
+    return [(r.left - origin.left) * k, (r.top - origin.top) * k, r.width * k, r.height * k];
+  };
+  const text = (el, bold = false) => {
+    const [x, y, , h] = box(el);
+    ctx.font = `${bold ? '600 ' : ''}${parseFloat(getComputedStyle(el).fontSize) * k}px system-ui, sans-serif`;
+    ctx.fillStyle = '#1d2330';
+    ctx.textBaseline = 'middle';
+    ctx.fillText(el.textContent, x, y + h / 2);
+  };
+  for (const id of ['legend', 'layer-legend']) {
+    const el = $(id);
+    if (el.hidden) continue;
+    const [x, y, w, h] = box(el);
+    ctx.fillStyle = '#ffffff';
+    ctx.fillRect(x, y, w, h);
+    for (const name of el.querySelectorAll('.legend-name')) text(name, true);
+    for (const row of el.querySelectorAll('.legend-row')) {
+      const swatch = row.firstChild;
+      const [sx, sy, sw, sh] = box(swatch);
+      ctx.fillStyle = swatch.dataset.color;
+      if (swatch.className === 'legend-dot') {
+        ctx.beginPath();
+        ctx.arc(sx + sw / 2, sy + sh / 2, sw / 2, 0, 2 * Math.PI);
+        ctx.fill();
+      } else {
+        ctx.fillRect(sx, sy, sw, sh);
+      }
+      text(row.lastChild);
+    }
+    const bar = el.querySelector('.legend-bar');
+    if (bar) {
+      const [bx, by, bw, bh] = box(bar);
+      const legend = viewer.legend();
+      if (legend) {
+        const g = ctx.createLinearGradient(bx, 0, bx + bw, 0);
+        legend.stops.forEach((c, i) => g.addColorStop(i / (legend.stops.length - 1), c));
+        ctx.fillStyle = g;
+        ctx.fillRect(bx, by, bw, bh);
+      }
+      for (const span of el.querySelectorAll('.legend-range span')) if (span.textContent) text(span);
+    }
+  }
 }
 
 async function saveScreenshot() {
@@ -778,32 +977,153 @@ function paramInput(e) {
   input.id = `param-${e.path}`;
   input.dataset.path = e.path;
   input.addEventListener('change', () => {
-    const v = readInput(e, input);
-    if (v === undefined) {
-      showError(`${e.path}: not a valid value`);
-      input.value = e.kind === 'json' ? JSON.stringify(getPath(paramValues, e.path)) : getPath(paramValues, e.path) ?? '';
-      return;
-    }
-    setPath(paramValues, e.path, v);
-    input.closest('.param').classList.toggle('changed', !same(v, e.default));
-    clearTimeout(paramsTimer);
-    paramsTimer = setTimeout(rerun, 250);
+    const { value: v, error } = readInput(e, input.type === 'checkbox' ? input.checked : input.value);
+    const row = input.closest('.param');
+    // An invalid value stays in the field, explained next to it, and is not run.
+    showFieldError(row.querySelector('.field-error'), input, error);
+    row.classList.toggle('invalid', !!error);
+    if (error) return;
+    commitParam(e, v);
   });
   return input;
 }
 
-// The value of an input, or undefined when it is not valid.
-function readInput(e, input) {
-  if (e.kind === 'bool') return input.checked;
-  if (e.kind === 'choice') return input.value;
-  if (e.kind === 'json') {
-    try { return JSON.parse(input.value); } catch { return undefined; }
+// Sets a parameter from a control, keeps the other control of the same
+// parameter in step, and re-runs shortly after.
+function commitParam(e, v) {
+  setPath(paramValues, e.path, v);
+  const input = document.getElementById(`param-${e.path}`);
+  if (input) {
+    const row = input.closest('.param');
+    row.classList.toggle('changed', !same(v, e.default));
+    row.classList.remove('invalid');
+    showFieldError(row.querySelector('.field-error'), input, null);
+    if (input.type !== 'checkbox' && document.activeElement !== input) input.value = e.kind === 'json' ? JSON.stringify(v) : v ?? '';
   }
-  if (input.value.trim() === '') return e.nullable ? null : undefined;
-  const x = Number(input.value);
-  if (!Number.isFinite(x) || (e.kind === 'integer' && !Number.isInteger(x))) return undefined;
-  if ((e.min !== undefined && x < e.min) || (e.max !== undefined && x > e.max)) return undefined;
-  return x;
+  if (e.path === TARGET_PATH) updateTargetControl();
+  clearTimeout(paramsTimer);
+  paramsTimer = setTimeout(rerun, 250);
+}
+
+function showFieldError(el, input, error) {
+  if (!el) return;
+  el.hidden = !error;
+  el.textContent = error || '';
+  if (error) input.setAttribute('aria-invalid', 'true');
+  else input.removeAttribute('aria-invalid');
+}
+
+// The target vertex count's valid range for the mesh on screen (the
+// pipeline's check_target: at least 8, at most a third of the input's vertices).
+const MIN_TARGET = 8;
+function targetRange() {
+  const n = window.quadrille.lastImport?.vertices;
+  return n ? { min: MIN_TARGET, max: Math.max(MIN_TARGET, Math.floor(n / 3)), input: n } : null;
+}
+
+// `{ value }` of a control's raw value (text, or a checkbox's state), or
+// `{ error }` saying why it is not valid.
+function readInput(e, raw) {
+  if (e.kind === 'bool') return { value: !!raw };
+  if (e.kind === 'choice') return { value: raw };
+  if (e.kind === 'json') {
+    try { return { value: JSON.parse(raw) }; } catch (error) { return { error: `Not valid JSON: ${error.message}.` }; }
+  }
+  const text = String(raw).trim();
+  if (text === '') return e.nullable ? { value: null } : { error: 'A value is needed here.' };
+  const x = Number(text);
+  if (!Number.isFinite(x)) return { error: `“${text}” is not a number.` };
+  if (e.kind === 'integer' && !Number.isInteger(x)) return { error: `${text} is not a whole number.` };
+  if (e.path === TARGET_PATH && targetRange()) {
+    const r = targetRange();
+    if (x < r.min || x > r.max) {
+      return { error: `${x.toLocaleString('en-US')} is outside what this mesh supports: between ${r.min} and ${r.max.toLocaleString('en-US')} (a third of its ${r.input.toLocaleString('en-US')} input vertices).` };
+    }
+  }
+  if ((e.min !== undefined && x < e.min) || (e.max !== undefined && x > e.max)) {
+    return { error: `${text} is out of range: between ${e.min} and ${e.max}.` };
+  }
+  return { value: x };
+}
+
+// ---------------------------------------------------------------- target vertex count
+
+const TARGET_PATH = 'sizing.target_vertex_count';
+const targetEntry = () => schema.find((e) => e.path === TARGET_PATH);
+// The slider is logarithmic over the valid range.
+function sliderToCount(t, r) {
+  return Math.round(Math.exp(Math.log(r.min) + (Math.log(r.max) - Math.log(r.min)) * t / 1000));
+}
+function countToSlider(n, r) {
+  if (r.max <= r.min) return 0;
+  return Math.round(1000 * (Math.log(Math.min(r.max, Math.max(r.min, n))) - Math.log(r.min)) / (Math.log(r.max) - Math.log(r.min)));
+}
+
+function updateTargetControl() {
+  const number = $('target-count');
+  const slider = $('target-slider');
+  const r = targetRange();
+  const value = getPath(paramValues, TARGET_PATH);
+  const auto = r ? Math.round(r.input / 16) : null;
+  number.placeholder = auto ? `auto (${auto.toLocaleString('en-US')})` : 'auto';
+  if (document.activeElement !== number && number.getAttribute('aria-invalid') !== 'true') number.value = value ?? '';
+  if (r) {
+    number.min = r.min;
+    number.max = r.max;
+    slider.disabled = false;
+    slider.value = countToSlider(value ?? auto, r);
+  } else {
+    slider.disabled = true;
+  }
+  const edge = getPath(paramValues, 'sizing.edge_length');
+  $('target-note').textContent = edge != null
+    ? `Ignored while sizing.edge_length is set (${edge}).`
+    : r ? `Empty: auto, the input's vertices / 16. Valid for this mesh: ${r.min}–${r.max.toLocaleString('en-US')}.` : '';
+}
+
+function attachTargetControl() {
+  const number = $('target-count');
+  const slider = $('target-slider');
+  slider.addEventListener('input', () => {
+    const r = targetRange();
+    if (!r) return;
+    number.value = sliderToCount(Number(slider.value), r);
+    showFieldError($('target-error'), number, null);
+  });
+  slider.addEventListener('change', () => {
+    const r = targetRange();
+    if (r && targetEntry()) commitParam(targetEntry(), sliderToCount(Number(slider.value), r));
+  });
+  number.addEventListener('change', () => {
+    const e = targetEntry();
+    if (!e) return;
+    const { value, error } = readInput(e, number.value);
+    showFieldError($('target-error'), number, error);
+    if (!error) commitParam(e, value);
+  });
+}
+
+// ---------------------------------------------------------------- parameter search
+
+// Shows the parameters whose path or help has every word of the query,
+// opening their groups; an empty query shows all, groups collapsed.
+function filterParams() {
+  const words = $('param-search').value.toLowerCase().split(/\s+/).filter(Boolean);
+  let shown = 0;
+  for (const group of document.querySelectorAll('#params .group')) {
+    let any = false;
+    for (const row of group.querySelectorAll('.param')) {
+      const text = `${row.dataset.path} ${row.querySelector('.help').textContent}`.toLowerCase();
+      const match = words.every((w) => text.includes(w));
+      row.hidden = !match;
+      if (match) any = true;
+      if (match && words.length) shown++;
+    }
+    group.hidden = !any;
+    group.open = words.length > 0 && any;
+  }
+  if (words.length) $('params-panel').open = true;
+  $('param-search-note').textContent = words.length ? `${shown} match${shown === 1 ? '' : 'es'}` : '';
 }
 
 function buildParamsPanel() {
@@ -822,6 +1142,7 @@ function buildParamsPanel() {
     for (const e of entries) {
       const row = document.createElement('div');
       row.className = 'param';
+      row.dataset.path = e.path;
       row.classList.toggle('changed', !same(getPath(paramValues, e.path), e.default));
       const input = paramInput(e);
       const label = document.createElement('label');
@@ -835,11 +1156,17 @@ function buildParamsPanel() {
       def.className = 'default';
       def.textContent = `Default: ${e.default === null ? 'auto' : JSON.stringify(e.default)}.`;
       help.append(def);
-      row.append(label, input, help);
+      const error = document.createElement('div');
+      error.className = 'field-error';
+      error.setAttribute('role', 'alert');
+      error.hidden = true;
+      row.append(label, input, error, help);
       details.append(row);
     }
     return details;
   }));
+  if ($('param-search').value) filterParams();
+  updateTargetControl();
 }
 
 // Parameters from the address (`p=` JSON of { path: value }), over the defaults.
@@ -947,6 +1274,7 @@ function shareUrl() {
   if (lastInput?.sample) url.searchParams.set('sample', lastInput.sample);
   const changed = changedParams();
   if (Object.keys(changed).length) url.searchParams.set('p', JSON.stringify(changed));
+  if (viewer && lastInput?.sample) url.searchParams.set('cam', [...viewer.camera_state()].map((x) => Number(x.toFixed(5))).join(','));
   return url.toString();
 }
 async function share() {
@@ -1011,10 +1339,24 @@ $('file').addEventListener('change', (e) => {
 });
 $('cancel').addEventListener('click', () => cancel());
 $('fit').addEventListener('click', fitView);
+for (const b of document.querySelectorAll('[data-preset]')) {
+  b.addEventListener('click', () => { if (viewer) { viewer.view_preset(b.dataset.preset); requestRender(); } });
+}
+$('flat-shading').addEventListener('change', () => { if (viewer) { viewer.set_flat_shading($('flat-shading').checked); requestRender(); } });
+// Small screens: the panel is a drawer over the view.
+$('panel-toggle').addEventListener('click', () => {
+  const open = !document.body.classList.contains('panel-open');
+  document.body.classList.toggle('panel-open', open);
+  $('panel-toggle').setAttribute('aria-expanded', String(open));
+  $('panel-toggle').textContent = open ? 'Close the panel' : 'Layers & controls';
+});
+window.quadrille.camera = () => (viewer ? [...viewer.camera_state()] : null);
 $('screenshot').addEventListener('click', saveScreenshot);
 for (const b of document.querySelectorAll('#exports button')) b.addEventListener('click', () => downloadMesh(b.dataset.kind, b.dataset.format));
 $('share').addEventListener('click', share);
 $('params-reset').addEventListener('click', resetParams);
+$('param-search').addEventListener('input', filterParams);
+attachTargetControl();
 $('shortcuts-close').addEventListener('click', () => toggleShortcuts(false));
 
 // Dropping anywhere on the page opens the file.
@@ -1138,6 +1480,7 @@ const schemaReady = request({ type: 'schema' }).then((s) => {
 // link's parameters; its mesh is shown once the viewer is up.
 Promise.all([viewerReady, schemaReady]).then(() => {
   const sample = params.get('sample');
+  setLoading(`Opening ${SAMPLES.includes(sample) ? sample : DEFAULT_SAMPLE}…`);
   if (params.get('p') && !sample) {
     $('share-note').textContent = 'This link carries parameters only (the mesh was someone\u2019s own file, which never leaves their page): open your file to run it with them.';
   }

@@ -171,7 +171,7 @@ const D1_COLOR: [u8; 4] = [0xc0, 0x39, 0x2b, 0xff];
 const D2_COLOR: [u8; 4] = [0x1f, 0x5f, 0xbf, 0xff];
 const FEATURE_COLOR: [u8; 4] = [0xe6, 0x8a, 0x00, 0xff];
 const CROSS_COLOR: [u8; 4] = [0x1d, 0x23, 0x30, 0xff];
-const POSITION_COLOR: [u8; 4] = [0x6a, 0x3d, 0x9a, 0xff];
+const POSITION_COLOR: [u8; 4] = [0xff, 0x7f, 0x0e, 0xff];
 
 /// Colour of a singularity by its index, as in the papers' figures: +1/4
 /// (valence 3) blue, −1/4 (valence 5) red, others (position) green.
@@ -240,22 +240,33 @@ fn poly_mesh_layers(
 }
 
 /// A polygon mesh as a drawable surface with its faces coloured by degree:
-/// every face gets its own corners (flat normal, one colour), fan-triangulated.
+/// every face gets its own corners (one colour) with the mesh's vertex
+/// normals (the viewer shades flat on request and across creases),
+/// fan-triangulated.
 fn face_degree_surface(name: &str, mesh: &PolyMesh) -> Result<Object, JsError> {
     let faces = mesh.to_face_list();
     let (mut positions, mut normals, mut triangles, mut degree) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    // Area-weighted vertex normals: each face adds its (twice) vector area.
+    let mut vertex_normals = vec![DVec3::ZERO; mesh.positions.len()];
     for f in faces.iter() {
-        let corners: Vec<DVec3> = f.iter().map(|&v| mesh.positions[v as usize]).collect();
         let mut n = DVec3::ZERO;
-        for k in 0..corners.len() {
-            n += corners[k].cross(corners[(k + 1) % corners.len()]);
+        for k in 0..f.len() {
+            let (a, b) = (f[k] as usize, f[(k + 1) % f.len()] as usize);
+            n += mesh.positions[a].cross(mesh.positions[b]);
         }
-        let n = n.normalize_or_zero().as_vec3();
+        for &v in f {
+            vertex_normals[v as usize] += n;
+        }
+    }
+    for f in faces.iter() {
         let base = (positions.len() / 3) as u32;
-        for c in &corners {
-            push(&mut positions, c.as_vec3());
-            push(&mut normals, n);
+        for &v in f {
+            push(&mut positions, mesh.positions[v as usize].as_vec3());
+            push(
+                &mut normals,
+                vertex_normals[v as usize].normalize_or_zero().as_vec3(),
+            );
             degree.push(f.len() as f32);
         }
         for k in 1..f.len().saturating_sub(1) as u32 {

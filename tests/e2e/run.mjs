@@ -6,7 +6,7 @@
 //
 //   node run.mjs [webgl2|webgpu]   (default: both)
 import { spawn } from 'node:child_process';
-import { mkdtempSync, readFileSync, mkdirSync } from 'node:fs';
+import { mkdtempSync, readFileSync, mkdirSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:net';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
@@ -762,6 +762,248 @@ test('design mode on real meshes: hover latency and a designed layout', async (e
     assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
     await page.close();
   }
+});
+
+// ---------------------------------------------------------------- page as a teaching tool (issue 22)
+
+test('a loading indicator shows until the module and the first sample are ready', async (env) => {
+  const page = await env.context.newPage();
+  // Hold the wasm module back: until it arrives the indicator must be up.
+  let release;
+  const held = new Promise((r) => { release = r; });
+  await page.route('**/quadrille_bg.wasm', async (route) => { await held; await route.continue(); });
+  await page.goto(env.url + (env.query ? `?${env.query}` : ''));
+  await page.waitForSelector('#loading');
+  assert(!(await page.isHidden('#loading')), 'the loading indicator is shown while the module loads');
+  assert((await page.textContent('#loading')).includes('Loading'), 'it says what is loading');
+  release();
+  await waitForRun(page, 'stanford-bunny.obj');
+  assert(await page.isHidden('#loading'), 'the indicator is gone once the sample is shown');
+  await page.close();
+});
+
+test('the status line ends with the result summary; stage times are in their own details', async (env) => {
+  const { page, errors } = await open(env, 'sample=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  const status = (await page.textContent('#status')).trim();
+  const share = (100 * run.metrics.quads.quads / run.metrics.topology.faces).toFixed(1);
+  const expected = `${run.counts.quad_mesh_vertices.toLocaleString('en-US')} vertices · ${share} % quads · `
+    + `${run.counts.orientation_singularities} singularities · limit error ${Number((100 * run.limit_surface.after.hausdorff).toPrecision(2))} % of the size`;
+  assert(status.endsWith(expected), `status "${status}" ends with "${expected}"`);
+  assert(!/\d ms/.test(status), `no stage milliseconds in the status: ${status}`);
+  assert((await page.textContent('#timings')).includes('orientation'), 'the stage times are listed apart');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('a one-triangle file says that no quads came out', async (env) => {
+  const { page } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  await dropFile(page, '#view', 'one-triangle.obj', Buffer.from('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n'));
+  await page.waitForFunction(() => /one-triangle/.test(document.getElementById('status').textContent) && document.getElementById('progress').hidden, null, { timeout: 30000 });
+  const status = await page.textContent('#status');
+  assert(/no quads came out of one-triangle\.obj/i.test(status), `the status says no quads came out: ${status}`);
+  await page.screenshot({ path: join(artifacts, `no-quads-${env.backend}.png`) });
+});
+
+test('the target vertex count is the first control: slider and number, invalid values explained next to it', async (env) => {
+  const { page } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const target = await page.locator('#target-panel').boundingBox();
+  const layers = await page.locator('#layers-panel').boundingBox();
+  assert(target.y < layers.y, 'the target control is above the layers');
+  // Too many for spot (2,930 vertices): explained next to the field, kept, not run.
+  await page.fill('#target-count', '5000');
+  await page.dispatchEvent('#target-count', 'change');
+  const error = await page.textContent('#target-error');
+  assert(!(await page.isHidden('#target-error')) && error.includes('976'), `the error names the limit: ${error}`);
+  assert(await page.inputValue('#target-count') === '5000', 'the invalid value is not reverted');
+  const field = await page.locator('#target-count').boundingBox();
+  const message = await page.locator('#target-error').boundingBox();
+  assert(Math.abs(message.y - (field.y + field.height)) < 40, 'the message sits right under the field');
+  assert(await page.evaluate(() => window.quadrille.params().sizing.target_vertex_count) === null, 'the invalid value is not used');
+  // A valid value runs; the parameter panel follows.
+  await page.fill('#target-count', '500');
+  await page.dispatchEvent('#target-count', 'change');
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.sizing.target_vertex_count === 500, null, { timeout: 60000 });
+  assert(await page.isHidden('#target-error'), 'the error is gone');
+  assert(await page.inputValue('#param-sizing\\.target_vertex_count') === '500', 'the parameter panel shows the value');
+  const slider = Number(await page.inputValue('#target-slider'));
+  assert(slider > 0 && slider < 1000, `the slider follows: ${slider}`);
+  // The parameter search opens the groups with matches and hides the rest.
+  await page.fill('#param-search', 'seed');
+  const rows = await page.$$eval('#params .param', (rs) => rs.filter((r) => r.offsetParent !== null).map((r) => r.textContent.toLowerCase()));
+  const total = await page.$$eval('#params .param', (rs) => rs.length);
+  assert(rows.some((t) => t.includes('field.seed') || t.startsWith('seed')) && rows.length < total, `search shows ${rows.length} of ${total}`);
+  assert(rows.every((t) => t.includes('seed')), 'only matching rows are shown');
+  await page.screenshot({ path: join(artifacts, `target-${env.backend}.png`) });
+});
+
+// The pixels of a PNG inside a rectangle (PNG pixels) near an sRGB colour.
+function countNear(png, [x0, y0, w, h], [r, g, b], tolerance = 24) {
+  const { data, width } = PNG.sync.read(png);
+  let n = 0;
+  for (let y = Math.max(0, Math.floor(y0)); y < y0 + h; y++) {
+    for (let x = Math.max(0, Math.floor(x0)); x < x0 + w; x++) {
+      const i = 4 * (y * width + x);
+      if (Math.abs(data[i] - r) + Math.abs(data[i + 1] - g) + Math.abs(data[i + 2] - b) <= tolerance) n++;
+    }
+  }
+  return n;
+}
+
+test('legends name the singularity valences; colour-by and the pick readout say what is shown; the PNG has the legends', async (env) => {
+  const { page, errors } = await open(env, 'sample=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  const legend = await page.textContent('#layer-legend');
+  assert(!(await page.isHidden('#layer-legend')), 'the layer legend is shown');
+  assert(legend.includes('valence 3') && legend.includes('valence 5') && legend.includes('+¼') && legend.includes('−¼'), `legend: ${legend}`);
+  // Position singularities: explained when shown, gone when hidden.
+  await page.keyboard.press('k');
+  await settle(page);
+  assert((await page.textContent('#layer-legend')).includes('Position singularities'), 'position singularities are explained');
+  await page.keyboard.press('k');
+  await settle(page);
+  assert(!(await page.textContent('#layer-legend')).includes('Position singularities'), 'the legend follows the layers');
+  // The quad mesh's faces are shown: "Colour by" says face degree, and so does a pick.
+  const selected = await page.$eval('#scalar-select', (s) => s.options[s.selectedIndex].textContent);
+  assert(selected.includes('face degree'), `Colour by shows ${selected}`);
+  const box = await page.locator('#canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  await page.waitForFunction(() => window.quadrille.lastPick, null, { timeout: 10000 });
+  const info = await page.textContent('#pick-info');
+  assert(/face degree \d \((triangle|quad|pentagon|\d sides)\)/.test(info) && !info.includes('triangle 0 ·'), `pick readout: ${info}`);
+  await page.keyboard.press('a');
+  await settle(page);
+  assert((await page.$eval('#scalar-select', (s) => s.value)) === 'curvature', 'Colour by follows back to the input');
+  // The PNG carries the legend: its swatch colours at the legend's place.
+  await page.keyboard.press('a');
+  await settle(page);
+  const png = Buffer.from(await page.evaluate(async () => [...await window.quadrille.screenshot()]));
+  const rect = await page.evaluate(() => {
+    const c = document.getElementById('canvas').getBoundingClientRect();
+    const r = document.getElementById('layer-legend').getBoundingClientRect();
+    const k = document.getElementById('canvas').width / c.width;
+    return [(r.left - c.left) * k, (r.top - c.top) * k, r.width * k, r.height * k];
+  });
+  const blue = countNear(png, rect, [0x1f, 0x6f, 0xdd], 12);
+  const red = countNear(png, rect, [0xd8, 0x34, 0x2c], 12);
+  const white = countNear(png, rect, [255, 255, 255], 6);
+  assert(blue > 10 && red > 10 && white > 0.3 * rect[2] * rect[3], `legend in the PNG: blue ${blue}, red ${red}, white ${white}`);
+  writeFileSync(join(artifacts, `snapshot-legend-${env.backend}.png`), png);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('markers stay visible over the quad faces', async (env) => {
+  const { page } = await open(env, 'sample=stanford-bunny');
+  await waitForRun(page, 'stanford-bunny.obj');
+  const markerPixels = async (file) => {
+    const box = await page.locator('#canvas').boundingBox();
+    const png = await page.screenshot({ path: join(artifacts, file), clip: box });
+    const { width, height } = PNG.sync.read(png);
+    return countNear(png, [0, 0, width, height], [0x1f, 0x6f, 0xdd], 40) + countNear(png, [0, 0, width, height], [0xd8, 0x34, 0x2c], 40);
+  };
+  for (const id of ['#layer-quad-mesh', '#layer-non-quad-faces']) await page.uncheck(id);
+  await settle(page);
+  const onFaces = await markerPixels(`markers-faces-${env.backend}.png`);
+  await page.keyboard.press('a');
+  await settle(page);
+  await page.uncheck('#layer-scalar');
+  await settle(page);
+  const onInput = await markerPixels(`markers-input-${env.backend}.png`);
+  assert(onInput > 50 && onFaces > 0.8 * onInput, `marker pixels over the quad faces ${onFaces} vs over the input ${onInput}`);
+});
+
+test('the wheel zooms toward the cursor point', async (env) => {
+  const { page } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const box = await page.locator('#canvas').boundingBox();
+  // A surface point away from the centre.
+  const hits = await surfaceGrid(page, 16);
+  const cx = box.x + box.width / 2;
+  const cy = box.y + box.height / 2;
+  const far = hits.sort((a, b) => Math.hypot(b.x - cx, b.y - cy) - Math.hypot(a.x - cx, a.y - cy))
+    .find((h) => Math.hypot(h.x - cx, h.y - cy) > 120);
+  assert(far, 'a surface point away from the centre');
+  const before = await page.evaluate(() => window.quadrille.camera());
+  await page.mouse.move(far.x, far.y);
+  for (let i = 0; i < 4; i++) await page.mouse.wheel(0, -120);
+  await settle(page);
+  const after = await page.evaluate(() => window.quadrille.camera());
+  assert(after[2] < 0.7 * before[2], `the camera moved closer: ${before[2]} → ${after[2]}`);
+  const under = await page.evaluate(({ x, y }) => window.quadrille.surfacePoint(x, y), far);
+  const moved = Math.hypot(...[0, 1, 2].map((k) => under[k] - far.p[k]));
+  assert(moved < 0.01, `the point under the cursor stays: moved ${moved}`);
+  // The target moved toward that point (a zoom to the centre keeps it).
+  const toPoint = (cam) => Math.hypot(...[0, 1, 2].map((k) => cam[3 + k] - far.p[k]));
+  assert(toPoint(after) < 0.8 * toPoint(before), `the target approached the point: ${toPoint(before)} → ${toPoint(after)}`);
+});
+
+test('the share link restores the camera; view presets and flat shading change the picture', async (env) => {
+  const { page } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const box = await page.locator('#canvas').boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 150, box.y + box.height / 2 + 60, { steps: 5 });
+  await page.mouse.up();
+  await page.mouse.wheel(0, -240);
+  await settle(page);
+  const camera = await page.evaluate(() => window.quadrille.camera());
+  const picture = await page.screenshot({ clip: box });
+  await page.click('#share');
+  const url = await page.inputValue('#share-url');
+  assert(url.includes('cam='), `the link has the camera: ${url}`);
+  const fresh = await env.context.newPage();
+  await fresh.goto(url);
+  await waitForRun(fresh, 'spot.obj');
+  const restored = await fresh.evaluate(() => window.quadrille.camera());
+  assert(restored.every((x, i) => Math.abs(x - camera[i]) < 1e-3), `camera ${restored} vs ${camera}`);
+  const again = await fresh.screenshot({ clip: await fresh.locator('#canvas').boundingBox() });
+  const a = PNG.sync.read(picture);
+  const b = PNG.sync.read(again);
+  let diff = 0;
+  for (let i = 0; i < a.data.length; i += 4) if (Math.abs(a.data[i] - b.data[i]) + Math.abs(a.data[i + 1] - b.data[i + 1]) > 40) diff++;
+  assert(diff / (a.width * a.height) < 0.02, `the restored view looks the same: ${(100 * diff / (a.width * a.height)).toFixed(2)} % differ`);
+  // Presets: top looks down the y axis.
+  await fresh.click('#view-top');
+  const top = await fresh.evaluate(() => window.quadrille.camera());
+  assert(top[1] > 1.5, `top view pitch ${top[1]}`);
+  await fresh.click('#view-front');
+  const front = await fresh.evaluate(() => window.quadrille.camera());
+  assert(Math.abs(front[0]) < 1e-6 && Math.abs(front[1]) < 1e-6, `front view ${front}`);
+  const smooth = await canvasInk(fresh, `spot-smooth-${env.backend}.png`);
+  await fresh.check('#flat-shading');
+  await settle(fresh);
+  const flatPng = await fresh.screenshot({ path: join(artifacts, `spot-flat-${env.backend}.png`), clip: await fresh.locator('#canvas').boundingBox() });
+  const smoothPng = PNG.sync.read(await fresh.screenshot({ clip: await fresh.locator('#canvas').boundingBox() }));
+  assert(smooth > 0.03 && PNG.sync.read(flatPng).data.length === smoothPng.data.length, 'both shadings draw');
+});
+
+test('phone: the panel opens as a drawer over the view; a layer toggle shows its effect', async (env) => {
+  const page = await env.context.newPage();
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.goto(env.url + '?sample=fandisk' + (env.query ? `&${env.query}` : ''));
+  await waitForRun(page, 'fandisk.obj');
+  await page.click('#panel-toggle');
+  await page.waitForFunction(() => document.getElementById('panel').getBoundingClientRect().bottom <= window.innerHeight + 1
+    && getComputedStyle(document.getElementById('panel')).transform === 'none');
+  const panel = await page.locator('#panel').boundingBox();
+  const layers = await page.locator('#layers-panel').boundingBox();
+  const canvas = await page.locator('#canvas').boundingBox();
+  assert(layers.y >= panel.y && layers.y < 844, `the layers are in the open panel: ${layers.y} (panel ${panel.y})`);
+  const visible = panel.y - canvas.y;
+  assert(visible > 0.4 * 844, `the view stays visible above the panel: ${visible} px`);
+  const clip = { x: canvas.x, y: canvas.y, width: canvas.width, height: visible };
+  const before = PNG.sync.read(await page.screenshot({ clip }));
+  await page.click('#layer-surface');
+  await settle(page);
+  const after = PNG.sync.read(await page.screenshot({ path: join(artifacts, `phone-drawer-${env.backend}.png`) , clip }));
+  let diff = 0;
+  for (let i = 0; i < before.data.length; i += 4) if (Math.abs(before.data[i] - after.data[i]) > 30) diff++;
+  assert(diff / (before.width * before.height) > 0.02, `the toggle changes the visible view: ${diff} pixels`);
+  await page.screenshot({ path: join(artifacts, `phone-open-${env.backend}.png`) });
+  await page.close();
 });
 
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;

@@ -27,6 +27,7 @@ pub struct Viewer {
     scalar: Option<Scalar>,
     hidden: BTreeSet<String>,
     line_width: f32,
+    flat: bool,
 }
 
 /// Where `pick` met the surface (local coordinates).
@@ -74,6 +75,7 @@ impl Viewer {
             scalar: None,
             hidden: BTreeSet::new(),
             line_width: 1.5,
+            flat: false,
         })
     }
 
@@ -267,6 +269,43 @@ impl Viewer {
         self.camera.zoom(factor);
     }
 
+    /// Zooms by `factor` toward what is under drawing-buffer pixel (`x`,
+    /// `y`): the surface point there, else the point on the target's plane;
+    /// that point stays under the cursor.
+    pub fn zoom_at(&mut self, factor: f32, x: f32, y: f32) {
+        let (w, h) = self.gpu.size();
+        let anchor = match self.pick(x, y) {
+            Some(hit) => hit.point,
+            None => self.camera.focal_point(x, y, w as f32, h as f32),
+        };
+        self.camera.zoom_about(factor, anchor);
+    }
+
+    /// `[yaw, pitch, distance, target x, y, z]` of the camera.
+    pub fn camera_state(&self) -> Vec<f32> {
+        self.camera.state().to_vec()
+    }
+
+    /// Restores `camera_state`; false when the values are unusable.
+    pub fn set_camera_state(&mut self, state: &[f32]) -> bool {
+        self.camera.set_state(state)
+    }
+
+    /// Looks from the front (+z), top (+y) or side (+x) and frames the
+    /// surface; false for another name.
+    pub fn view_preset(&mut self, name: &str) -> bool {
+        let ok = self.camera.preset(name);
+        if ok {
+            self.fit_view();
+        }
+        ok
+    }
+
+    /// Flat shading (one normal per triangle) or smooth (vertex normals).
+    pub fn set_flat_shading(&mut self, flat: bool) {
+        self.flat = flat;
+    }
+
     /// Frames the whole surface.
     pub fn fit_view(&mut self) {
         if let Some((center, radius)) = self.surface.as_ref().and_then(Surface::bounding_sphere) {
@@ -303,6 +342,7 @@ impl Viewer {
                 &self.camera,
                 &|name| !hidden.contains(name),
                 self.line_width,
+                self.flat,
             )
             .map_err(js)
     }

@@ -86,6 +86,69 @@ impl OrbitCamera {
         }
     }
 
+    /// Zooms by `factor` keeping `anchor` (a point in view, e.g. the
+    /// surface under the cursor) where it is on screen: the eye and the
+    /// target scale about it.
+    pub fn zoom_about(&mut self, factor: f32, anchor: Vec3) {
+        let before = self.distance;
+        self.zoom(factor);
+        let k = self.distance / before;
+        self.target = anchor + (self.target - anchor) * k;
+    }
+
+    /// The point where the ray through pixel (`x`, `y`) meets the plane
+    /// through the target facing the camera (the anchor when no surface is
+    /// under the cursor).
+    pub fn focal_point(&self, x: f32, y: f32, width: f32, height: f32) -> Vec3 {
+        let (origin, dir) = self.ray(x, y, width, height);
+        let forward = (self.target - self.eye()).normalize_or_zero();
+        let along = dir.dot(forward);
+        if along.abs() < 1e-6 {
+            return self.target;
+        }
+        origin + dir * ((self.target - origin).dot(forward) / along)
+    }
+
+    /// `[yaw, pitch, distance, target x, y, z]`, for share links.
+    pub fn state(&self) -> [f32; 6] {
+        [
+            self.yaw,
+            self.pitch,
+            self.distance,
+            self.target.x,
+            self.target.y,
+            self.target.z,
+        ]
+    }
+
+    /// Restores [`OrbitCamera::state`]; returns false (and changes
+    /// nothing) unless six finite values with a positive distance.
+    pub fn set_state(&mut self, s: &[f32]) -> bool {
+        if s.len() != 6 || s.iter().any(|x| !x.is_finite()) || s[2] <= 0.0 {
+            return false;
+        }
+        self.yaw = s[0];
+        self.pitch = s[1].clamp(-MAX_PITCH, MAX_PITCH);
+        let r = self.scene_radius.max(1e-6);
+        self.distance = s[2].clamp(r * 0.05, r * 50.0);
+        self.target = Vec3::new(s[3], s[4], s[5]);
+        true
+    }
+
+    /// Looks from a named direction ("front": +z, "top": +y, "side": +x),
+    /// keeping target and distance; false for an unknown name.
+    pub fn preset(&mut self, name: &str) -> bool {
+        let (yaw, pitch) = match name {
+            "front" => (0.0, 0.0),
+            "top" => (0.0, MAX_PITCH),
+            "side" => (std::f32::consts::FRAC_PI_2, 0.0),
+            _ => return false,
+        };
+        self.yaw = yaw;
+        self.pitch = pitch;
+        true
+    }
+
     /// Centres the bounding sphere (`center`, `radius`) and moves back until it fits.
     pub fn fit(&mut self, center: Vec3, radius: f32) {
         let radius = if radius.is_finite() && radius > 0.0 {
@@ -156,6 +219,49 @@ mod tests {
         c.pan(30.0, -20.0, 600.0);
         assert!((c.target - t0).dot(forward).abs() < 1e-5);
         assert!((c.target - t0).length() > 0.0);
+    }
+
+    #[test]
+    fn zoom_about_keeps_the_anchor_on_screen() {
+        let mut c = OrbitCamera {
+            aspect: 1.5,
+            ..Default::default()
+        };
+        c.fit(Vec3::ZERO, 1.0);
+        let anchor = c.focal_point(500.0, 120.0, 600.0, 400.0);
+        let before = c.view_proj().project_point3(anchor);
+        let d = c.distance;
+        c.zoom_about(0.5, anchor);
+        let after = c.view_proj().project_point3(anchor);
+        assert!((c.distance - d * 0.5).abs() < 1e-5);
+        assert!(
+            (before.truncate() - after.truncate()).length() < 1e-4,
+            "{before} → {after}"
+        );
+        // Zooming to the centre would have moved it.
+        let mut centred = OrbitCamera {
+            aspect: 1.5,
+            ..Default::default()
+        };
+        centred.fit(Vec3::ZERO, 1.0);
+        centred.zoom(0.5);
+        let moved = centred.view_proj().project_point3(anchor);
+        assert!((before.truncate() - moved.truncate()).length() > 0.1);
+    }
+
+    #[test]
+    fn state_round_trips_and_rejects_garbage() {
+        let mut c = OrbitCamera::default();
+        c.fit(Vec3::new(0.1, 0.2, 0.3), 1.0);
+        c.orbit(40.0, 10.0, 600.0);
+        let s = c.state();
+        let mut d = OrbitCamera::default();
+        d.fit(Vec3::ZERO, 1.0);
+        assert!(d.set_state(&s));
+        assert_eq!(d.view_proj(), c.view_proj());
+        assert!(!d.set_state(&[1.0, f32::NAN, 1.0, 0.0, 0.0, 0.0]));
+        assert!(!d.set_state(&[1.0; 5]));
+        assert!(d.preset("top") && !d.preset("diagonal"));
     }
 
     #[test]

@@ -473,6 +473,7 @@ impl Gpu {
         camera: &OrbitCamera,
         visible: &dyn Fn(&str) -> bool,
         line_width: f32,
+        flat: bool,
     ) -> Result<(), GpuError> {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
@@ -497,8 +498,10 @@ impl Gpu {
                 } else {
                     0.0
                 },
-                0.0,
-                0.0,
+                if flat { 1.0 } else { 0.0 },
+                // Markers sit this far toward the eye (world units), so
+                // result faces that cut below the input do not hide them.
+                camera.scene_radius * 0.02,
                 0.0,
             ],
         };

@@ -32,7 +32,7 @@ fn vs_main(@builtin(vertex_index) vertex: u32, p: PointIn) -> VertexOut {
 
     let d = globals.eye.xyz - p.position;
     let len = max(length(d), 1e-12);
-    let lifted = p.position + d / len * globals.viewport.w * 2.0;
+    let lifted = p.position + d / len * max(globals.viewport.w * 2.0, globals.flags.z);
     let c = globals.view_proj * vec4<f32>(lifted, 1.0);
     let offset = vec2<f32>(x, y) * p.size / globals.viewport.xy * c.w;
 
@@ -49,10 +49,14 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (r2 > 1.0) {
         discard;
     }
-    // A dark rim keeps light markers visible on light surfaces.
-    var color = in.color.rgb * (0.55 + 0.45 * sqrt(1.0 - r2));
-    if (r2 > 0.72) {
-        color = color * 0.35;
+    // A white ring inside a dark rim keeps markers visible on any colour
+    // map, light or dark.
+    var color = in.color.rgb * (0.7 + 0.3 * sqrt(1.0 - r2));
+    if (r2 > 0.45) {
+        color = vec3<f32>(1.0);
+    }
+    if (r2 > 0.75) {
+        color = vec3<f32>(0.08, 0.09, 0.12);
     }
     if (globals.flags.x > 0.5) {
         color = pow(color, vec3<f32>(2.2));

@@ -7,7 +7,8 @@ struct Globals {
     eye: vec4<f32>,
     // Target width and height in pixels, line width in pixels, overlay offset toward the eye (world units).
     viewport: vec4<f32>,
-    // x: 1 when the render target is sRGB (colours are given in sRGB and must be linearised).
+    // x: 1 when the render target is sRGB (colours are given in sRGB and must be linearised);
+    // y: 1 for flat shading; z: how far markers are lifted toward the eye.
     flags: vec4<f32>,
 };
 
@@ -66,7 +67,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         if (!front) {
             smooth_n = -smooth_n;
         }
-        if (dot(smooth_n, face) > 0.85) {
+        if (dot(smooth_n, face) > 0.85 && globals.flags.y < 0.5) {
             n = smooth_n;
         }
     }
@@ -75,8 +76,13 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     if (!front) {
         tint = 0.7;
     }
-    let diffuse = max(dot(n, to_eye), 0.0);
-    let specular = pow(diffuse, 48.0) * 0.18;
-    let color = in.color.rgb * tint * (0.3 + 0.7 * diffuse) + vec3<f32>(specular);
+    // Soft light: a headlight from above left plus a sky/ground ambient
+    // term, and a faint broad highlight (faces seen head-on do not blow out).
+    let key = normalize(to_eye + vec3<f32>(-0.3, 0.5, 0.0));
+    let diffuse = 0.6 * max(dot(n, key), 0.0) + 0.25 * max(dot(n, to_eye), 0.0);
+    let ambient = 0.22 + 0.08 * n.y;
+    let half_vector = normalize(key + to_eye);
+    let specular = pow(max(dot(n, half_vector), 0.0), 24.0) * 0.05;
+    let color = in.color.rgb * tint * (ambient + diffuse) + vec3<f32>(specular);
     return to_target(color);
 }
