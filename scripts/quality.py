@@ -7,8 +7,8 @@ For each shared mesh at its default target (input vertices / 16):
   instant-meshes   pyinstantmeshes (quad-dominant, extrinsic, deterministic),
                    as scripts/compare.py drives it;
   quadriflow       pyQuadriFlow (faces requested = target vertices);
-  im-equivalent    Quadrille with uniform sizing, no constraints, Instant
-                   Meshes' extraction (its quad score, holes up to 6 corners,
+  im-equivalent    Quadrille with uniform sizing, no constraints, the input's
+                   long edges split (IM's subdivision), Instant Meshes' extraction (its quad score, holes up to 6 corners,
                    no count correction, no restarts) and no post-processing
                    beyond Instant Meshes' (2 smoothing steps with reprojection);
   +<modification>  im-equivalent with one change (the overlays in ROWS);
@@ -37,11 +37,12 @@ ROOT = compare.ROOT
 # Instant Meshes' configuration in Quadrille's parameters (digest §2–5):
 # one global edge length, no orientation constraints, IM's quad score, IM's
 # hole filling (orbits of at most 6 corners), and only IM's final smoothing
-# (2 umbrella steps projected back onto the input).
+# (2 umbrella steps projected back onto the input); IM's longest-edge-first
+# bisection of input edges longer than min(s/2, 2 x mean edge) (digest §1.3).
 IM_EQUIVALENT = {
     "sizing": {"method": "uniform"},
     "alignment": {"mode": "none"},
-    "field": {"filtered_normals": False},
+    "field": {"filtered_normals": False, "split_long_edges": True},
     "extraction": {
         "thesis_quad_score": False,
         "max_hole": 6,
@@ -68,7 +69,7 @@ ROWS = {
     "+feature-vertex constraints": {"alignment": {"mode": "feature-vertices"}},
     "+smooth regions": {"alignment": {"mode": "smooth-regions"}},
     "+filtered normals": {"field": {"filtered_normals": True}},
-    "+split long edges": {"field": {"split_long_edges": True}},
+    "-split long edges": {"field": {"split_long_edges": False}},
     "-snapping": {"extraction": {"snap": False}},
     "+thesis quad score": {"extraction": {"thesis_quad_score": True}},
     "+hole filling (30 corners and fans)": {"extraction": {"max_hole": 30, "fan_large_holes": True}},
@@ -235,8 +236,8 @@ def write_doc(args, results):
         "",
         "Each mesh at its default target (input vertices / 16). Rows: Instant Meshes (pyinstantmeshes, "
         "quad-dominant, extrinsic, deterministic) and QuadriFlow (pyQuadriFlow), then Quadrille in an "
-        "**Instant-Meshes-equivalent configuration** (uniform sizing, no orientation constraints, Instant "
-        "Meshes' quad score and hole filling up to 6 corners, no count correction or restarts, no "
+        "**Instant-Meshes-equivalent configuration** (uniform sizing, no orientation constraints, the input's "
+        "long edges bisected as Instant Meshes does, Instant Meshes' quad score and hole filling up to 6 corners, no count correction or restarts, no "
         "post-processing but 2 smoothing steps with reprojection), then that configuration plus **one** "
         "modification per row, and Quadrille's defaults. The configuration overlays are `ROWS` in "
         "scripts/quality.py.",
