@@ -6,7 +6,7 @@
 //! - [`snap`]: thin-triangle snapping, quad diagonals (§5.6, thesis 3.5.2);
 //! - [`faces`]: rotation system, orbits, n-gon splitting, hole loops (§5.7–5.10, thesis 3.5.3);
 //! - [`repair`]: non-manifold repair, orientation, hole filling (thesis 3.6);
-//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, odd-face pairing, smoothing (thesis 3.7);
+//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, odd-face pairing, edge rotations, smoothing (thesis 3.7);
 //! - [`pure_quad`]: one Catmull–Clark split (§5.11).
 //!
 //! [`extract`] runs clusters → snapping → faces → repair; [`post_process`]
@@ -272,6 +272,10 @@ pub fn post_process(
             }
         }
     }
+    if p.rotate_edges_degrees > 0.0 {
+        progress.report(0.55, "edge rotations")?;
+        report.edges_rotated += postprocess::rotate_edges(&mut faces, &g, p.rotate_edges_degrees);
+    }
     progress.report(0.6, "smoothing")?;
     report.smoothed_vertices = postprocess::smooth(&faces, &mut g, p, surface);
     progress.report(0.8, "rebuilding")?;
@@ -307,7 +311,16 @@ pub fn post_process(
                 p.pair_max_corner_deviation,
                 surface,
             );
-            if m > 0 || splits > 0 {
+            let rotated = if p.rotate_edges_degrees > 0.0 {
+                postprocess::rotate_edges(&mut faces, &mesh_graph, p.rotate_edges_degrees)
+            } else {
+                0
+            };
+            if rotated > 0 {
+                report.edges_rotated += rotated;
+                postprocess::smooth(&faces, &mut mesh_graph, p, surface);
+            }
+            if m > 0 || splits > 0 || rotated > 0 {
                 report.non_quad_pairs_merged += m;
                 let (again, map2) =
                     repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
