@@ -688,6 +688,10 @@ fn quad_shape_ok(pos: &[DVec3], q: [u32; 4], max_deviation: f64, cos_t: f64) -> 
     corners_ok && n1.dot(n2).max(n3.dot(n4)) >= cos_t
 }
 
+/// An edge rotation: valence gain, thesis quad score of the new quads, the
+/// two faces, their replacements and the hexagon's corners.
+type Rotation = (f64, f64, usize, usize, [[u32; 4]; 2], [u32; 6]);
+
 /// New quads of an edge rotation are flat across a diagonal within this
 /// (the odd-face pairing's default).
 const ROTATION_FLAT_DEGREES: f64 = 60.0;
@@ -724,7 +728,7 @@ pub fn rotate_edges(faces: &mut [Vec<u32>], g: &Graph, max_deviation: f64) -> us
             add_pairs(&mut pairs, f, 1);
         }
         let energy = |v: u32, d: i32| ((valence[v as usize] + d - 4) as f64).powi(2);
-        let mut candidates: Vec<(f64, f64, usize, usize, [[u32; 4]; 2], [u32; 6])> = Vec::new();
+        let mut candidates: Vec<Rotation> = Vec::new();
         for (&(a, b), fs) in &edges {
             let [f1, f2] = fs[..] else { continue };
             if faces[f1].len() != 4 || faces[f2].len() != 4 {
