@@ -377,17 +377,32 @@ fn solve(el: &Eliminator, rows: &[(Vec<(usize, f64)>, f64)]) -> Option<(Vec<f64>
     Some((x, energy))
 }
 
+/// Why [`grid_map_with`] stopped without a map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapStop {
+    /// A solve failed (singular or non-finite system).
+    Solve,
+    /// The progress callback asked to stop.
+    Cancelled,
+}
+
 /// Greedy rounding with re-solves; returns the final solution.
+/// `go_on(fraction rounded)` is asked before every re-solve.
 fn round(
     el: &mut Eliminator,
     rows: &[(Vec<(usize, f64)>, f64)],
     ints: &Integers,
     fraction: f64,
-) -> Option<(Vec<f64>, f64, usize, usize)> {
+    go_on: &mut dyn FnMut(f32) -> bool,
+) -> Result<(Vec<f64>, f64, usize, usize), MapStop> {
     let mut done = vec![false; ints.quantities.len()];
     let mut steps = 0;
     loop {
-        let (x, energy) = solve(el, rows)?;
+        let finished = done.iter().filter(|&&d| d).count();
+        if !go_on(finished as f32 / ints.quantities.len().max(1) as f32) {
+            return Err(MapStop::Cancelled);
+        }
+        let (x, energy) = solve(el, rows).ok_or(MapStop::Solve)?;
         let mut open: Vec<(f64, usize, f64)> = Vec::new();
         for (q, terms) in ints.quantities.iter().enumerate() {
             if done[q] {
@@ -416,7 +431,7 @@ fn round(
                     (v - v.round()).abs() > 1e-6
                 })
                 .count();
-            return Some((x, energy, steps, missed));
+            return Ok((x, energy, steps, missed));
         }
         open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let cones = open.iter().filter(|o| o.0 < 0.0).count();
@@ -463,6 +478,15 @@ fn gcd(a: u64, b: u64) -> u64 {
 
 /// Computes the map; None when a solve fails.
 pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
+    grid_map_with(input, &mut |_| true).ok()
+}
+
+/// [`grid_map`] that asks `go_on(fraction of the integer quantities
+/// rounded)` before every solve and stops when it answers false.
+pub fn grid_map_with(
+    input: &MapInput<'_>,
+    go_on: &mut dyn FnMut(f32) -> bool,
+) -> Result<GridMap, MapStop> {
     let mesh = input.mesh;
     let nf = mesh.triangles.len();
     let raw: Vec<[u8; 3]> = input
@@ -520,9 +544,13 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
             &rows,
             &Integers { quantities, first },
             input.batch_fraction.clamp(1e-3, 1.0),
+            go_on,
         )?
     } else {
-        let (x, e) = solve(&el, &rows)?;
+        if !go_on(0.0) {
+            return Err(MapStop::Cancelled);
+        }
+        let (x, e) = solve(&el, &rows).ok_or(MapStop::Solve)?;
         (x, e, 0, 0)
     };
     conflicts += more;
@@ -533,7 +561,7 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
             })
         })
         .collect();
-    Some(GridMap {
+    Ok(GridMap {
         uv,
         cut: c,
         frames,
