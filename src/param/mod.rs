@@ -90,6 +90,12 @@ pub struct Params {
     /// 76 → 105, cow 694 → 1067; at 40° fandisk 314 and 4 integer
     /// conflicts on the cow).
     pub feature_curve_degrees: f64,
+    /// Campen §4.3's topology constraints: around every boundary loop of a
+    /// filtered cyclic smooth region with turning number zero (only with
+    /// smooth-region alignment), one coordinate comes back to its start
+    /// value through the transitions, so isolines close there (no
+    /// helix). Default true.
+    pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
     pub round: bool,
@@ -110,6 +116,7 @@ impl Default for Params {
             feature_curve_degrees: 0.0,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
+            cyclic_constraints: true,
             round: true,
             batch_fraction: 0.5,
         }
@@ -318,6 +325,20 @@ pub fn cross_field_of(
     .ok_or(ParamError::Solve("cross field"))
 }
 
+/// The faces of every zero-turning boundary loop of a filtered smooth
+/// region (Campen §4.3), when [`Params::cyclic_constraints`] is on.
+pub fn cyclic_loops(p: &Prepared, params: &Params) -> Vec<Vec<u32>> {
+    match &p.regions {
+        Some(r) if params.cyclic_constraints => r
+            .zero_turning_loops
+            .iter()
+            .filter(|(region, _)| r.filtered[*region as usize])
+            .map(|(_, faces)| faces.clone())
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
 /// The integer-grid map of a cross field.
 pub fn grid_map_of(
     mesh: &TriMesh,
@@ -343,6 +364,7 @@ fn grid_map_with_progress(
             .map(|(&s, c)| s.then_some(c.a_min))
             .collect()
     });
+    let loops = cyclic_loops(p, params);
     let input = MapInput {
         mesh,
         topology: &p.topology,
@@ -352,6 +374,7 @@ fn grid_map_with_progress(
         batch_fraction: params.batch_fraction,
         region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
         feature_edges: &p.feature_edges,
+        cyclic_loops: &loops,
     };
     seamless::grid_map_with(&input, go_on).map_err(|e| match e {
         seamless::MapStop::Solve => ParamError::Solve("parametrization"),

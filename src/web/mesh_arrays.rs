@@ -182,7 +182,9 @@ mod tests {
                 matching: vec![[0; 3]; nf],
                 tree: vec![[false; 3]; nf],
                 seam: vec![[false; 3]; nf],
-                wedge: (0..nf as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect(),
+                wedge: (0..nf as u32)
+                    .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+                    .collect(),
                 wedge_count: 3 * nf,
             },
             frames: Vec::new(),
@@ -191,6 +193,7 @@ mod tests {
             energy: 0.0,
             rounding_steps: 0,
             conflicts: 0,
+            closed_loops: 0,
         };
         let a = GridMapArrays::new(&mesh, &map);
         assert_eq!(a.positions.len(), 9 * mesh.face_count());
@@ -200,8 +203,14 @@ mod tests {
             for i in 0..3 {
                 let c = 3 * f + i;
                 let p = mesh.positions[t[i] as usize];
-                assert_eq!(a.positions[3 * c..3 * c + 3], [p.x as f32, p.y as f32, p.z as f32]);
-                assert_eq!(a.uv[2 * c..2 * c + 2], [uv[f][i].x as f32, uv[f][i].y as f32]);
+                assert_eq!(
+                    a.positions[3 * c..3 * c + 3],
+                    [p.x as f32, p.y as f32, p.z as f32]
+                );
+                assert_eq!(
+                    a.uv[2 * c..2 * c + 2],
+                    [uv[f][i].x as f32, uv[f][i].y as f32]
+                );
                 let expected = if f == 5 { FLIPPED_COLOR } else { GRID_COLOR };
                 assert_eq!(a.colors[4 * c..4 * c + 4], expected);
             }

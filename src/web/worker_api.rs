@@ -800,19 +800,27 @@ impl Session {
         let mut sink = crate::progress::Progress::new(&mut sink, "parametrization");
         let started = js_sys::Date::now();
         let mesh = &p.input.mesh;
-        let run = match crate::param::run_with_progress(mesh, &params, &js_sys::Date::now, &mut sink)
-        {
-            Ok(run) => run,
-            Err(crate::param::ParamError::Cancelled) => return Ok(false),
-            Err(e) => return Err(js_err(format!("{}: parametrization: {e}", p.input.name))),
-        };
+        let run =
+            match crate::param::run_with_progress(mesh, &params, &js_sys::Date::now, &mut sink) {
+                Ok(run) => run,
+                Err(crate::param::ParamError::Cancelled) => return Ok(false),
+                Err(e) => return Err(js_err(format!("{}: parametrization: {e}", p.input.name))),
+            };
         let ms = js_sys::Date::now() - started;
         let arrays = super::mesh_arrays::GridMapArrays::new(mesh, &run.map);
         let r = StageResult::new("parametrization", ms)?;
         let surface = Object::new();
         set(&surface, "name", "parametrization")?;
-        set(&surface, "positions", Float32Array::from(&arrays.positions[..]))?;
-        set(&surface, "triangles", Uint32Array::from(&arrays.triangles[..]))?;
+        set(
+            &surface,
+            "positions",
+            Float32Array::from(&arrays.positions[..]),
+        )?;
+        set(
+            &surface,
+            "triangles",
+            Uint32Array::from(&arrays.triangles[..]),
+        )?;
         set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
         set(&surface, "uv", Float32Array::from(&arrays.uv[..]))?;
         set(&surface, "colors", Uint8Array::from(&arrays.colors[..]))?;

@@ -427,7 +427,8 @@ impl Gpu {
     pub fn set_surface_uv(&mut self, uv: &[[f32; 2]]) {
         if let Some(mesh) = &self.mesh {
             if mesh.uv.size() == (uv.len() * 8) as u64 {
-                self.queue.write_buffer(&mesh.uv, 0, bytemuck::cast_slice(uv));
+                self.queue
+                    .write_buffer(&mesh.uv, 0, bytemuck::cast_slice(uv));
             }
         }
     }

@@ -386,7 +386,10 @@ mod tests {
         assert!(Scalar::new("k", &[1.0; 4], 4, 0.0, 1.0, "jet").is_err());
         assert!(LineSet::from_edges(&square(), &[0, 9], &[0, 0, 0, 255]).is_err());
         assert!(PointSet::new(&[0.0; 6], &[1, 2, 3], 5.0).is_err());
-        assert!(matches!(uv_pairs(&[0.0; 5], 3), Err(SceneError::Count { .. })));
+        assert!(matches!(
+            uv_pairs(&[0.0; 5], 3),
+            Err(SceneError::Count { .. })
+        ));
         assert!(matches!(
             uv_pairs(&[0.0, f32::INFINITY], 1),
             Err(SceneError::NonFinite { index: 1, .. })
