@@ -10,7 +10,8 @@
 //! 3. [`seamless`]: one (u, v) per wedge, transitions with integer
 //!    rotations and translations, Ebke §5's E_orient with projected
 //!    non-orthonormal crosses and the sizing S(f), Campen §4.2's alignment
-//!    weight, boundaries on isolines, exact linear constraints
+//!    weight, Campen §4.3's closed isolines around cyclic smooth regions,
+//!    boundaries on isolines, exact linear constraints
 //!    ([`constraints`]); greedy integer rounding with re-solves;
 //! 4. [`measures`]: flips, Campen §5's stretch, shear and misalignment;
 //!    [`export`]: the input mesh with per-corner texture coordinates.
@@ -94,7 +95,12 @@ pub struct Params {
     /// filtered cyclic smooth region with turning number zero (only with
     /// smooth-region alignment), one coordinate comes back to its start
     /// value through the transitions, so isolines close there (no
-    /// helix). Default true.
+    /// helix). Default true: on a capsule the closure error (the smaller
+    /// holonomy component around the loops) is 4 without and 0 with it
+    /// (tests/param.rs); with smooth-region alignment, rocker-arm's
+    /// misalignment falls 6.09° → 5.69° and shear 9.13° → 8.54°, flips
+    /// 44 → 51; spot's 15.64° → 13.64°, 19.84° → 17.12°, flips 734 → 918;
+    /// fandisk has no cyclic region and is unchanged.
     pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.

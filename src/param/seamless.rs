@@ -16,7 +16,10 @@
 //!
 //! With filtered smooth regions, Campen et al. 2016 §4.2's term
 //! w·A_f·(∇g_c · a_min)² (w = 5 inside the regions) is added for the
-//! coordinate c whose cross axis is transversal to a_min.
+//! coordinate c whose cross axis is transversal to a_min. Campen §4.3's
+//! topology constraints: around every zero-turning boundary loop of a
+//! cyclic region one component of the loop's holonomy translation is 0
+//! (isolines close there; no helix).
 //!
 //! Deviations: the target is Id/S(f) (one parameter unit = one target
 //! edge; Ebke writes S(f)·Id, a density convention); each re-solve
