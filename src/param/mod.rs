@@ -232,27 +232,18 @@ fn feature_curves(
     if params.feature_curve_degrees <= 0.0 {
         return sharp;
     }
-    let cos = params.feature_curve_degrees.to_radians().cos();
     let mut curves = crate::mesh::UnionFind::new(mesh.vertex_count());
     let mut edges = Vec::new();
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for e in 0..3 {
-            let Some((g, ge)) = topology.across(f, e) else {
-                continue;
-            };
-            if f > g {
-                continue;
-            }
-            let (nf_, ng) = (
-                face_normals[f].normalize_or_zero(),
-                face_normals[g].normalize_or_zero(),
-            );
-            if nf_.dot(ng) < cos {
-                let (a, b) = (t[e], t[(e + 1) % 3]);
-                curves.union(a, b);
-                edges.push((f, e, g, ge, a, b));
-            }
+    let sharp_edges =
+        EdgeTopology::sharp_edges(mesh, face_normals, params.feature_curve_degrees, false);
+    for s in sharp_edges {
+        let [(f, e), (g, ge)] = s.sides.map(|(f, e)| (f as usize, e as usize));
+        // Only edges the map's charts cross (consistently oriented pairs).
+        if topology.across(f, e) != Some((g, ge)) {
+            continue;
         }
+        curves.union(s.a, s.b);
+        edges.push((f, e, g, ge, s.a, s.b));
     }
     let mut length = vec![0.0; mesh.vertex_count()];
     let mut sizing = vec![(0.0, 0.0); mesh.vertex_count()];
