@@ -1072,6 +1072,21 @@ test('the parametrization layer draws the integer-grid map as a checkerboard, wi
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('the parametrization stage shows its progress, Cancel stops it and the page goes on', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  await page.check('#layer-parametrization');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden);
+  assert(await page.isVisible('#progress-parametrization'), 'a progress bar for the stage');
+  await page.click('#cancel');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
+  assert(!(await page.isChecked('#layer-parametrization')), 'the layer is off again after a cancel');
+  assert(await page.evaluate(() => window.quadrille.lastParam == null), 'no map was kept');
+  await page.click('#sample-buttons >> text=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();
