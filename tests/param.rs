@@ -373,3 +373,126 @@ fn fandisk_feature_curves_lie_on_integer_isolines() {
     );
     assert!(r.measures.misalignment_degrees < 0.5 * plain.measures.misalignment_degrees);
 }
+
+/// How far the isolines around a closed loop of faces are from closing:
+/// the holonomy's translation (its rotation must be 0) has a zero
+/// component when one coordinate comes back — closed isolines — and two
+/// non-zero components for a helix. Returns min(|t_u|, |t_v|).
+fn closure_error(map: &param::GridMap, faces: &[u32]) -> f64 {
+    let h = map.holonomy(faces).expect("a closed face loop");
+    assert_eq!(
+        h.k, 0,
+        "the holonomy around a turning-number-zero loop does not rotate"
+    );
+    h.t.x.abs().min(h.t.y.abs())
+}
+
+/// Campen et al. 2016 §4.3: the cylinder of a capsule is a cyclic smooth
+/// region whose two boundary loops have turning number zero. With a
+/// helical cross field there (crosses turned 25° from the axis, as a
+/// twisted shape or a noisy field would give), the map without the
+/// topology constraint winds its isolines into a helix around the
+/// cylinder (both holonomy components are non-zero integers); with it,
+/// one coordinate comes back around every loop: closed isolines. With the
+/// principal directions themselves (Campen §4.1) both close.
+#[test]
+fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_without() {
+    use param::cross_field::{CrossFieldInput, cross_field};
+    use param::seamless::{MapInput, grid_map};
+    let mesh = quadrille::mesh::generate::capsule(1.0, 4.0, 64, 12, 32);
+    let params = Params {
+        alignment: param::Alignment::SmoothRegions,
+        ..uniform(400)
+    };
+    let prepared = param::prepare(&mesh, &params);
+    let regions = prepared.regions.as_ref().expect("smooth regions");
+    let loops = param::cyclic_loops(&prepared, &params);
+    println!(
+        "capsule: {} regions, cyclic {:?}, {} zero-turning loops of {:?} faces",
+        regions.region_count(),
+        regions.cyclic,
+        loops.len(),
+        loops.iter().map(|l| l.len()).collect::<Vec<_>>()
+    );
+    // The cylinder, and the bands where the caps meet it (the estimated
+    // curvature changes over a ring there): every loop goes once around
+    // the axis.
+    assert!(
+        loops.len() >= 2 && loops.len() % 2 == 0,
+        "two boundary loops per cyclic region"
+    );
+    let beta = 25f64.to_radians();
+    let selected = regions.selected_faces();
+    let helical: Vec<Option<DVec3>> = (0..mesh.face_count())
+        .map(|f| {
+            selected[f].then(|| {
+                let n = mesh.face_normal_unnormalized(f).normalize();
+                DVec3::Z * beta.cos() + n.cross(DVec3::Z) * beta.sin()
+            })
+        })
+        .collect();
+    let helical_field = cross_field(&CrossFieldInput {
+        mesh: &mesh,
+        topology: &prepared.topology,
+        fans: &prepared.fans,
+        normals: &prepared.normals,
+        constraints: &helical,
+    })
+    .expect("a cross field");
+    let principal_field = param::cross_field_of(&mesh, &prepared, &params).expect("a cross field");
+    for (name, field) in [("helical", &helical_field), ("principal", &principal_field)] {
+        let mut errors = Vec::new();
+        for constrained in [false, true] {
+            let used: &[Vec<u32>] = if constrained { &loops } else { &[] };
+            let m = grid_map(&MapInput {
+                mesh: &mesh,
+                topology: &prepared.topology,
+                field,
+                face_sizing: &prepared.face_sizing,
+                round: true,
+                batch_fraction: 0.5,
+                region_alignment: None,
+                feature_edges: &prepared.feature_edges,
+                cyclic_loops: used,
+            })
+            .expect("a map");
+            assert_eq!(m.conflicts, 0);
+            // Homotopic loops (no cone between them) give the same
+            // constraint up to the chart: most are implied.
+            assert_eq!(m.closed_loops > 0, constrained);
+            check_seamless(&mesh, &m, true);
+            let e: Vec<f64> = loops.iter().map(|l| closure_error(&m, l)).collect();
+            for l in &loops {
+                let t = m.holonomy(l).unwrap().t;
+                assert!(
+                    t.x.abs().max(t.y.abs()) >= 1.0,
+                    "the map does not collapse around the loop: {t}"
+                );
+            }
+            println!(
+                "{name} field, constraint {constrained}: closure error {e:?}, holonomy {:?}, flipped {}",
+                loops
+                    .iter()
+                    .map(|l| m.holonomy(l).unwrap().t)
+                    .collect::<Vec<_>>(),
+                m.flipped().iter().filter(|&&f| f).count()
+            );
+            errors.push(e);
+        }
+        for e in &errors[1] {
+            assert!(
+                *e < 1e-9,
+                "{name}: closed isolines with the constraint: {e}"
+            );
+        }
+        if name == "helical" {
+            for e in &errors[0] {
+                assert!(*e >= 1.0 - 1e-9, "a helix without the constraint: {e}");
+            }
+        }
+        println!(
+            "{name}: closure error without {:?}, with {:?}",
+            errors[0], errors[1]
+        );
+    }
+}

@@ -48,6 +48,7 @@ const STAGE_TEXT = {
   extraction: 'extracting the quad mesh',
   postprocess: 'cleaning up the quad mesh',
   fit: 'fitting the Catmull–Clark control mesh',
+  parametrization: 'computing the integer-grid map (parametrization)',
 };
 
 // The result in one line: vertices, quad share, singularities, limit error.
@@ -102,9 +103,9 @@ function showProgress(text, fraction, stage = null) {
   }
 }
 // One small bar per stage; stages that will not run (cached) start full.
-function resetStageBars(from = 'import') {
-  const start = STAGES.indexOf(from);
-  $('progress-stages').replaceChildren(...STAGES.map((stage, i) => {
+function resetStageBars(from = 'import', stages = STAGES) {
+  const start = stages.indexOf(from);
+  $('progress-stages').replaceChildren(...stages.map((stage, i) => {
     const li = document.createElement('li');
     li.id = `progress-${stage}`;
     li.textContent = stage;
@@ -204,7 +205,11 @@ const STYLES = {
   'smooth regions': { key: 'r', color: '#1f78b4', color2: '#33a02c', hidden: true },
   'quad mesh faces': { key: 'a', color: '#d5dbe6', color2: '#f28e2b' },
   'limit surface': { key: 'u', color: '#9970ab', color2: '#5aae61', hidden: true },
+  // Computed on demand when switched on (seconds on big meshes).
+  parametrization: { key: 'i', color: '#c8cdd8', color2: '#6e7380', hidden: true },
+  'parametrization cones': { key: 'j', color: '#1f6fdd', color2: '#d8342c', size: 10 },
 };
+const PARAM_LAYER = 'parametrization';
 // Meshes with more segments than this open with the layer hidden.
 const DENSE = 30000;
 let LAYERS = BASE_LAYERS.map((l) => ({ ...l }));
@@ -225,6 +230,7 @@ function setLayerVisible(name, visible) {
   const layer = LAYERS.find((l) => l.name === name);
   if (!layer) return;
   layer.visible = visible;
+  if (name === PARAM_LAYER && visible && !extraSurfaces[PARAM_LAYER]) requestParametrization();
   if (layer.kind === 'surface') {
     if (visible) for (const l of LAYERS) if (l.kind === 'surface' && l !== layer) l.visible = false;
     showSurface();
@@ -322,6 +328,10 @@ const LAYER_LEGENDS = {
   'feature vertices': { title: 'Feature vertices', dots: true, rows: [['#e68a00', 'on sharp edges and corners (kept by the remesher)']] },
   'position field': { title: 'Position field', dots: true, rows: [['#ff7f0e', 'lattice points: where output vertices go']] },
   'cross field': { title: 'Cross field', rows: [['#1d2330', 'the four directions the quads follow']] },
+  parametrization: { title: 'Parametrization (integer-grid map)',
+    rows: [['#c8cdd8', 'checkerboard of (u, v): one square = one target edge, lines at integer u, v'], ['#e02dc8', 'flipped triangles (parametric area \u2264 0)']] },
+  'parametrization cones': { title: 'Cones of the map', dots: true,
+    rows: [['#1f6fdd', 'index +\u00bc (valence 3)'], ['#d8342c', 'index \u2212\u00bc (valence 5)']] },
   boundary: { title: 'Boundary', rows: [['#d8342c', 'open edges (holes)']] },
 };
 
@@ -411,6 +421,8 @@ function showSurface() {
       const e = s.scalar;
       if (e) viewer.set_scalar(e.name, e.values, e.min, e.max, e.colormap);
       else viewer.clear_scalar();
+      if (s.colors) viewer.set_vertex_colors(s.colors);
+      if (s.uv) viewer.set_uv(s.uv);
     } else {
       setScalar(scalarName);
     }
@@ -439,6 +451,7 @@ function showMesh(name, mesh) {
     LAYERS.find((l) => l.name === 'polygon edges').visible = mesh.polygonEdges.length / 2 <= DENSE;
     for (const layer of LAYERS) viewer.set_layer_visible(layer.name, layer.visible);
     available.add('surface').add('polygon edges').add('picked');
+    addParametrizationLayer();
     if (mesh.boundaryEdges.length) available.add('boundary');
     meshInfo = { name, vertices: mesh.positions.length / 3 };
     // The link's camera, once, for the linked sample.
@@ -452,6 +465,40 @@ function showMesh(name, mesh) {
   }
   updateLayersPanel();
   requestRender();
+}
+
+// The parametrization layer is offered from the import on and computed in
+// the worker when first switched on (after a running pipeline job ends).
+let paramWanted = false;
+function addParametrizationLayer() {
+  const was = LAYERS.find((l) => l.name === PARAM_LAYER);
+  if (!was) LAYERS.push({ name: PARAM_LAYER, label: 'Parametrization (computed on demand)', kind: 'surface', ...STYLES[PARAM_LAYER], visible: false });
+  available.add(PARAM_LAYER);
+}
+function dropParametrization() {
+  delete extraSurfaces[PARAM_LAYER];
+  window.quadrille.lastParam = null;
+  if (viewer) viewer.set_points('parametrization cones', new Float32Array(0), new Uint8Array(4), 1);
+  available.delete('parametrization cones');
+  LAYERS = LAYERS.filter((l) => l.name !== 'parametrization cones');
+  const layer = LAYERS.find((l) => l.name === PARAM_LAYER);
+  if (layer) layer.label = 'Parametrization (computed on demand)';
+}
+function requestParametrization() {
+  paramWanted = true;
+  if (current || !lastInput) return; // started when the running job ends
+  if (!workerHasInput) { rerun(); return; }
+  paramWanted = false;
+  const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
+  current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0, param: true };
+  resetStageBars('parametrization', ['parametrization']);
+  showProgress(`${lastInput.name}: parametrization…`, 0, 'parametrization');
+  setStatus(`${lastInput.name}: ${STAGE_TEXT.parametrization}…`);
+  worker.postMessage({ type: 'param', job: current.job, cancelFlag: flag });
+}
+function afterJob() {
+  const layer = LAYERS.find((l) => l.name === PARAM_LAYER);
+  if (paramWanted && layer && layer.visible && !extraSurfaces[PARAM_LAYER]) requestParametrization();
 }
 
 // Each stage's result as soon as the worker has it: the import brings the
@@ -480,6 +527,11 @@ function onStage(job, result) {
     addLayer(name, 'points', p.positions.length / 3);
   }
   if (result.metrics) showMetrics(result.metrics, null);
+  if (result.param) {
+    window.quadrille.lastParam = result.param;
+    const layer = LAYERS.find((l) => l.name === PARAM_LAYER);
+    if (layer) layer.label = 'Parametrization';
+  }
   if (result.limitSurface) showMetrics(null, result.limitSurface);
   if (result.surface) {
     const name = result.surface.name;
@@ -490,6 +542,7 @@ function onStage(job, result) {
     const visible = was ? was.visible : !STYLES[name]?.hidden && !LAYERS.some((l) => l.kind === 'surface' && l.visible);
     LAYERS = LAYERS.filter((l) => l.name !== name);
     LAYERS.push({ name, label: name[0].toUpperCase() + name.slice(1), kind: 'surface', ...STYLES[name], visible });
+    if (name === PARAM_LAYER) { const i = LAYERS.length - 1; LAYERS[i] = { ...LAYERS[i], label: 'Parametrization' }; }
     available.add(name);
     if (visible || drawnSurface === name) showSurface();
   }
@@ -616,6 +669,13 @@ function onWorkerMessage(m) {
         else finishJob(`No quads came out of ${job.name}: the run finished but the quad mesh is empty (the input is too small or degenerate for this target).`, true);
       }
       break;
+    case 'param-done': {
+      const p = window.quadrille.lastParam;
+      const m = p && p.measures;
+      job.stages.parametrization = p ? p.ms : 0;
+      finishJob(m ? `${job.name}: parametrization · ${m.cones} cones · ${m.flipped_triangles} flipped triangles · ${(p.ms / 1000).toFixed(1)} s` : `${job.name}: parametrization done`);
+      break;
+    }
     case 'cancelled':
       finishJob(`${job.name}: cancelled.`);
       break;
@@ -632,11 +692,18 @@ function onWorkerMessage(m) {
 }
 
 function finishJob(message, isError = false) {
+  const wasParam = current && current.param;
   if (current) clearTimeout(current.deadline);
   current = null;
   hideProgress();
   if (isError) showError(message);
   else setStatus(message);
+  // A cancelled or failed parametrization is not asked again by itself.
+  if (wasParam) {
+    paramWanted = false;
+    const layer = LAYERS.find((l) => l.name === PARAM_LAYER);
+    if (layer && !extraSurfaces[PARAM_LAYER] && layer.visible) { layer.visible = false; updateLayersPanel(); }
+  } else if (!isError) afterJob();
 }
 
 function run(name, bytes, sample = null) {
@@ -663,6 +730,11 @@ function rerun() {
     return;
   }
   if (current) cancel({ quiet: true });
+  // The map depends on the analysis and sizing parameters: recomputed on demand.
+  if (extraSurfaces[PARAM_LAYER]) {
+    dropParametrization();
+    if (LAYERS.find((l) => l.name === PARAM_LAYER)?.visible) paramWanted = true;
+  }
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
   current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0 };
   resetStageBars('analysis');

@@ -3,6 +3,7 @@
 //
 // Messages in:   { type: 'run', job, name, bytes: ArrayBuffer, params: JSON text, cancelFlag?: SharedArrayBuffer }
 //                { type: 'params', job, params: JSON text, cancelFlag? }   re-runs from the first changed stage
+//                { type: 'param', job, cancelFlag? }   the parametrization layer, on demand (needs an import)
 //                { type: 'export', id, kind, format }
 //                { type: 'schema', id }
 //                { type: 'cancel', job }
@@ -11,6 +12,7 @@
 //                { type: 'stage', job, stage, ms, ...result }   typed arrays transferred
 //                  (result: report, mesh, scalars, lines, points, counts, metrics, surface; see src/web/worker_api.rs)
 //                { type: 'done', job, summary, from }          from: first stage run again (parameter changes)
+//                { type: 'param-done', job }                 after the parametrization's 'stage' message
 //                { type: 'cancelled', job }
 //                { type: 'error', job, message, fatal }        fatal: the worker must be replaced
 //                { type: 'reply', id, value?, error? }         answers to export and schema
@@ -44,8 +46,10 @@ function takePanicSafely() {
   try { return takePanicMessage(); } catch { return null; }
 }
 
-// Runs `prepare(session)` then every remaining step of the session.
-async function drive({ job, cancelFlag }, prepare) {
+// Runs `prepare(session)` then every remaining step of the session; with
+// `work`, runs `work(session, progress, emit)` instead of the steps (the
+// parametrization layer), which returns false when cancelled.
+async function drive({ job, cancelFlag }, prepare, work = null) {
   if (current) current.cancelled = true;
   const me = { job, cancelled: false, flag: cancelFlag ? new Int32Array(cancelFlag) : null };
   current = me;
@@ -67,6 +71,12 @@ async function drive({ job, cancelFlag }, prepare) {
       return !isCancelled();
     };
     const emit = (result) => self.postMessage({ type: 'stage', job, ...result }, transferables(result));
+    if (work) {
+      await nextTask();
+      if (isCancelled() || !work(session, progress, emit)) self.postMessage({ type: 'cancelled', job });
+      else self.postMessage({ type: 'param-done', job, progressGapsMs: gaps });
+      return;
+    }
     while (session.nextStep() !== undefined) {
       await nextTask();
       if (isCancelled()) break;
@@ -105,6 +115,8 @@ self.onmessage = async (event) => {
     });
   } else if (message.type === 'params') {
     drive(message, (s) => s.setParams(message.params) ?? null);
+  } else if (message.type === 'param') {
+    drive(message, () => null, (s, progress, emit) => s.parametrize(progress, emit));
   } else if (message.type === 'export') {
     reply(message.id, () => {
       if (!session) throw new Error('nothing was imported');

@@ -84,6 +84,12 @@ pub struct SmoothRegions {
     pub significance: Vec<f64>,
     /// Per region: contains a loop around which `a_max` turns zero times.
     pub cyclic: Vec<bool>,
+    /// The region boundary loops with turning number zero (Campen §3.2),
+    /// each as `(region, faces)`: the region's faces along the loop in
+    /// walking order, consecutive ones sharing an edge, closed (the last
+    /// shares an edge with the first). Campen §4.3 closes the
+    /// parametrization's isolines around them.
+    pub zero_turning_loops: Vec<(u32, Vec<u32>)>,
     /// Per region: significance ≥ threshold.
     pub filtered: Vec<bool>,
     /// Per face: `a_min`, `a_max`, curvatures.
@@ -266,6 +272,7 @@ pub fn smooth_regions(
         |f: Option<u32>, id: u32| f.is_some_and(|g| region_of_face[g as usize] == Some(id));
     let mut significance = Vec::with_capacity(regions.len());
     let mut cyclic = Vec::with_capacity(regions.len());
+    let mut zero_turning_loops = Vec::new();
     for (id, members) in regions.iter().enumerate() {
         let id = id as u32;
         let walker = FanWalker {
@@ -274,7 +281,8 @@ pub fn smooth_regions(
             edges: &edges,
             inside: &|f: Option<u32>| in_region(f, id),
         };
-        let is_cyclic = walker.has_zero_turning_loop(members);
+        let (is_cyclic, loops) = walker.zero_turning_loops(members);
+        zero_turning_loops.extend(loops.into_iter().map(|l| (id, l)));
         let angle = if is_cyclic {
             360.0
         } else {
@@ -291,6 +299,7 @@ pub fn smooth_regions(
         region_of_face,
         significance,
         cyclic,
+        zero_turning_loops,
         filtered,
         faces,
         geodesic_curvature,
@@ -455,8 +464,9 @@ impl FanWalker<'_> {
     }
 
     /// True if a boundary loop of the region, or one of its interior
-    /// vertices, has turning number zero.
-    fn has_zero_turning_loop(&self, members: &[u32]) -> bool {
+    /// vertices, has turning number zero; and the boundary loops that do,
+    /// as their faces in walking order.
+    fn zero_turning_loops(&self, members: &[u32]) -> (bool, Vec<Vec<u32>>) {
         let mean = members
             .iter()
             .map(|&f| self.faces[f as usize].normal)
@@ -467,6 +477,8 @@ impl FanWalker<'_> {
             .any(|&f| self.faces[f as usize].normal.dot(mean) < std::f64::consts::FRAC_1_SQRT_2);
         let mut visited = std::collections::HashSet::new();
         let mut interior_checked = std::collections::HashSet::new();
+        let mut loops = Vec::new();
+        let mut cyclic = false;
         for &f in members {
             let t = self.mesh.triangles[f as usize];
             for k in 0..3 {
@@ -477,9 +489,13 @@ impl FanWalker<'_> {
                 if visited.contains(&(a, b)) {
                     continue;
                 }
-                if let Some(r) = self.boundary_loop_rotation(f as usize, a, b, &mut visited) {
+                let mut faces = Vec::new();
+                if let Some(r) =
+                    self.boundary_loop_rotation(f as usize, a, b, &mut visited, &mut faces)
+                {
                     if wide && r.abs() < std::f64::consts::FRAC_PI_2 {
-                        return true;
+                        cyclic = true;
+                        loops.push(faces);
                     }
                 }
             }
@@ -488,29 +504,32 @@ impl FanWalker<'_> {
                 // field turns with it (turning number zero relative to the
                 // loop) exactly where its index is ±1 — the tip of a needle
                 // with circular curvature lines around it.
-                if wide
+                if !cyclic
+                    && wide
                     && interior_checked.insert(v)
                     && self
                         .vertex_index(f as usize, v)
                         .is_some_and(|index| (index.abs() - 1.0).abs() < 0.25)
                 {
-                    return true;
+                    cyclic = true;
                 }
             }
         }
-        false
+        (cyclic, loops)
     }
 
     /// Total rotation of `a_max` relative to the tangent of the region
     /// boundary loop through half-edge `a → b` (of region face `f`, region on
     /// its left); `2π ×` the turning number. `None` if the loop cannot be
-    /// followed (non-manifold spots).
+    /// followed (non-manifold spots). `faces` receives the region faces
+    /// walked, in order, each once per visit (consecutive ones share an edge).
     fn boundary_loop_rotation(
         &self,
         f: usize,
         a: u32,
         b: u32,
         visited: &mut std::collections::HashSet<(u32, u32)>,
+        faces: &mut Vec<u32>,
     ) -> Option<f64> {
         let (start_f, start_a, start_b) = (f, a, b);
         let (mut f, mut a, mut b) = (f, a, b);
@@ -519,6 +538,9 @@ impl FanWalker<'_> {
         let mut first_psi: Option<f64> = None;
         for _ in 0..4 * self.mesh.face_count() + 4 {
             visited.insert((a, b));
+            if faces.last() != Some(&(f as u32)) {
+                faces.push(f as u32);
+            }
             // Relative angle at the start of vertex b: field in f against the
             // direction a → b.
             let pa = self.mesh.positions[a as usize];
@@ -566,6 +588,7 @@ impl FanWalker<'_> {
                     break;
                 }
                 let g = across.expect("inside implies a face") as usize;
+                faces.push(g as u32);
                 // Field of g relative to its edge b → c, at fan angle `reference`.
                 let fg =
                     reference + angle_in_plane(self.faces[g].a_max, pc - pb, self.faces[g].normal);
@@ -582,6 +605,9 @@ impl FanWalker<'_> {
             a = nb;
             b = nc;
             if f == start_f && a == start_a && b == start_b {
+                if faces.len() > 1 && faces.last() == faces.first() {
+                    faces.pop();
+                }
                 let closing = lift(first_psi?, psi_out);
                 total += closing - psi_out;
                 return Some(total);

@@ -536,6 +536,8 @@ fn param(args: ParamArgs) -> Result<(), String> {
             "e_orient": result.map.energy,
             "rounding_steps": result.map.rounding_steps,
             "integer_conflicts": result.map.conflicts,
+            "cyclic_loops": quadrille::param::cyclic_loops(&result.prepared, &params).len(),
+            "closed_loops": result.map.closed_loops,
             "timings": result.timings,
             "total_ms": clock(),
         });

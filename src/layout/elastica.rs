@@ -273,47 +273,21 @@ impl ElasticaGraph {
 fn feature_tangents(g: &SurfaceGraph, feature_angle_degrees: f64) -> Vec<DVec3> {
     let mesh = &g.mesh;
     let n = mesh.vertex_count();
-    let cos_limit = feature_angle_degrees.to_radians().cos();
-    // Edge → up to two faces.
-    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(mesh.face_count() * 3);
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            edges.push((a.min(b), a.max(b), f as u32));
-        }
-    }
-    edges.sort_unstable();
+    let face_normals: Vec<DVec3> = (0..mesh.face_count())
+        .map(|f| mesh.face_normal_unnormalized(f))
+        .collect();
     let mut sum = vec![DVec3::ZERO; n];
     let mut count = vec![0u8; n];
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            j += 1;
+    for e in
+        crate::mesh::EdgeTopology::sharp_edges(mesh, &face_normals, feature_angle_degrees, true)
+    {
+        let (a, b) = (e.a as usize, e.b as usize);
+        let d = (mesh.positions[b] - mesh.positions[a]).normalize_or_zero();
+        for v in [a, b] {
+            let s = if sum[v].dot(d) < 0.0 { -d } else { d };
+            sum[v] += s;
+            count[v] = count[v].saturating_add(1);
         }
-        let (a, b) = (edges[i].0 as usize, edges[i].1 as usize);
-        let sharp = match j - i {
-            1 => true,
-            2 => {
-                let n0 = mesh
-                    .face_normal_unnormalized(edges[i].2 as usize)
-                    .normalize_or_zero();
-                let n1 = mesh
-                    .face_normal_unnormalized(edges[i + 1].2 as usize)
-                    .normalize_or_zero();
-                n0 != DVec3::ZERO && n1 != DVec3::ZERO && n0.dot(n1) < cos_limit
-            }
-            _ => false,
-        };
-        if sharp {
-            let d = (mesh.positions[b] - mesh.positions[a]).normalize_or_zero();
-            for v in [a, b] {
-                let s = if sum[v].dot(d) < 0.0 { -d } else { d };
-                sum[v] += s;
-                count[v] = count[v].saturating_add(1);
-            }
-        }
-        i = j;
     }
     (0..n)
         .map(|v| {

@@ -236,6 +236,59 @@ impl EdgeTopology {
         let g = self.opposite[f][e];
         (g != u32::MAX).then(|| (g as usize, self.opposite_edge[f][e] as usize))
     }
+
+    /// The sharp edges, the one dihedral-angle test of the crate (the
+    /// param's feature curves, the layout's feature tangents): edges of
+    /// exactly two triangles whose unit normals (from `face_normals`, any
+    /// length; a zero one never counts) differ by more than `degrees`,
+    /// and, with `boundary`, the edges of one triangle (both sides the
+    /// same). In (a, b) order; non-manifold edges are never sharp.
+    pub fn sharp_edges(
+        mesh: &TriMesh,
+        face_normals: &[glam::DVec3],
+        degrees: f64,
+        boundary: bool,
+    ) -> Vec<SharpEdge> {
+        let cos_limit = degrees.to_radians().cos();
+        let normal = |f: u32| {
+            face_normals
+                .get(f as usize)
+                .map_or(glam::DVec3::ZERO, |n| n.normalize_or_zero())
+        };
+        let mut out = Vec::new();
+        for run in edge_runs(&sorted_sides(mesh)) {
+            let sides = match run {
+                [x] if boundary => [(x.2, x.3); 2],
+                [x, y] => {
+                    let (n0, n1) = (normal(x.2), normal(y.2));
+                    if n0 == glam::DVec3::ZERO || n1 == glam::DVec3::ZERO || n0.dot(n1) >= cos_limit
+                    {
+                        continue;
+                    }
+                    [(x.2, x.3), (y.2, y.3)]
+                }
+                _ => continue,
+            };
+            out.push(SharpEdge {
+                a: run[0].0,
+                b: run[0].1,
+                sides,
+                boundary: run.len() == 1,
+            });
+        }
+        out
+    }
+}
+
+/// An edge found by [`EdgeTopology::sharp_edges`]: its end points (a < b)
+/// and its two triangle sides (face, local edge from corner i to i + 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SharpEdge {
+    pub a: u32,
+    pub b: u32,
+    pub sides: [(u32, u8); 2],
+    /// A boundary edge (one triangle; both sides are the same).
+    pub boundary: bool,
 }
 
 /// Vertices on an edge that belongs to exactly one triangle.

@@ -132,6 +132,61 @@ pub fn cylinder(radius: f64, height: f64, segments: u32, stacks: u32) -> TriMesh
     })
 }
 
+/// Closed capsule around the z axis: a cylinder of `radius` and `length`
+/// (from `z = -length/2` to `length/2`, `stacks` rows of quads) with a
+/// hemispherical cap at each end (`cap_rings` rings of latitude, a pole
+/// vertex), `segments` around.
+pub fn capsule(radius: f64, length: f64, segments: u32, cap_rings: u32, stacks: u32) -> TriMesh {
+    let (n, caps, stacks) = (segments.max(3), cap_rings.max(1), stacks.max(1));
+    // (z, ring radius) from the south cap's first ring to the north cap's last.
+    let mut rings = Vec::new();
+    for i in 1..=caps {
+        let phi = std::f64::consts::FRAC_PI_2 * i as f64 / caps as f64;
+        rings.push((-0.5 * length - radius * phi.cos(), radius * phi.sin()));
+    }
+    for j in 1..stacks {
+        rings.push((length * (j as f64 / stacks as f64 - 0.5), radius));
+    }
+    for i in (1..=caps).rev() {
+        let phi = std::f64::consts::FRAC_PI_2 * i as f64 / caps as f64;
+        rings.push((0.5 * length + radius * phi.cos(), radius * phi.sin()));
+    }
+    let mut positions = vec![DVec3::new(0.0, 0.0, -0.5 * length - radius)];
+    for &(z, r) in &rings {
+        for i in 0..n {
+            let a = TAU * i as f64 / n as f64;
+            positions.push(DVec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    let north = positions.len() as u32;
+    positions.push(DVec3::new(0.0, 0.0, 0.5 * length + radius));
+    let at = |ring: usize, i: u32| 1 + ring as u32 * n + i % n;
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        triangles.push([0, at(0, i + 1), at(0, i)]);
+    }
+    for ring in 0..rings.len() - 1 {
+        for i in 0..n {
+            let (a, b, c, d) = (
+                at(ring, i),
+                at(ring, i + 1),
+                at(ring + 1, i + 1),
+                at(ring + 1, i),
+            );
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    let last = rings.len() - 1;
+    for i in 0..n {
+        triangles.push([at(last, i), at(last, i + 1), north]);
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
 /// Torus around the z axis: tube of radius `minor` whose centre circle has
 /// radius `major`. The point at angles (u, v) is
 /// `((major + minor cos v) cos u, (major + minor cos v) sin u, minor sin v)`;

@@ -16,7 +16,10 @@
 //!
 //! With filtered smooth regions, Campen et al. 2016 §4.2's term
 //! w·A_f·(∇g_c · a_min)² (w = 5 inside the regions) is added for the
-//! coordinate c whose cross axis is transversal to a_min.
+//! coordinate c whose cross axis is transversal to a_min. Campen §4.3's
+//! topology constraints: around every zero-turning boundary loop of a
+//! cyclic region one component of the loop's holonomy translation is 0
+//! (isolines close there; no helix).
 //!
 //! Deviations: the target is Id/S(f) (one parameter unit = one target
 //! edge; Ebke writes S(f)·Id, a density convention); each re-solve
@@ -107,6 +110,12 @@ pub struct MapInput<'a> {
     /// Per face edge: a feature curve, which lies on an integer isoline
     /// like the boundary (empty: none).
     pub feature_edges: &'a [[bool; 3]],
+    /// Campen §4.3's topology constraints: closed loops of faces
+    /// (consecutive ones sharing an edge, the last sharing one with the
+    /// first; the boundary loops of cyclic smooth regions) around which
+    /// one coordinate must come back to its start value through the
+    /// transitions, so that isolines close around them (empty: none).
+    pub cyclic_loops: &'a [Vec<u32>],
 }
 
 /// The integer-grid map.
@@ -126,6 +135,8 @@ pub struct GridMap {
     /// Seam constraints that contradicted earlier ones plus integer
     /// quantities left non-integer (0 in a valid map).
     pub conflicts: usize,
+    /// Loops of [`MapInput::cyclic_loops`] that got a closing constraint.
+    pub closed_loops: usize,
 }
 
 impl GridMap {
@@ -139,6 +150,26 @@ impl GridMap {
         let ta = ga - rotate(k, fa);
         let tb = gb - rotate(k, fb);
         Some((Transition { k, t: ta }, tb - ta))
+    }
+
+    /// The transition from the chart of `faces[0]` to itself once around
+    /// the closed loop of faces (consecutive ones sharing an edge, the
+    /// last one sharing an edge with the first): its rotation, and its
+    /// translation (a helix around the loop when no coordinate comes back,
+    /// i.e. both components are non-zero while the rotation is 0). `None`
+    /// when two consecutive faces are not neighbours.
+    pub fn holonomy(&self, faces: &[u32]) -> Option<Transition> {
+        let mut total = Transition::IDENTITY;
+        for i in 0..faces.len() {
+            let (a, b) = (faces[i] as usize, faces[(i + 1) % faces.len()] as usize);
+            if a == b {
+                continue;
+            }
+            let e = (0..3).find(|&e| self.topology.across(a, e).is_some_and(|(g, _)| g == b))?;
+            let (step, _) = self.transition(a, e)?;
+            total = step.after(&total);
+        }
+        Some(total)
     }
 
     /// Faces whose parametric area is not positive.
@@ -289,6 +320,106 @@ fn gauge(el: &mut Eliminator, input: &MapInput<'_>, c: &Cut, lay: &Layout) {
     }
 }
 
+/// A linear expression per coordinate over the unknowns.
+type Affine = [Vec<(usize, f64)>; 2];
+
+/// R^k applied to a symbolic translation.
+fn rotate_terms(k: u8, t: &Affine) -> Affine {
+    let (src, sign) = rotation_map(k);
+    std::array::from_fn(|c| t[src[c]].iter().map(|&(i, x)| (i, sign[c] * x)).collect())
+}
+
+/// Campen §4.3: around each loop, the translation of the loop's holonomy
+/// (a sum of seam translations, rotated along the way) gets a zero
+/// component — the coordinate that should stay constant along the loop,
+/// the one whose cross axis is more transversal to the loop's direction
+/// (as on the boundary). Loops whose holonomy rotates, or that are not
+/// closed face paths, are skipped; a constraint implied by or
+/// contradicting earlier ones (two homotopic loops) adds nothing.
+/// Returns the number of loops constrained.
+fn loop_constraints(
+    el: &mut Eliminator,
+    input: &MapInput<'_>,
+    c: &Cut,
+    frames: &[[DVec3; 2]],
+    lay: &Layout,
+) -> usize {
+    let mesh = input.mesh;
+    let mut seam_of = vec![[u32::MAX; 3]; mesh.triangles.len()];
+    for (s, &(f, e)) in lay.seams.iter().enumerate() {
+        seam_of[f][e] = s as u32;
+        if let Some((g, ge)) = input.topology.across(f, e) {
+            seam_of[g][ge] = s as u32;
+        }
+    }
+    let centroid = |f: usize| mesh.corners(f).iter().sum::<DVec3>() / 3.0;
+    let mut constrained = 0;
+    'loops: for faces in input.cyclic_loops {
+        let n = faces.len();
+        if n < 3 {
+            continue;
+        }
+        let mut t: Affine = [Vec::new(), Vec::new()];
+        let mut k = 0u8;
+        let mut travel = [0.0f64; 2];
+        for i in 0..n {
+            let (a, b) = (faces[i] as usize, faces[(i + 1) % n] as usize);
+            // Travel direction at a, in the loop start's chart.
+            let d = centroid(b) - centroid(faces[(i + n - 1) % n] as usize);
+            let local = glam::DVec2::new(d.dot(frames[a][0]), d.dot(frames[a][1]));
+            let start = rotate((4 - k) % 4, local);
+            travel[0] += start.x.abs();
+            travel[1] += start.y.abs();
+            let Some(e) =
+                (0..3).find(|&e| input.topology.across(a, e).is_some_and(|(g, _)| g == b))
+            else {
+                continue 'loops;
+            };
+            let s = seam_of[a][e];
+            if s == u32::MAX {
+                continue;
+            }
+            let (f, fe) = lay.seams[s as usize];
+            let km = c.matching[f][fe];
+            let var = |comp: usize| (lay.t(s as usize, comp), 1.0);
+            if a == f {
+                // X_b = R^k X_a + t_s.
+                t = rotate_terms(km, &t);
+                for comp in 0..2 {
+                    t[comp].push(var(comp));
+                }
+                k = (k + km) % 4;
+            } else {
+                // X_b = R^{-k} (X_a - t_s).
+                for comp in 0..2 {
+                    t[comp].push((var(comp).0, -1.0));
+                }
+                let m = (4 - km % 4) % 4;
+                t = rotate_terms(m, &t);
+                k = (k + m) % 4;
+            }
+        }
+        if k != 0 {
+            continue;
+        }
+        // A loop that already closes in either coordinate (through the
+        // constraints so far, e.g. a homotopic loop's) needs nothing more:
+        // closing the other coordinate too would collapse the map.
+        let closes = |terms: &[(usize, f64)]| {
+            let e = el.reduce(terms, 0.0);
+            e.terms.iter().all(|t| t.1.abs() < 1e-12) && e.constant.abs() < 1e-9
+        };
+        if closes(&t[0]) || closes(&t[1]) {
+            continue;
+        }
+        let constant = if travel[0] >= travel[1] { 1 } else { 0 };
+        if let Added::Eliminated(_) = el.add(&t[constant], 0.0, 1e-9) {
+            constrained += 1;
+        }
+    }
+    constrained
+}
+
 /// Per face: the four weighted E_orient rows (terms over x, target).
 fn energy_rows(
     input: &MapInput<'_>,
@@ -377,17 +508,32 @@ fn solve(el: &Eliminator, rows: &[(Vec<(usize, f64)>, f64)]) -> Option<(Vec<f64>
     Some((x, energy))
 }
 
+/// Why [`grid_map_with`] stopped without a map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapStop {
+    /// A solve failed (singular or non-finite system).
+    Solve,
+    /// The progress callback asked to stop.
+    Cancelled,
+}
+
 /// Greedy rounding with re-solves; returns the final solution.
+/// `go_on(fraction rounded)` is asked before every re-solve.
 fn round(
     el: &mut Eliminator,
     rows: &[(Vec<(usize, f64)>, f64)],
     ints: &Integers,
     fraction: f64,
-) -> Option<(Vec<f64>, f64, usize, usize)> {
+    go_on: &mut dyn FnMut(f32) -> bool,
+) -> Result<(Vec<f64>, f64, usize, usize), MapStop> {
     let mut done = vec![false; ints.quantities.len()];
     let mut steps = 0;
     loop {
-        let (x, energy) = solve(el, rows)?;
+        let finished = done.iter().filter(|&&d| d).count();
+        if !go_on(finished as f32 / ints.quantities.len().max(1) as f32) {
+            return Err(MapStop::Cancelled);
+        }
+        let (x, energy) = solve(el, rows).ok_or(MapStop::Solve)?;
         let mut open: Vec<(f64, usize, f64)> = Vec::new();
         for (q, terms) in ints.quantities.iter().enumerate() {
             if done[q] {
@@ -416,7 +562,7 @@ fn round(
                     (v - v.round()).abs() > 1e-6
                 })
                 .count();
-            return Some((x, energy, steps, missed));
+            return Ok((x, energy, steps, missed));
         }
         open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let cones = open.iter().filter(|o| o.0 < 0.0).count();
@@ -463,6 +609,15 @@ fn gcd(a: u64, b: u64) -> u64 {
 
 /// Computes the map; None when a solve fails.
 pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
+    grid_map_with(input, &mut |_| true).ok()
+}
+
+/// [`grid_map`] that asks `go_on(fraction of the integer quantities
+/// rounded)` before every solve and stops when it answers false.
+pub fn grid_map_with(
+    input: &MapInput<'_>,
+    go_on: &mut dyn FnMut(f32) -> bool,
+) -> Result<GridMap, MapStop> {
     let mesh = input.mesh;
     let nf = mesh.triangles.len();
     let raw: Vec<[u8; 3]> = input
@@ -494,6 +649,7 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
     let mut el = Eliminator::new(lay.len(), 2 * lay.wedges);
     let mut conflicts = seam_constraints(&mut el, input, &c, &lay);
     let boundary = boundary_constraints(&mut el, input, &c, &frames, &lay);
+    let closed_loops = loop_constraints(&mut el, input, &c, &frames, &lay);
     gauge(&mut el, input, &c, &lay);
     let mut quantities: Vec<Vec<(usize, f64)>> = Vec::new();
     for k in &input.field.cones {
@@ -520,9 +676,13 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
             &rows,
             &Integers { quantities, first },
             input.batch_fraction.clamp(1e-3, 1.0),
+            go_on,
         )?
     } else {
-        let (x, e) = solve(&el, &rows)?;
+        if !go_on(0.0) {
+            return Err(MapStop::Cancelled);
+        }
+        let (x, e) = solve(&el, &rows).ok_or(MapStop::Solve)?;
         (x, e, 0, 0)
     };
     conflicts += more;
@@ -533,7 +693,7 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
             })
         })
         .collect();
-    Some(GridMap {
+    Ok(GridMap {
         uv,
         cut: c,
         frames,
@@ -542,6 +702,7 @@ pub fn grid_map(input: &MapInput<'_>) -> Option<GridMap> {
         energy,
         rounding_steps: steps,
         conflicts,
+        closed_loops,
     })
 }
 

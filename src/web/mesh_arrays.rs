@@ -58,6 +58,63 @@ pub fn vertex_normals(mesh: &TriMesh) -> Vec<f32> {
         .collect()
 }
 
+/// The viewer's parametrization layer: every input triangle gets its own
+/// three corners (so triangle `t` is input face `t` and the (u, v) may
+/// jump across the cut graph's seams), with the input's smooth vertex
+/// normals, the integer-grid map's per-corner (u, v) (one unit = one
+/// target edge) and, per corner, an RGBA colour: plain, or
+/// [`FLIPPED_COLOR`] on triangles whose parametric area is not positive.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GridMapArrays {
+    pub positions: Vec<f32>,
+    pub normals: Vec<f32>,
+    pub triangles: Vec<u32>,
+    /// Two floats per corner.
+    pub uv: Vec<f32>,
+    /// Four bytes per corner.
+    pub colors: Vec<u8>,
+    pub flipped: usize,
+}
+
+/// The surface colour of the parametrization layer (the viewer's plain grey).
+pub const GRID_COLOR: [u8; 4] = [0xc8, 0xcd, 0xd8, 0xff];
+/// Tint of flipped triangles (magenta: neither cone colour).
+pub const FLIPPED_COLOR: [u8; 4] = [0xe0, 0x2d, 0xc8, 0xff];
+
+impl GridMapArrays {
+    pub fn new(mesh: &TriMesh, map: &crate::param::GridMap) -> GridMapArrays {
+        let normals = vertex_normals(mesh);
+        let flipped = map.flipped();
+        let n = mesh.face_count();
+        let mut out = GridMapArrays {
+            positions: Vec::with_capacity(9 * n),
+            normals: Vec::with_capacity(9 * n),
+            triangles: (0..(3 * n) as u32).collect(),
+            uv: Vec::with_capacity(6 * n),
+            colors: Vec::with_capacity(12 * n),
+            flipped: flipped.iter().filter(|&&f| f).count(),
+        };
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            let color = if flipped.get(f).copied().unwrap_or(false) {
+                FLIPPED_COLOR
+            } else {
+                GRID_COLOR
+            };
+            for (i, &v) in t.iter().enumerate() {
+                let p = mesh.positions[v as usize];
+                out.positions
+                    .extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
+                out.normals
+                    .extend_from_slice(&normals[3 * v as usize..3 * v as usize + 3]);
+                let q = map.uv.get(f).map_or(glam::DVec2::ZERO, |q| q[i]);
+                out.uv.extend_from_slice(&[q.x as f32, q.y as f32]);
+                out.colors.extend_from_slice(&color);
+            }
+        }
+        out
+    }
+}
+
 /// All undirected edges of the polygons, and those used by exactly one polygon.
 pub fn polygon_edges(polygons: &FaceList) -> (Vec<u32>, Vec<u32>) {
     let mut edges: Vec<(u32, u32)> = Vec::with_capacity(polygons.indices.len());
@@ -103,6 +160,61 @@ mod tests {
             !all.chunks(2).any(|e| e == [0, 4] || e == [1, 3]),
             "no diagonals"
         );
+    }
+
+    #[test]
+    fn grid_map_arrays_carry_the_maps_corners_and_flips() {
+        // A 4×4 grid of unit squares, its map (u, v) = (x, y) with one
+        // triangle's corners swapped so its parametric area is negative.
+        let mesh = crate::mesh::generate::flat_grid(2.0, 4);
+        let nf = mesh.face_count();
+        let mut uv: Vec<[glam::DVec2; 3]> = mesh
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| mesh.positions[v as usize].truncate()))
+            .collect();
+        uv[5].swap(0, 1);
+        let topology = crate::param::EdgeTopology::new(&mesh);
+        let map = crate::param::GridMap {
+            uv: uv.clone(),
+            cut: crate::param::Cut {
+                comb: vec![0; nf],
+                matching: vec![[0; 3]; nf],
+                tree: vec![[false; 3]; nf],
+                seam: vec![[false; 3]; nf],
+                wedge: (0..nf as u32)
+                    .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+                    .collect(),
+                wedge_count: 3 * nf,
+            },
+            frames: Vec::new(),
+            cones: Vec::new(),
+            topology,
+            energy: 0.0,
+            rounding_steps: 0,
+            conflicts: 0,
+            closed_loops: 0,
+        };
+        let a = GridMapArrays::new(&mesh, &map);
+        assert_eq!(a.positions.len(), 9 * mesh.face_count());
+        assert_eq!(a.uv.len(), 6 * mesh.face_count());
+        assert_eq!(a.flipped, 1);
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for i in 0..3 {
+                let c = 3 * f + i;
+                let p = mesh.positions[t[i] as usize];
+                assert_eq!(
+                    a.positions[3 * c..3 * c + 3],
+                    [p.x as f32, p.y as f32, p.z as f32]
+                );
+                assert_eq!(
+                    a.uv[2 * c..2 * c + 2],
+                    [uv[f][i].x as f32, uv[f][i].y as f32]
+                );
+                let expected = if f == 5 { FLIPPED_COLOR } else { GRID_COLOR };
+                assert_eq!(a.colors[4 * c..4 * c + 4], expected);
+            }
+        }
     }
 
     #[test]

@@ -761,6 +761,91 @@ impl Session {
         Ok(())
     }
 
+    /// The parametrization layer, computed only when the page asks for it
+    /// (it takes seconds on big meshes): the integer-grid map of the input
+    /// ([`crate::param::run_with_progress`], with the pipeline's analysis
+    /// and sizing parameters, so one unit is one target edge of the run's
+    /// target), emitted as a `parametrization` stage result with
+    /// `surface` (per-corner `uv` and `colors`, flipped triangles tinted),
+    /// the cones as the point layer `parametrization cones` (index +¼
+    /// blue, −¼ red), `counts` and `param` (timings and Campen §5's
+    /// measures). Returns false when `progress` cancelled it.
+    pub fn parametrize(&mut self, progress: &Function, emit: &Function) -> Result<bool, JsError> {
+        let p = self
+            .pipeline
+            .as_ref()
+            .ok_or_else(|| js_err("nothing was imported"))?;
+        let params = crate::param::Params {
+            analysis: self.params.analysis,
+            sizing: self.params.sizing.clone(),
+            ..Default::default()
+        };
+        let mut last = f64::NEG_INFINITY;
+        let mut sink = |stage: &str, fraction: f32, text: &str| {
+            let now = js_sys::Date::now();
+            if fraction > 0.0 && fraction < 1.0 && now - last < 50.0 {
+                return true;
+            }
+            last = now;
+            progress
+                .call3(
+                    &JsValue::NULL,
+                    &stage.into(),
+                    &(fraction as f64).into(),
+                    &text.into(),
+                )
+                .map(|v| v.as_bool() != Some(false))
+                .unwrap_or(true)
+        };
+        let mut sink = crate::progress::Progress::new(&mut sink, "parametrization");
+        let started = js_sys::Date::now();
+        let mesh = &p.input.mesh;
+        let run =
+            match crate::param::run_with_progress(mesh, &params, &js_sys::Date::now, &mut sink) {
+                Ok(run) => run,
+                Err(crate::param::ParamError::Cancelled) => return Ok(false),
+                Err(e) => return Err(js_err(format!("{}: parametrization: {e}", p.input.name))),
+            };
+        let ms = js_sys::Date::now() - started;
+        let arrays = super::mesh_arrays::GridMapArrays::new(mesh, &run.map);
+        let r = StageResult::new("parametrization", ms)?;
+        let surface = Object::new();
+        set(&surface, "name", "parametrization")?;
+        set(
+            &surface,
+            "positions",
+            Float32Array::from(&arrays.positions[..]),
+        )?;
+        set(
+            &surface,
+            "triangles",
+            Uint32Array::from(&arrays.triangles[..]),
+        )?;
+        set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
+        set(&surface, "uv", Float32Array::from(&arrays.uv[..]))?;
+        set(&surface, "colors", Uint8Array::from(&arrays.colors[..]))?;
+        set(&r.obj, "surface", surface)?;
+        let (mut positions, mut colors) = (Vec::new(), Vec::new());
+        for c in &run.map.cones {
+            push(&mut positions, mesh.positions[c.vertex as usize].as_vec3());
+            colors.extend_from_slice(&singularity_color(c.quarters));
+        }
+        r.points("parametrization cones", &positions, &colors)?;
+        r.count("parametrization cones", run.map.cones.len())?;
+        r.count("flipped triangles", arrays.flipped)?;
+        let summary = serde_json::json!({
+            "ms": ms,
+            "timings": run.timings,
+            "measures": run.measures,
+            "integer_conflicts": run.map.conflicts,
+            "rounding_steps": run.map.rounding_steps,
+        });
+        set(&r.obj, "param", to_js(&summary)?)?;
+        emit.call1(&JsValue::NULL, &r.obj)
+            .map_err(|_| js_err("could not send the parametrization"))?;
+        Ok(true)
+    }
+
     /// What the page keeps as `window.quadrille.lastRun`: input name,
     /// parameters, milliseconds per stage, counts.
     pub fn summary(&self) -> Result<JsValue, JsError> {

@@ -1006,6 +1006,87 @@ test('phone: the panel opens as a drawer over the view; a layer toggle shows its
   await page.close();
 });
 
+// Brightness jumps along the middle rows of the drawn mesh: a run of
+// pixels between two jumps of more than 18 % is one checker square or
+// isoline. Returns the largest number of jumps on one of five rows.
+function checkerJumps(png) {
+  const { data, width, height } = PNG.sync.read(png);
+  const lum = (x, y) => { const i = 4 * (y * width + x); return 0.3 * data[i] + 0.59 * data[i + 1] + 0.11 * data[i + 2]; };
+  const ink = (x, y) => { const i = 4 * (y * width + x); return Math.abs(data[i] - BACKGROUND[0]) + Math.abs(data[i + 1] - BACKGROUND[1]) + Math.abs(data[i + 2] - BACKGROUND[2]) > 30; };
+  let top = height, bottom = 0;
+  for (let y = 0; y < height; y++) for (let x = 0; x < width; x += 4) if (ink(x, y)) { top = Math.min(top, y); bottom = Math.max(bottom, y); }
+  let best = 0;
+  for (const f of [0.35, 0.42, 0.5, 0.58, 0.65]) {
+    const y = Math.round(top + f * (bottom - top));
+    let jumps = 0;
+    let last = -10;
+    for (let x = 2; x < width - 2; x++) {
+      if (!ink(x - 2, y) || !ink(x + 2, y)) continue;
+      const a = lum(x - 2, y), b = lum(x + 2, y);
+      if (Math.abs(a - b) > 0.18 * Math.max(a, b) && x - last > 3) { jumps++; last = x; }
+    }
+    best = Math.max(best, jumps);
+  }
+  return best;
+}
+
+test('the parametrization layer draws the integer-grid map as a checkerboard, with cones and a legend', async (env) => {
+  const { page, errors } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  // Only the surface: the line and marker layers would add edges of their own.
+  const only = async () => {
+    for (const box of await page.locator('#layers input[type=checkbox]').all()) {
+      const id = await box.getAttribute('id');
+      if (!['layer-surface', 'layer-parametrization'].includes(id) && await box.isChecked() && await box.isEnabled()) await box.uncheck();
+    }
+    await settle(page);
+  };
+  await only();
+  const clip = await page.locator('#canvas').boundingBox();
+  const plain = await page.screenshot({ path: join(process.env.SHOTS || artifacts, `plain-${env.backend}.png`), clip });
+  const plainJumps = checkerJumps(plain);
+  assert(await page.isEnabled('#layer-parametrization'), 'the layer is offered before it is computed');
+  assert(await page.evaluate(() => window.quadrille.lastParam == null), 'nothing is computed before the layer is asked for');
+  await page.check('#layer-parametrization');
+  await page.waitForFunction(() => window.quadrille.lastParam && /parametrization ·/.test(document.getElementById('status').textContent), null, { timeout: 400000 });
+  await only();
+  const p = await page.evaluate(() => window.quadrille.lastParam);
+  const shot = await page.screenshot({ path: join(process.env.SHOTS || artifacts, `param-${env.backend}.png`), clip });
+  const jumps = checkerJumps(shot);
+  console.log(`      [${env.backend}] parametrization ${p.ms.toFixed(0)} ms in the page (${JSON.stringify(p.timings)}), ${p.measures.cones} cones, ${p.measures.flipped_triangles} flipped; jumps along a row: ${plainJumps} plain, ${jumps} with the map`);
+  assert(jumps >= 8 && jumps > 3 * Math.max(plainJumps, 1), `checkerboard: ${jumps} brightness jumps along a row (plain surface ${plainJumps})`);
+  const triangles = await page.evaluate(() => window.quadrille.lastRun.counts.triangles);
+  assert(p.measures.cones > 0 && p.measures.faces === triangles, `cones ${p.measures.cones}, faces ${p.measures.faces} of ${triangles}`);
+  const legend = await page.textContent('#layer-legend');
+  assert(legend.includes('one square = one target edge') && legend.includes('flipped triangles'), `legend: ${legend}`);
+  // The cones as markers, coloured by index, with their legend line.
+  await page.check('#layer-parametrization-cones');
+  await settle(page);
+  const withCones = (await page.textContent('#layer-legend'));
+  assert(withCones.includes('Cones of the map') && withCones.includes('+¼') && withCones.includes('−¼'), `legend: ${withCones}`);
+  await page.screenshot({ path: join(process.env.SHOTS || artifacts, `param-cones-${env.backend}.png`), clip });
+  // Switching it off brings the input surface back, plain.
+  await page.uncheck('#layer-parametrization');
+  await settle(page);
+  assert(!(await page.textContent('#layer-legend')).includes('one square'), 'the legend follows the layer');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('the parametrization stage shows its progress, Cancel stops it and the page goes on', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  await page.check('#layer-parametrization');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden);
+  assert(await page.isVisible('#progress-parametrization'), 'a progress bar for the stage');
+  await page.click('#cancel');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
+  assert(!(await page.isChecked('#layer-parametrization')), 'the layer is off again after a cancel');
+  assert(await page.evaluate(() => window.quadrille.lastParam == null), 'no map was kept');
+  await page.click('#sample-buttons >> text=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();

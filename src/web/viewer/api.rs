@@ -28,6 +28,11 @@ pub struct Viewer {
     hidden: BTreeSet<String>,
     line_width: f32,
     flat: bool,
+    /// The surface's own per-vertex colours (the parametrization layer's
+    /// flipped-triangle tint), shown when no scalar is.
+    own_colors: Option<Vec<[u8; 4]>>,
+    /// The surface carries (u, v): draw the checkerboard.
+    grid: bool,
 }
 
 /// Where `pick` met the surface (local coordinates).
@@ -76,6 +81,8 @@ impl Viewer {
             hidden: BTreeSet::new(),
             line_width: 1.5,
             flat: false,
+            own_colors: None,
+            grid: false,
         })
     }
 
@@ -120,6 +127,8 @@ impl Viewer {
         self.gpu.clear_layers();
         self.surface = Some(surface);
         self.scalar = None;
+        self.own_colors = None;
+        self.grid = false;
         self.fit_view();
         Ok(())
     }
@@ -138,6 +147,38 @@ impl Viewer {
         self.gpu.set_surface(Some((&surface, &colors)));
         self.surface = Some(surface);
         self.scalar = None;
+        self.own_colors = None;
+        self.grid = false;
+        Ok(())
+    }
+
+    /// Gives the surface per-vertex (u, v) (two floats per vertex) and
+    /// draws them as a checkerboard of unit squares with the integer
+    /// isolines (the parametrization layer), until the surface changes.
+    pub fn set_uv(&mut self, uv: &[f32]) -> Result<(), JsError> {
+        let count = self
+            .surface
+            .as_ref()
+            .ok_or_else(|| js(SceneError::NoSurface))?
+            .positions
+            .len();
+        let uv = super::scene::uv_pairs(uv, count).map_err(js)?;
+        self.gpu.set_surface_uv(&uv);
+        self.grid = true;
+        Ok(())
+    }
+
+    /// The surface's own RGBA colour per vertex (four bytes each), shown
+    /// when no scalar is, until the surface changes.
+    pub fn set_vertex_colors(&mut self, rgba: &[u8]) -> Result<(), JsError> {
+        let count = self
+            .surface
+            .as_ref()
+            .ok_or_else(|| js(SceneError::NoSurface))?
+            .positions
+            .len();
+        self.own_colors = Some(super::scene::vertex_colors(rgba, count).map_err(js)?);
+        self.upload_colors();
         Ok(())
     }
 
@@ -343,6 +384,7 @@ impl Viewer {
                 &|name| !hidden.contains(name),
                 self.line_width,
                 self.flat,
+                self.grid,
             )
             .map_err(js)
     }
@@ -357,7 +399,10 @@ impl Viewer {
             .filter(|_| !self.hidden.contains(SCALAR))
         {
             Some(s) => s.colors(),
-            None => vec![PLAIN; surface.positions.len()],
+            None => match &self.own_colors {
+                Some(c) => c.clone(),
+                None => vec![PLAIN; surface.positions.len()],
+            },
         };
         self.gpu.set_surface_colors(&colors);
     }

@@ -79,6 +79,8 @@ struct SurfaceBuffers {
     positions: wgpu::Buffer,
     normals: wgpu::Buffer,
     colors: wgpu::Buffer,
+    /// Per-vertex (u, v) of the parametrization layer (zeros otherwise).
+    uv: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
 }
@@ -280,6 +282,7 @@ impl Gpu {
         let (p, pa) = vertex(12, 0, wgpu::VertexFormat::Float32x3);
         let (n, na) = vertex(12, 1, wgpu::VertexFormat::Float32x3);
         let (c, ca) = vertex(4, 2, wgpu::VertexFormat::Unorm8x4);
+        let (t, ta) = vertex(8, 3, wgpu::VertexFormat::Float32x2);
         let per_vertex = |stride, attributes| {
             Some(wgpu::VertexBufferLayout {
                 array_stride: stride,
@@ -290,7 +293,12 @@ impl Gpu {
         let surface_pipeline = make(
             "surface",
             shaders::SURFACE,
-            &[per_vertex(p, &pa), per_vertex(n, &na), per_vertex(c, &ca)],
+            &[
+                per_vertex(p, &pa),
+                per_vertex(n, &na),
+                per_vertex(c, &ca),
+                per_vertex(t, &ta),
+            ],
             None,
         );
         let segment_attributes =
@@ -390,6 +398,11 @@ impl Gpu {
                         bytemuck::cast_slice(colors),
                         wgpu::BufferUsages::VERTEX,
                     ),
+                    uv: self.buffer(
+                        "uv",
+                        bytemuck::cast_slice(&vec![[0.0f32; 2]; s.positions.len()]),
+                        wgpu::BufferUsages::VERTEX,
+                    ),
                     indices: self.buffer(
                         "indices",
                         bytemuck::cast_slice(&s.triangles),
@@ -406,6 +419,16 @@ impl Gpu {
             if mesh.colors.size() == (colors.len() * 4) as u64 {
                 self.queue
                     .write_buffer(&mesh.colors, 0, bytemuck::cast_slice(colors));
+            }
+        }
+    }
+
+    /// Replaces the surface's per-vertex (u, v) (same vertex count).
+    pub fn set_surface_uv(&mut self, uv: &[[f32; 2]]) {
+        if let Some(mesh) = &self.mesh {
+            if mesh.uv.size() == (uv.len() * 8) as u64 {
+                self.queue
+                    .write_buffer(&mesh.uv, 0, bytemuck::cast_slice(uv));
             }
         }
     }
@@ -467,13 +490,15 @@ impl Gpu {
     }
 
     /// Draws one frame. `visible` says which layers to draw ("surface" and
-    /// the line and point layer names); `line_width` is in pixels.
+    /// the line and point layer names); `line_width` is in pixels; `grid`
+    /// draws the surface's (u, v) as a checkerboard with integer isolines.
     pub fn render(
         &mut self,
         camera: &OrbitCamera,
         visible: &dyn Fn(&str) -> bool,
         line_width: f32,
         flat: bool,
+        grid: bool,
     ) -> Result<(), GpuError> {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
@@ -502,7 +527,7 @@ impl Gpu {
                 // Markers sit this far toward the eye (world units), so
                 // result faces that cut below the input do not hide them.
                 camera.scene_radius * 0.02,
-                0.0,
+                if grid { 1.0 } else { 0.0 },
             ],
         };
         self.queue
@@ -544,6 +569,7 @@ impl Gpu {
                 pass.set_vertex_buffer(0, mesh.positions.slice(..));
                 pass.set_vertex_buffer(1, mesh.normals.slice(..));
                 pass.set_vertex_buffer(2, mesh.colors.slice(..));
+                pass.set_vertex_buffer(3, mesh.uv.slice(..));
                 pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..mesh.index_count, 0, 0..1);
             }

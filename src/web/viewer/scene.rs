@@ -232,6 +232,36 @@ impl Scalar {
     }
 }
 
+/// Per-vertex (u, v) from two floats per vertex, all finite.
+pub fn uv_pairs(flat: &[f32], vertex_count: usize) -> Result<Vec<[f32; 2]>, SceneError> {
+    if flat.len() != 2 * vertex_count {
+        return Err(SceneError::Count {
+            what: "uv",
+            expected: 2 * vertex_count,
+            got: flat.len(),
+        });
+    }
+    if let Some(index) = flat.iter().position(|x| !x.is_finite()) {
+        return Err(SceneError::NonFinite { what: "uv", index });
+    }
+    Ok(flat.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+}
+
+/// One RGBA colour per vertex (four bytes each).
+pub fn vertex_colors(rgba: &[u8], vertex_count: usize) -> Result<Vec<[u8; 4]>, SceneError> {
+    if rgba.len() != 4 * vertex_count {
+        return Err(SceneError::Count {
+            what: "vertex colours",
+            expected: 4 * vertex_count,
+            got: rgba.len(),
+        });
+    }
+    Ok(rgba
+        .chunks_exact(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect())
+}
+
 /// Line segments with one colour each.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LineSet {
@@ -356,6 +386,17 @@ mod tests {
         assert!(Scalar::new("k", &[1.0; 4], 4, 0.0, 1.0, "jet").is_err());
         assert!(LineSet::from_edges(&square(), &[0, 9], &[0, 0, 0, 255]).is_err());
         assert!(PointSet::new(&[0.0; 6], &[1, 2, 3], 5.0).is_err());
+        assert!(matches!(
+            uv_pairs(&[0.0; 5], 3),
+            Err(SceneError::Count { .. })
+        ));
+        assert!(matches!(
+            uv_pairs(&[0.0, f32::INFINITY], 1),
+            Err(SceneError::NonFinite { index: 1, .. })
+        ));
+        assert_eq!(uv_pairs(&[1.0, 2.0], 1), Ok(vec![[1.0, 2.0]]));
+        assert!(vertex_colors(&[1, 2, 3], 1).is_err());
+        assert_eq!(vertex_colors(&[1, 2, 3, 4], 1), Ok(vec![[1, 2, 3, 4]]));
     }
 
     #[test]

@@ -1,5 +1,8 @@
 // The input surface: per-vertex normals and colours (plain or from a scalar
-// field's colormap), lit by a headlight so every view is readable.
+// field's colormap), lit by a headlight so every view is readable. With
+// flags.w = 1 (the parametrization layer) the per-vertex (u, v) of an
+// integer-grid map is drawn as a checkerboard of unit squares (one unit =
+// one target edge) with the integer isolines as dark lines.
 
 struct Globals {
     view_proj: mat4x4<f32>,
@@ -8,7 +11,8 @@ struct Globals {
     // Target width and height in pixels, line width in pixels, overlay offset toward the eye (world units).
     viewport: vec4<f32>,
     // x: 1 when the render target is sRGB (colours are given in sRGB and must be linearised);
-    // y: 1 for flat shading; z: how far markers are lifted toward the eye.
+    // y: 1 for flat shading; z: how far markers are lifted toward the eye;
+    // w: 1 to draw the (u, v) checkerboard.
     flags: vec4<f32>,
 };
 
@@ -18,6 +22,7 @@ struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
+    @location(3) uv: vec2<f32>,
 };
 
 struct VertexOut {
@@ -25,6 +30,7 @@ struct VertexOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
+    @location(3) uv: vec2<f32>,
 };
 
 @vertex
@@ -34,6 +40,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.world = v.position;
     out.normal = v.normal;
     out.color = v.color;
+    out.uv = v.uv;
     return out;
 }
 
@@ -71,6 +78,20 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
             n = smooth_n;
         }
     }
+    // The integer grid: squares alternate light and dark by the parity of
+    // floor(u) + floor(v); isolines u, v ∈ ℤ about a pixel wide (the
+    // derivative comes before any branch).
+    let uv_width = max(fwidth(in.uv), vec2<f32>(1e-6));
+    var base = in.color.rgb;
+    if (globals.flags.w > 0.5) {
+        let cell = vec2<i32>(floor(in.uv));
+        if (((cell.x + cell.y) & 1) != 0) {
+            base = base * 0.55;
+        }
+        let to_line = abs(fract(in.uv - vec2<f32>(0.5)) - vec2<f32>(0.5)) / uv_width;
+        let line = 1.0 - clamp(min(to_line.x, to_line.y) - 0.5, 0.0, 1.0);
+        base = mix(base, vec3<f32>(0.1, 0.12, 0.18), 0.85 * line);
+    }
     // Back faces (holes, inconsistent orientation) are darker.
     var tint = 1.0;
     if (!front) {
@@ -83,6 +104,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let ambient = 0.22 + 0.08 * n.y;
     let half_vector = normalize(key + to_eye);
     let specular = pow(max(dot(n, half_vector), 0.0), 24.0) * 0.05;
-    let color = in.color.rgb * tint * (ambient + diffuse) + vec3<f32>(specular);
+    let color = base * tint * (ambient + diffuse) + vec3<f32>(specular);
     return to_target(color);
 }
