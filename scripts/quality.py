@@ -55,6 +55,7 @@ IM_EQUIVALENT = {
             "flat_triangles": False,
             "pair_non_quads_degrees": 0,
             "rotate_edges_degrees": 0,
+            "collapse_diagonals": False,
             "smoothing_iterations": 2,
             "reproject": True,
         },
@@ -79,13 +80,15 @@ ROWS = {
     "+feature quads": {"extraction": {"post": {"feature_quads": True}}},
     "+flat triangles": {"extraction": {"post": {"flat_triangles": True}}},
     "+odd-face pairing": {"extraction": {"post": {"pair_non_quads_degrees": 60}}},
-    "+edge rotations": {"extraction": {"post": {"rotate_edges_degrees": 75}}},
+    "+edge rotations and diagonal collapses": {"extraction": {"post": {"rotate_edges_degrees": 75,
+                                                                       "collapse_diagonals": True}}},
     "+3 smoothing steps": {"extraction": {"post": {"smoothing_iterations": 3}}},
     "default": None,
     # Overlays on the defaults: Instant Meshes' own pure-quad route (extract
     # at a quarter of the count, one split), with the odd-face pairing off.
     "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
-    "default - edge rotations": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
+    "default - diagonal collapses": ("default", {"extraction": {"post": {"collapse_diagonals": False}}}),
+    "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
     "default + pure quad": ("default", {"extraction": {"pure_quad": True,
                                                       "post": {"pair_non_quads_degrees": 0}}}),
     # Folded quads split into triangles before the second pairing, whose

@@ -275,6 +275,10 @@ pub fn post_process(
     if p.rotate_edges_degrees > 0.0 {
         progress.report(0.55, "edge rotations")?;
         report.edges_rotated += postprocess::rotate_edges(&mut faces, &g, p.rotate_edges_degrees);
+        if p.collapse_diagonals {
+            report.diagonals_collapsed +=
+                postprocess::collapse_diagonals(&mut faces, &mut g, p.rotate_edges_degrees);
+        }
     }
     progress.report(0.6, "smoothing")?;
     report.smoothed_vertices = postprocess::smooth(&faces, &mut g, p, surface);
@@ -316,8 +320,15 @@ pub fn post_process(
             } else {
                 0
             };
+            let collapsed = if p.rotate_edges_degrees > 0.0 && p.collapse_diagonals {
+                postprocess::collapse_diagonals(&mut faces, &mut mesh_graph, p.rotate_edges_degrees)
+            } else {
+                0
+            };
+            report.diagonals_collapsed += collapsed;
+            let rotated = rotated + collapsed;
             if rotated > 0 {
-                report.edges_rotated += rotated;
+                report.edges_rotated += rotated - collapsed;
                 postprocess::smooth(&faces, &mut mesh_graph, p, surface);
             }
             if m > 0 || splits > 0 || rotated > 0 {
