@@ -100,6 +100,22 @@ impl LayoutExport {
     pub fn from_json(text: &str) -> Result<LayoutExport, serde_json::Error> {
         serde_json::from_str(text)
     }
+
+    /// Maps the layout onto another surface of the same shape (a proxy's
+    /// layout onto the original, §8.1): every vertex and route point to its
+    /// closest point there.
+    pub fn project_onto(&mut self, index: &SurfaceIndex) {
+        for v in &mut self.vertices {
+            let c = index.closest(v.position);
+            v.position = c.point;
+            v.face = c.face;
+        }
+        for e in &mut self.edges {
+            for p in &mut e.polyline {
+                *p = index.closest(*p).point;
+            }
+        }
+    }
 }
 
 /// A quad layout on the surface; vertex i is region i.
