@@ -14,7 +14,7 @@ const COLOURS = {
   loop: [29, 35, 48, 255],
   layoutEdge: [17, 17, 17, 255],
   layoutVertex: [106, 61, 154, 255],
-  grid: [33, 102, 172, 255],
+  grid: [70, 70, 70, 255],
   selfCrossing: [230, 0, 126, 255],
 };
 // Layers this mode draws (line and point layers of the viewer).
@@ -553,6 +553,8 @@ export function createDesignMode(ctx) {
     stats.fit = null;
     gridRevision = revision;
     setLines('layout grid', g.edges, new Uint8Array(COLOURS.grid));
+    // The grid takes the stripes' place (they return with the next analysis).
+    setLines('strips', new Float32Array(0), new Uint8Array(4));
     if (stats.analysis) ctx.setRegionSurface(stats.analysis.regionCategory.length && surface ? regionSurface(stats.analysis.regionCategory) : stats.proxy ? proxySurface() : null);
     $('design-fit').disabled = false;
     $('design-export-grid').disabled = false;

@@ -19,6 +19,9 @@ use crate::mesh::{Frame, TriMesh};
 use crate::spatial::SurfaceIndex;
 use crate::subdivision::FitResult;
 
+/// Pieces each gridded-layout edge is drawn in, projected onto the surface.
+const GRID_EDGE_PIECES: usize = 6;
+
 /// One mesh's loop engine, built once.
 #[wasm_bindgen]
 pub struct LayoutEngine {
@@ -476,11 +479,20 @@ impl LayoutDesigner {
         for h in 0..g.mesh.halfedge_count() as u32 {
             let (a, b) = (g.mesh.origin(h), g.mesh.tip(h));
             if a < b || g.mesh.is_boundary_halfedge(g.mesh.twin(h)) {
-                analysis_glue::push_segment(
-                    &mut segments,
-                    g.mesh.positions[a as usize],
-                    g.mesh.positions[b as usize],
-                );
+                // Drawn on the surface: a coarse grid's chords would dip
+                // below it and hide.
+                let (p, q) = (g.mesh.positions[a as usize], g.mesh.positions[b as usize]);
+                let mut prev = p;
+                for k in 1..=GRID_EDGE_PIECES {
+                    let t = k as f64 / GRID_EDGE_PIECES as f64;
+                    let next = if k == GRID_EDGE_PIECES {
+                        q
+                    } else {
+                        index.closest(p.lerp(q, t)).point
+                    };
+                    analysis_glue::push_segment(&mut segments, prev, next);
+                    prev = next;
+                }
             }
         }
         set(&out, "edges", Float32Array::from(&segments[..]))?;

@@ -750,6 +750,9 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   await page.waitForFunction(() => window.quadrille.design.grid, null, DESIGN_WAIT);
   const g = await page.evaluate(() => { const g = window.quadrille.design.grid; return { vertices: g.vertices, faces: g.faces, folded: g.folded, ms: g.ms }; });
   assert(g.faces === 64 * a.counts.patches, `8 × 8 quads per patch: ${g.faces} for ${a.counts.patches} patches`);
+  await page.mouse.move(0, 0);
+  await settle(page);
+  await page.screenshot({ path: join(artifacts, `design-torus-grid-${env.backend}.png`) });
   await page.click('#design-fit');
   await page.waitForFunction(() => window.quadrille.design.fit, null, DESIGN_WAIT);
   const fit = await page.evaluate(() => window.quadrille.design.fit.summary);
