@@ -80,6 +80,15 @@ impl SurfaceIndex {
         }
     }
 
+    /// The unit normal of triangle `face` (zero for a degenerate or unknown
+    /// one).
+    pub fn face_normal(&self, face: u32) -> DVec3 {
+        self.face_normals
+            .get(face as usize)
+            .copied()
+            .unwrap_or(DVec3::ZERO)
+    }
+
     /// Unsigned distance to the surface.
     pub fn distance(&self, p: DVec3) -> f64 {
         self.shape.distance_to_local_point(p, false)

@@ -7,12 +7,14 @@ mod common;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DQuat, DVec3};
+use quadrille::layout::grid::{grid_layout, patch_polygons};
 use quadrille::layout::primal::QuadLayout;
 use quadrille::layout::regions::{Guidance, Regions};
 use quadrille::layout::symmetry::{self, MirrorPlane};
 use quadrille::layout::{EdgeCrossing, EmbeddedLoop, Singularity};
-use quadrille::mesh::TriMesh;
 use quadrille::mesh::generate::{flat_grid, icosphere, torus};
+use quadrille::mesh::{PolyMesh, TriMesh};
+use quadrille::spatial::SurfaceIndex;
 
 /// The curves where the plane `n·p = d` cuts the mesh, as exact embedded
 /// loops (closed) or dual curves (open, boundary to boundary). The plane
@@ -1087,4 +1089,196 @@ fn octant_edge_routes_are_nearly_geodesic() {
     }
     println!("octant routes: worst length / great-circle length {worst:.3}");
     assert!(worst < 1.15, "{worst}");
+}
+
+// ---------------------------------------------------------------- the layout as a mesh
+
+/// Deepest point of a triangle mesh inscribed in the unit sphere: the
+/// largest 1 − (distance of a face plane from the centre).
+fn inscribed_sagitta(mesh: &TriMesh) -> f64 {
+    mesh.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+            let n = (b - a).cross(c - a).normalize();
+            1.0 - n.dot(a).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Checks a closed pure-quad mesh: valid, no boundary, every face a quad
+/// facing away from `inside` (the outward direction at its centroid).
+fn check_closed_quads(m: &PolyMesh, outward: impl Fn(DVec3) -> DVec3) {
+    m.validate().expect("a valid half-edge mesh");
+    assert!(m.boundary_loops().is_empty(), "closed");
+    for f in 0..m.face_count() as u32 {
+        assert_eq!(m.degree(f), 4, "face {f} is a quad");
+        let vs: Vec<DVec3> = m
+            .face_vertices(f)
+            .map(|v| m.positions[v as usize])
+            .collect();
+        let centroid = vs.iter().sum::<DVec3>() / 4.0;
+        let mut normal = DVec3::ZERO;
+        for k in 0..4 {
+            normal += vs[k].cross(vs[(k + 1) % 4]);
+        }
+        assert!(
+            normal.dot(outward(centroid)) > 0.0,
+            "face {f} faces inwards or is folded"
+        );
+    }
+}
+
+#[test]
+fn sphere_octant_grid_is_a_closed_quad_mesh_on_the_sphere() {
+    let mesh = sphere();
+    let loops = octant_loops(&mesh);
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    let index = SurfaceIndex::new(&mesh).unwrap();
+    let sagitta = inscribed_sagitta(&mesh);
+    // One count for all strips: the cube's regular refinement.
+    let n = 8usize;
+    let started = std::time::Instant::now();
+    let g = grid_layout(&layout.export(), &[n as u32; 3], &index).unwrap();
+    println!(
+        "sphere octants, grid {n}: {} vertices, {} quads in {:.2} ms",
+        g.mesh.vertex_count(),
+        g.mesh.face_count(),
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    let m = &g.mesh;
+    check_closed_quads(m, |c| c);
+    assert_eq!(m.face_count(), 6 * n * n);
+    assert_eq!(m.vertex_count(), 6 * n * n + 2);
+    assert_eq!(m.euler_characteristic(), 2);
+    let valence3: Vec<u32> = (0..m.vertex_count() as u32)
+        .filter(|&v| m.valence(v) == 3)
+        .collect();
+    assert_eq!(valence3.len(), 8, "the cube's corners");
+    // They are the layout vertices (ids 0..8); every other vertex is regular.
+    assert_eq!(valence3, (0..8).collect::<Vec<u32>>());
+    assert!((0..m.vertex_count() as u32).all(|v| m.valence(v) == 3 || m.valence(v) == 4));
+    // Every vertex on the surface: between the inscribed mesh's deepest
+    // point and the analytic sphere.
+    for (v, p) in m.positions.iter().enumerate() {
+        let radius = p.length();
+        assert!(
+            radius <= 1.0 + 1e-9 && radius >= 1.0 - sagitta - 1e-9,
+            "vertex {v} at radius {radius} (sagitta {sagitta})"
+        );
+    }
+    // Even quads: in the cube's refinement the largest edge is at most
+    // a few times the smallest.
+    let lengths: Vec<f64> = (0..m.halfedge_count() as u32)
+        .map(|h| m.positions[m.origin(h) as usize].distance(m.positions[m.tip(h) as usize]))
+        .collect();
+    let (lo, hi) = lengths
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &l| (a.min(l), b.max(l)));
+    println!("sphere octants, grid {n}: edge lengths {lo:.4} … {hi:.4}");
+    assert!(hi < 4.0 * lo, "edge lengths {lo} … {hi}");
+}
+
+#[test]
+fn sphere_octant_grid_takes_one_count_per_strip() {
+    let mesh = sphere();
+    let loops = octant_loops(&mesh);
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    let index = SurfaceIndex::new(&mesh).unwrap();
+    let counts = [2u32, 3, 5];
+    let g = grid_layout(&layout.export(), &counts, &index).unwrap();
+    check_closed_quads(&g.mesh, |c| c);
+    // Each patch is the crossing of two strips: counts a·b, two per pair.
+    let [a, b, c] = counts.map(|x| x as usize);
+    assert_eq!(g.mesh.face_count(), 2 * (a * b + b * c + c * a));
+    assert_eq!(g.mesh.euler_characteristic(), 2);
+    for (p, patch) in layout.patches.iter().enumerate() {
+        let strips = [0, 1].map(|s| layout.edges[patch.edges[s] as usize].loop_index as usize);
+        let faces = (g.patch_faces[p + 1] - g.patch_faces[p]) as usize;
+        assert_eq!(
+            faces,
+            counts[strips[0]] as usize * counts[strips[1]] as usize
+        );
+    }
+    // Bad counts are errors, not panics.
+    assert!(grid_layout(&layout.export(), &[8, 8], &index).is_err());
+    assert!(grid_layout(&layout.export(), &[8, 0, 8], &index).is_err());
+}
+
+#[test]
+fn torus_grid_wraps_the_half_tubes() {
+    let mesh = test_torus();
+    let mut loops = meridians(&mesh, MERIDIAN_ANGLE);
+    loops.push(outer_longitude(&mesh, 0.1));
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    let index = SurfaceIndex::new(&mesh).unwrap();
+    let started = std::time::Instant::now();
+    let g = grid_layout(&layout.export(), &[8; 3], &index).unwrap();
+    println!(
+        "torus, 3 strips, grid 8: {} vertices, {} quads in {:.2} ms",
+        g.mesh.vertex_count(),
+        g.mesh.face_count(),
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    // Outward: away from the tube's centre circle. (Not every quad: a side
+    // winding around the tube can fold one or two; see grid.rs.)
+    let tube_centre = |p: DVec3| 2.0 * DVec3::new(p.x, p.y, 0.0).normalize();
+    println!("torus, grid 8: {} folded quads", g.folded);
+    g.mesh.validate().expect("a valid half-edge mesh");
+    assert!(g.mesh.boundary_loops().is_empty(), "closed");
+    assert!((0..g.mesh.face_count() as u32).all(|f| g.mesh.degree(f) == 4));
+    assert_eq!(g.mesh.euler_characteristic(), 0);
+    assert_eq!(g.mesh.face_count(), 2 * 64);
+    assert!((0..g.mesh.vertex_count() as u32).all(|v| g.mesh.valence(v) == 4));
+    // On the surface: at the tube's radius, within the mesh's chord error
+    // (48 × 24 segments: a chord of the tube circle sags r(1 − cos(π/24)),
+    // a chord of the ring by up to (R + r)(1 − cos(π/48)) more on the
+    // outside; on the inside, where the ring is concave, a ring chord lies
+    // outside the tube by up to (R − r)(1 − cos(π/48))).
+    let ring_sag = 1.0 - (PI / 48.0).cos();
+    let sag = 0.7 * (1.0 - (PI / 24.0).cos()) + 2.7 * ring_sag;
+    for p in &g.mesh.positions {
+        let d = p.distance(tube_centre(*p));
+        assert!(
+            d <= 0.7 + 1.3 * ring_sag + 1e-9 && d >= 0.7 - sag - 1e-9,
+            "{d}"
+        );
+    }
+    // The tube is covered all the way round: every grid row around the
+    // tube (a patch side crossing the longitude) spans the full circle,
+    // so the vertices' tube angles fill it without a gap over 60°.
+    let mut angles: Vec<f64> = g
+        .mesh
+        .positions
+        .iter()
+        .map(|p| {
+            let radial = DVec3::new(p.x, p.y, 0.0).length() - 2.0;
+            p.z.atan2(radial)
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let gap = angles
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(angles[0] + 2.0 * PI - angles[angles.len() - 1], f64::max);
+    assert!(gap < PI / 3.0, "gap {gap}");
+}
+
+#[test]
+fn patch_polygons_follow_the_routes() {
+    let mesh = sphere();
+    let loops = octant_loops(&mesh);
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    let (positions, faces) = patch_polygons(&layout.export()).unwrap();
+    assert_eq!(faces.len(), 6);
+    let inner: usize = layout.edges.iter().map(|e| e.polyline.len() - 2).sum();
+    assert_eq!(positions.len(), 8 + inner);
+    // A closed polygon mesh: every route point is shared by two patches.
+    let m = PolyMesh::from_faces(positions, &faces).unwrap();
+    assert!(m.boundary_loops().is_empty());
+    assert_eq!(m.euler_characteristic(), 2);
 }

@@ -14,10 +14,11 @@ const COLOURS = {
   loop: [29, 35, 48, 255],
   layoutEdge: [17, 17, 17, 255],
   layoutVertex: [106, 61, 154, 255],
+  grid: [70, 70, 70, 255],
   selfCrossing: [230, 0, 126, 255],
 };
 // Layers this mode draws (line and point layers of the viewer).
-const LAYER_NAMES = ['design proposal', 'design anchors', 'design self-crossings', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices'];
+const LAYER_NAMES = ['design proposal', 'design anchors', 'design self-crossings', 'design loops', 'strips', 'strip singularities', 'layout edges', 'layout vertices', 'layout grid'];
 export const REGION_SURFACE = 'layout regions';
 const CLICK_PX = 4;
 
@@ -81,6 +82,8 @@ export function createDesignMode(ctx) {
   let gesture = null; // the current left-button gesture
   let nextRequest = 1;
   const pending = new Map();
+  const stripCounts = []; // grid count per strip (undefined: the panel's count)
+  let gridRevision = null; // design revision the drawn grid belongs to
 
   function post(message, transfer) {
     if (worker && !stats.crashed) worker.postMessage(message, transfer || []);
@@ -256,6 +259,7 @@ export function createDesignMode(ctx) {
   }
 
   function onAnalysis(a, ms) {
+    if (gridRevision !== null && gridRevision !== a.revision) clearGrid();
     stats.analysis = a;
     stats.analyses++;
     stats.analysisMs = ms;
@@ -263,7 +267,7 @@ export function createDesignMode(ctx) {
     setPoints('strip singularities', a.singularities, a.singularityColours.length ? a.singularityColours : new Uint8Array([31, 111, 221, 255]), 9);
     setLines('layout edges', a.layoutEdges, new Uint8Array(COLOURS.layoutEdge));
     setPoints('layout vertices', a.layoutVertices, new Uint8Array(COLOURS.layoutVertex), 13);
-    ctx.setRegionSurface(a.regionCategory.length && surface ? regionSurface(a.regionCategory) : stats.proxy ? proxySurface() : null);
+    if (!stats.fit) ctx.setRegionSurface(a.regionCategory.length && surface ? regionSurface(a.regionCategory) : stats.proxy ? proxySurface() : null);
     updatePanel();
     ctx.requestRender();
   }
@@ -359,7 +363,15 @@ export function createDesignMode(ctx) {
       del.textContent = 'Delete';
       del.className = 'design-delete';
       del.addEventListener('click', () => action('deleteStrip', [i]));
-      li.append(sw, label, del);
+      const count = document.createElement('input');
+      count.type = 'number';
+      count.min = '1';
+      count.max = '256';
+      count.className = 'design-strip-count';
+      count.title = `grid segments across strip ${i + 1}`;
+      count.value = String(stripCounts[i] ?? gridCount());
+      count.addEventListener('change', () => { stripCounts[i] = Math.round(Number(count.value)) || gridCount(); });
+      li.append(sw, label, count, del);
       return li;
     }));
   }
@@ -520,6 +532,54 @@ export function createDesignMode(ctx) {
     });
   }
 
+  const gridCount = () => Math.max(1, Math.min(256, Math.round(Number($('design-grid-count').value)) || 8));
+  const countsFor = (n) => Array.from({ length: n }, (_, i) => stripCounts[i] ?? gridCount());
+
+  function clearGrid() {
+    gridRevision = null;
+    stats.grid = stats.fit = null;
+    setLines('layout grid', new Float32Array(0), new Uint8Array(4));
+    $('design-fit').disabled = true;
+    $('design-export-grid').disabled = true;
+    $('design-grid-status').textContent = 'Grid the layout into quads, then fit a Catmull–Clark surface.';
+  }
+
+  // Grids the layout (one count per strip) and draws the quads.
+  async function gridLayout(counts) {
+    const strips = stats.state ? stats.state.loops.length : 0;
+    const revision = stats.state ? stats.state.revision : null;
+    const g = await request({ type: 'grid', counts: counts || countsFor(strips) });
+    stats.grid = g;
+    stats.fit = null;
+    gridRevision = revision;
+    setLines('layout grid', g.edges, new Uint8Array(COLOURS.grid));
+    // The grid takes the stripes' place (they return with the next analysis).
+    setLines('strips', new Float32Array(0), new Uint8Array(4));
+    if (stats.analysis) ctx.setRegionSurface(stats.analysis.regionCategory.length && surface ? regionSurface(stats.analysis.regionCategory) : stats.proxy ? proxySurface() : null);
+    $('design-fit').disabled = false;
+    $('design-export-grid').disabled = false;
+    $('design-grid-status').textContent = `${g.vertices} vertices · ${g.faces} quads${g.folded ? ` · ${g.folded} folded` : ''} · ${g.ms.toFixed(0)} ms`;
+    ctx.requestRender();
+    return g;
+  }
+
+  // Fits the gridded layout and shows its limit surface coloured by error.
+  async function fitLayout() {
+    $('design-grid-status').textContent = 'fitting…';
+    const f = await request({ type: 'fit' });
+    stats.fit = f;
+    const s = f.surface;
+    ctx.setRegionSurface({ name: REGION_SURFACE, label: 'Limit surface (design)', color: '#9970ab', color2: '#5aae61', positions: s.positions, triangles: s.triangles, normals: s.normals, scalar: s.scalar });
+    const after = f.summary.after;
+    $('design-grid-status').textContent = `${stats.grid.faces} quads → control mesh of ${f.summary.control_faces} · limit error ${Number((100 * after.hausdorff).toPrecision(2))} % of the size (mean ${Number((100 * after.stats.mean).toPrecision(2))} %) · ${f.ms.toFixed(0)} ms`;
+    ctx.requestRender();
+    return f;
+  }
+
+  async function guarded(what, run) {
+    try { return await run(); } catch (error) { ctx.showError(`${what} failed: ${error.message}`); $('design-grid-status').textContent = `${what} failed: ${error.message}`; return null; }
+  }
+
   async function exportLayout(format) {
     const text = await request({ type: 'export', format });
     stats.exportCount++;
@@ -531,7 +591,8 @@ export function createDesignMode(ctx) {
       const text = await exportLayout(format);
       const a = document.createElement('a');
       a.href = URL.createObjectURL(new Blob([text], { type: format === 'json' ? 'application/json' : 'text/plain' }));
-      a.download = `${(inputName || 'layout').replace(/\.[^.]*$/, '')}-layout.${format}`;
+      const ext = format === 'grid-obj' ? 'grid.obj' : format;
+      a.download = `${(inputName || 'layout').replace(/\.[^.]*$/, '')}-layout.${ext}`;
       a.click();
       setTimeout(() => URL.revokeObjectURL(a.href), 10000);
     } catch (error) {
@@ -547,11 +608,14 @@ export function createDesignMode(ctx) {
   $('design-mirror').addEventListener('change', () => action('setMirror', [$('design-mirror').value]));
   $('design-export-obj').addEventListener('click', () => downloadLayout('obj'));
   $('design-export-json').addEventListener('click', () => downloadLayout('json'));
+  $('design-export-grid').addEventListener('click', () => downloadLayout('grid-obj'));
+  $('design-grid').addEventListener('click', () => guarded('gridding', () => gridLayout()));
+  $('design-fit').addEventListener('click', () => guarded('the fit', () => fitLayout()));
 
   return {
     stats,
     get active() { return stats.active; },
-    enter, leave, reset, onHoverMove, onWheel, onDown, onDrag, onUp, onKey, exportLayout,
+    enter, leave, reset, onHoverMove, onWheel, onDown, onDrag, onUp, onKey, exportLayout, gridLayout, fitLayout,
     action: (name, args) => action(name, args),
     crashForTesting: () => post({ type: 'crash-for-testing' }),
     hoverMedianMs: () => median(stats.hoverLatencies),

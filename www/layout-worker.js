@@ -7,7 +7,9 @@
 //                { type: 'action', name, args: [...], t }        addAnchor, setLastAnchorDirection,
 //                  insertAnchorOnLoop, moveGrabbedAnchor, clearAnchors, commit, deleteStrip, undo, redo,
 //                  browse, moveLayoutVertex, setMirror
-//                { type: 'export', id, format }                 'obj' | 'json'
+//                { type: 'export', id, format }                 'obj' | 'json' | 'grid-obj'
+//                { type: 'grid', id, counts }                   grid the layout (one count per strip)
+//                { type: 'fit', id }                            fit the gridded layout
 //                { type: 'crash-for-testing' }
 // Messages out:  { type: 'progress', text }
 //                { type: 'ready', faces, inputFaces, proxy, buildMs, surface }
@@ -92,9 +94,11 @@ self.onmessage = async (event) => {
       const state = designer.state();
       self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t }, transferables(state));
       if (designer.analysisStale()) queueAnalysis();
-    } else if (m.type === 'export') {
+    } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
       try {
-        self.postMessage({ type: 'reply', id: m.id, value: designer.export(m.format) });
+        const value = m.type === 'export' ? designer.export(m.format)
+          : m.type === 'grid' ? designer.grid(new Uint32Array(m.counts)) : designer.fit();
+        self.postMessage({ type: 'reply', id: m.id, value }, transferables(value));
       } catch (error) {
         if (error instanceof WebAssembly.RuntimeError) throw error;
         self.postMessage({ type: 'reply', id: m.id, error: String(error.message || error) });

@@ -1473,8 +1473,8 @@ function setRegionSurface(surface) {
   if (surface) {
     extraSurfaces[REGION_SURFACE] = surface;
     for (const l of LAYERS) if (l.kind === 'surface') l.visible = false;
-    const label = surface.scalar ? 'Layout regions' : 'Design proxy';
-    LAYERS.push({ name: REGION_SURFACE, label, kind: 'surface', color: surface.scalar ? '#e31a1c' : '#c8cdd8', color2: surface.scalar ? '#ff7f00' : undefined, visible: true });
+    const label = surface.label || (surface.scalar ? 'Layout regions' : 'Design proxy');
+    LAYERS.push({ name: REGION_SURFACE, label, kind: 'surface', color: surface.color || (surface.scalar ? '#e31a1c' : '#c8cdd8'), color2: surface.color2 || (surface.scalar ? '#ff7f00' : undefined), visible: true });
     available.add(REGION_SURFACE);
   }
   showSurface();
@@ -1529,6 +1529,8 @@ $('design-toggle').addEventListener('click', toggleDesign);
 window.quadrille.design = design.stats;
 window.quadrille.toggleDesign = toggleDesign;
 window.quadrille.exportLayout = (format) => design.exportLayout(format);
+window.quadrille.gridLayout = (counts) => design.gridLayout(counts);
+window.quadrille.fitLayout = () => design.fitLayout();
 window.quadrille.designAction = (name, args = []) => design.action(name, args);
 window.quadrille.crashLayoutWorker = () => design.crashForTesting();
 window.quadrille.hoverMedianMs = () => design.hoverMedianMs();

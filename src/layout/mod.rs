@@ -35,6 +35,7 @@
 pub mod design;
 pub mod elastica;
 pub mod embed;
+pub mod grid;
 pub mod loops;
 pub mod parametrization;
 pub mod primal;

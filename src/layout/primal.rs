@@ -81,6 +81,11 @@ pub struct LayoutPatch {
     pub edges: [u32; 4],
     /// The loop crossing it is dual to (index into `Regions::crossings`).
     pub crossing: u32,
+    /// Whether `edges[i]`'s polyline runs from `corners[i + 1]` to
+    /// `corners[i]` (against the patch's counter-clockwise order); needed
+    /// where both corners are one layout vertex.
+    #[serde(default)]
+    pub reversed: [bool; 4],
 }
 
 /// The exported layout: what `to_json` writes and `from_json` reads.
@@ -94,6 +99,22 @@ pub struct LayoutExport {
 impl LayoutExport {
     pub fn from_json(text: &str) -> Result<LayoutExport, serde_json::Error> {
         serde_json::from_str(text)
+    }
+
+    /// Maps the layout onto another surface of the same shape (a proxy's
+    /// layout onto the original, §8.1): every vertex and route point to its
+    /// closest point there.
+    pub fn project_onto(&mut self, index: &SurfaceIndex) {
+        for v in &mut self.vertices {
+            let c = index.closest(v.position);
+            v.position = c.point;
+            v.face = c.face;
+        }
+        for e in &mut self.edges {
+            for p in &mut e.polyline {
+                *p = index.closest(*p).point;
+            }
+        }
     }
 }
 
@@ -326,6 +347,9 @@ impl QuadLayout {
                 corners: x.corners,
                 edges: x.arcs.map(|a| edge_of_arc[a as usize]),
                 crossing: c as u32,
+                // Polylines run from the arc's left to its right region; an
+                // arc leaving the crossing has corners[i] on its right.
+                reversed: x.outgoing,
             })
             .collect();
         Ok(QuadLayout {
@@ -661,7 +685,15 @@ fn arc_middles(
                     .into_iter()
                     .find(|&v| regions.vertex_region[v as usize] == r)
             };
-            (p, [pick(arc.left), pick(arc.right)])
+            if arc.left == arc.right {
+                // One region on both sides (a loop that does not separate
+                // it, as on a torus): the crossed edge's end on each side,
+                // so the edge's route leaves the region on one side of the
+                // loop and comes back on the other.
+                (p, sides_of_crossing(mesh, l, at as usize))
+            } else {
+                (p, [pick(arc.left), pick(arc.right)])
+            }
         };
         let mut beside = [None; 2];
         for (k, r) in [arc.left, arc.right].into_iter().enumerate() {
@@ -670,6 +702,33 @@ fn arc_middles(
         arc_middles.push((mid, beside));
     }
     arc_middles
+}
+
+/// The ends of the mesh edge loop `l` crosses at its crossing `at` that lie
+/// on the loop's left and on its right (seen along the loop, normal up).
+fn sides_of_crossing(mesh: &TriMesh, l: &EmbeddedLoop, at: usize) -> [Option<u32>; 2] {
+    let n = l.crossings.len();
+    let point = |i: usize| {
+        let c = l.crossings[i];
+        mesh.positions[c.a as usize].lerp(mesh.positions[c.b as usize], c.t)
+    };
+    let (prev, next) = if l.closed {
+        ((at + n - 1) % n, (at + 1) % n)
+    } else {
+        (at.saturating_sub(1), (at + 1).min(n - 1))
+    };
+    let direction = point(next) - point(prev);
+    let face = l.faces.get(at.min(l.faces.len().saturating_sub(1)));
+    let normal = face.map_or(DVec3::ZERO, |&f| mesh.face_normal_unnormalized(f as usize));
+    let left = normal.cross(direction);
+    let c = l.crossings[at];
+    let p = point(at);
+    let a_left = (mesh.positions[c.a as usize] - p).dot(left) > 0.0;
+    if a_left {
+        [Some(c.a), Some(c.b)]
+    } else {
+        [Some(c.b), Some(c.a)]
+    }
 }
 
 /// One edge per arc, routed through the arc's middle crossing. A closed

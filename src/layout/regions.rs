@@ -140,6 +140,10 @@ pub struct LoopCrossing {
     /// `corners[(i + 1) % 4]`.
     pub corners: [u32; 4],
     pub arcs: [u32; 4],
+    /// Whether `arcs[i]` leaves the crossing along its loop's direction
+    /// (the arc starts here) rather than against it (the arc ends here);
+    /// tells the two ends apart when an arc starts and ends at one crossing.
+    pub outgoing: [bool; 4],
 }
 
 /// A loop's stretch between two consecutive crossings with loops (or with
@@ -918,6 +922,7 @@ fn find_crossings(
                     point: pa.lerp(pb, la),
                     corners: [0; 4],
                     arcs: [0; 4],
+                    outgoing: [false; 4],
                 });
                 chords_of.push((f as u32, a, b));
             }
@@ -1092,6 +1097,7 @@ fn crossing_corners(
         // between corners[i] and corners[i + 1]: arcs from half i + 1.
         crossings[c].corners = corners;
         crossings[c].arcs = [arc_ids[1], arc_ids[2], arc_ids[3], arc_ids[0]];
+        crossings[c].outgoing = [halves[1].2, halves[2].2, halves[3].2, halves[0].2];
     }
     Ok(())
 }

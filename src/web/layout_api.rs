@@ -12,9 +12,15 @@ use wasm_bindgen::prelude::*;
 
 use super::layout_glue as analysis_glue;
 use crate::layout::design::{DesignError, LayoutDesign};
+use crate::layout::grid::LayoutGrid;
 use crate::layout::symmetry::MirrorPlane;
 use crate::layout::{ElasticaParams, LoopEngine, proxy};
-use crate::mesh::TriMesh;
+use crate::mesh::{Frame, TriMesh};
+use crate::spatial::SurfaceIndex;
+use crate::subdivision::FitResult;
+
+/// Pieces each gridded-layout edge is drawn in, projected onto the surface.
+const GRID_EDGE_PIECES: usize = 6;
 
 /// One mesh's loop engine, built once.
 #[wasm_bindgen]
@@ -126,6 +132,15 @@ pub struct LayoutDesigner {
     last_error: Option<String>,
     /// The anchor inserted by the last grab, moved by the drag that follows.
     grabbed: Option<usize>,
+    /// Maps the local coordinates back to the file's (for exports).
+    frame: Frame,
+    /// The input when the design runs on a proxy: the layout is mapped onto
+    /// it before gridding, and the fit measures against it (§8.1).
+    original: Option<TriMesh>,
+    /// The gridded layout of the last `grid` call (on the input), and its
+    /// fit; dropped when the design changes.
+    grid: Option<(u64, LayoutGrid)>,
+    fit: Option<FitResult>,
 }
 
 fn point(p: &[f64]) -> Result<DVec3, JsError> {
@@ -157,10 +172,14 @@ impl LayoutDesigner {
     pub fn new(bytes: &[u8], name: &str) -> Result<LayoutDesigner, JsError> {
         let imported = crate::io::import(bytes, name).map_err(|e| JsError::new(&e.to_string()))?;
         let input_faces = imported.mesh.face_count();
-        let mesh = if input_faces > proxy::PROXY_ABOVE_FACES {
-            proxy::decimate(&imported.mesh, proxy::PROXY_FACES)
+        let frame = imported.frame;
+        let (mesh, original) = if input_faces > proxy::PROXY_ABOVE_FACES {
+            (
+                proxy::decimate(&imported.mesh, proxy::PROXY_FACES),
+                Some(imported.mesh),
+            )
         } else {
-            imported.mesh
+            (imported.mesh, None)
         };
         let engine = LoopEngine::new(&mesh, &ElasticaParams::default());
         Ok(LayoutDesigner {
@@ -171,6 +190,10 @@ impl LayoutDesigner {
             analysis: None,
             last_error: None,
             grabbed: None,
+            frame,
+            original,
+            grid: None,
+            fit: None,
         })
     }
 
@@ -384,7 +407,10 @@ impl LayoutDesigner {
         Ok(out)
     }
 
-    /// The layout as "obj" (lines) or "json" text.
+    /// The layout as "obj" (the patches as polygon faces; the loops as
+    /// lines while there is no layout), "json", or "grid-obj" (the last
+    /// gridded mesh, pure quad). OBJ coordinates are the input file's; on a
+    /// proxy the layout is mapped onto the input first.
     pub fn export(&mut self, format: &str) -> Result<String, JsError> {
         if self.analysis_stale() {
             self.analyze()?;
@@ -393,14 +419,118 @@ impl LayoutDesigner {
             .analysis
             .as_ref()
             .ok_or_else(|| JsError::new("nothing designed yet"))?;
+        let js = |e: crate::layout::grid::GridError| JsError::new(&e.to_string());
         match format {
-            "obj" => Ok(a.obj.clone()),
+            "obj" => match self.input_layout() {
+                Some(l) => analysis_glue::layout_obj(&l, &self.frame).map_err(js),
+                None => Ok(analysis_glue::loops_obj(&self.design, &self.frame)),
+            },
+            "grid-obj" => {
+                let (_, g) = self
+                    .grid
+                    .as_ref()
+                    .filter(|(r, _)| *r == self.design.revision())
+                    .ok_or_else(|| JsError::new("grid the layout first"))?;
+                let world: Vec<DVec3> = g
+                    .mesh
+                    .positions
+                    .iter()
+                    .map(|&p| self.frame.to_world(p))
+                    .collect();
+                Ok(format!(
+                    "# gridded quad layout (Quadrille): {} vertices, {} quads\n{}",
+                    world.len(),
+                    g.mesh.face_count(),
+                    crate::io::write_obj(&world, &g.mesh.to_face_list())
+                ))
+            }
             "json" if a.json.is_empty() => Err(JsError::new(
                 "there is no layout yet: every region must be a disc (no red)",
             )),
             "json" => Ok(a.json.clone()),
             _ => Err(JsError::new(&format!("unknown layout format {format}"))),
         }
+    }
+
+    /// Grids the layout with `counts[i]` segments across committed strip
+    /// `i` (missing: the default). Returns `{ edges: Float32Array
+    /// (segments), vertices, faces, folded, ms }`, positions in the page's
+    /// coordinates.
+    pub fn grid(&mut self, counts: Vec<u32>) -> Result<Object, JsError> {
+        if self.analysis_stale() {
+            self.analyze()?;
+        }
+        let started = now_ms();
+        let layout = self.input_layout().ok_or_else(|| {
+            JsError::new("there is no layout yet: every region must be a disc (no red)")
+        })?;
+        let loop_strip = self
+            .analysis
+            .as_ref()
+            .map(|a| a.loop_strip.clone())
+            .unwrap_or_default();
+        let surface = self.original.as_ref().unwrap_or(&self.mesh);
+        let index =
+            SurfaceIndex::new(surface).ok_or_else(|| JsError::new("the surface is empty"))?;
+        let g = analysis_glue::grid_mesh(&layout, &loop_strip, &counts, &index)
+            .map_err(|e| JsError::new(&e.to_string()))?;
+        let out = Object::new();
+        let mut segments = Vec::new();
+        for h in 0..g.mesh.halfedge_count() as u32 {
+            let (a, b) = (g.mesh.origin(h), g.mesh.tip(h));
+            if a < b || g.mesh.is_boundary_halfedge(g.mesh.twin(h)) {
+                // Drawn on the surface: a coarse grid's chords would dip
+                // below it and hide.
+                let (p, q) = (g.mesh.positions[a as usize], g.mesh.positions[b as usize]);
+                let mut prev = p;
+                for k in 1..=GRID_EDGE_PIECES {
+                    let t = k as f64 / GRID_EDGE_PIECES as f64;
+                    let next = if k == GRID_EDGE_PIECES {
+                        q
+                    } else {
+                        index.closest(p.lerp(q, t)).point
+                    };
+                    analysis_glue::push_segment(&mut segments, prev, next);
+                    prev = next;
+                }
+            }
+        }
+        set(&out, "edges", Float32Array::from(&segments[..]))?;
+        set(&out, "vertices", g.mesh.vertex_count() as u32)?;
+        set(&out, "faces", g.mesh.face_count() as u32)?;
+        set(&out, "folded", g.folded as u32)?;
+        set(&out, "ms", now_ms() - started)?;
+        self.grid = Some((self.design.revision(), g));
+        self.fit = None;
+        Ok(out)
+    }
+
+    /// Fits a Catmull–Clark control mesh to the input from the gridded
+    /// layout (as remeshing does, [`crate::subdivision::fit_control_mesh`]).
+    /// Returns `{ surface: { positions, triangles, normals, scalar }, summary,
+    /// ms }`: the limit surface coloured by its signed error.
+    pub fn fit(&mut self) -> Result<Object, JsError> {
+        let started = now_ms();
+        let (_, g) = self
+            .grid
+            .as_ref()
+            .filter(|(r, _)| *r == self.design.revision())
+            .ok_or_else(|| JsError::new("grid the layout first"))?;
+        let reference = self.original.as_ref().unwrap_or(&self.mesh);
+        let f = crate::progress::silently("fit", |p| {
+            crate::subdivision::fit_control_mesh(&g.mesh, reference, &Default::default(), p)
+        })
+        .map_err(|_| JsError::new("the fit was cancelled"))?;
+        let out = Object::new();
+        set(
+            &out,
+            "surface",
+            super::worker_api::limit_surface_object(&f)?,
+        )?;
+        set(&out, "summary", to_js(&f.summary)?)?;
+        set(&out, "ms", now_ms() - started)?;
+        self.fit = Some(f);
+        Ok(out)
     }
 
     /// The design mesh as flat arrays (positions xyz, triangles), for the
@@ -421,6 +551,16 @@ impl LayoutDesigner {
 }
 
 impl LayoutDesigner {
+    /// The current layout on the input: the analysis' layout, mapped onto
+    /// the input when the design runs on a proxy.
+    fn input_layout(&self) -> Option<crate::layout::primal::LayoutExport> {
+        let mut l = self.analysis.as_ref()?.layout.clone()?;
+        if let Some(index) = self.original.as_ref().and_then(SurfaceIndex::new) {
+            l.project_onto(&index);
+        }
+        Some(l)
+    }
+
     fn result<T: Default>(&mut self, r: Result<T, DesignError>) -> T {
         r.unwrap_or_else(|e| {
             self.last_error = Some(e.to_string());

@@ -3,19 +3,23 @@
 //! strips, §7 the primal layout), as flat arrays: the one place where the
 //! layout analysis meets the page. Native, so it is unit-tested.
 //!
-//! The layout's OBJ and JSON are [`QuadLayout::to_obj`] and
-//! [`QuadLayout::to_json`]; without a layout (regions not all discs) the
-//! OBJ holds the committed loops as polylines and the JSON is empty.
+//! The layout's JSON is [`QuadLayout::to_json`]; its OBJ ([`layout_obj`])
+//! holds the patches as polygon faces, and [`grid_mesh`] grids them into a
+//! pure-quad mesh ([`crate::layout::grid`]) for the fit; without a layout
+//! (regions not all discs) the OBJ holds the committed loops as polylines
+//! and the JSON is empty. OBJ text is written in the file's coordinates.
 
 use glam::DVec3;
 use serde::Serialize;
 
 use crate::layout::design::LayoutDesign;
-use crate::layout::primal::QuadLayout;
+use crate::layout::grid::{GridError, LayoutGrid, grid_layout, patch_polygons};
+use crate::layout::primal::{LayoutExport, QuadLayout};
 use crate::layout::regions::{Guidance, Regions};
 use crate::layout::symmetry::{MirrorPlane, detect};
 use crate::layout::{EmbeddedLoop, LoopEmbedder, StripParams, strip_analysis};
-use crate::mesh::TriMesh;
+use crate::mesh::{Frame, TriMesh};
+use crate::spatial::SurfaceIndex;
 
 /// ColorBrewer Set1/Dark2-like distinct strip colours.
 const STRIP_COLOURS: [u32; 10] = [
@@ -85,9 +89,13 @@ pub struct Analysis {
     pub sufficient: bool,
     pub status: String,
     pub timings: Timings,
-    /// The layout as OBJ lines and as JSON (empty without a layout).
+    /// The committed loops as OBJ lines (local coordinates) and the
+    /// layout as JSON (empty without a layout).
     pub obj: String,
     pub json: String,
+    /// The layout, and the committed strip of each of its loops.
+    pub layout: Option<LayoutExport>,
+    pub loop_strip: Vec<usize>,
 }
 
 /// Runs the analysis of the committed loops on `mesh`: embeds them (§6.1
@@ -103,7 +111,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
         },
         ..Analysis::default()
     };
-    a.obj = loops_obj(design);
+    a.obj = loops_obj(design, &Frame::IDENTITY);
     let mut notes = Vec::new();
     // Committed loop index of each embedded loop.
     let mut embedded: Vec<EmbeddedLoop> = Vec::new();
@@ -222,8 +230,9 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
         a.counts.layout_vertices = l.vertices.len();
         a.counts.layout_edges = l.edges.len();
         a.counts.patches = l.patches.len();
-        a.obj = l.to_obj();
         a.json = l.to_json().unwrap_or_default();
+        a.layout = Some(l.export());
+        a.loop_strip = committed_of.clone();
     }
     a.status = if a.counts.strips == 0 {
         "no strips yet: hover over the surface and press Enter".to_string()
@@ -251,12 +260,48 @@ pub fn detect_mirror(mesh: &TriMesh) -> Option<MirrorPlane> {
     detect(mesh).map(|(plane, _)| plane)
 }
 
-/// The committed loops as OBJ polylines (`v` and `l` lines).
-pub fn loops_obj(design: &LayoutDesign) -> String {
+/// The layout gridded with `strip_counts[i]` segments across committed
+/// strip `i` (a strip without a count gets [`crate::layout::grid::DEFAULT_COUNT`]),
+/// on the surface of `index`.
+pub fn grid_mesh(
+    layout: &LayoutExport,
+    loop_strip: &[usize],
+    strip_counts: &[u32],
+    index: &SurfaceIndex,
+) -> Result<LayoutGrid, GridError> {
+    let counts: Vec<u32> = loop_strip
+        .iter()
+        .map(|&s| {
+            strip_counts
+                .get(s)
+                .copied()
+                .unwrap_or(crate::layout::grid::DEFAULT_COUNT)
+        })
+        .collect();
+    grid_layout(layout, &counts, index)
+}
+
+/// The layout's patches as OBJ polygon faces, in the coordinates `frame`
+/// maps to.
+pub fn layout_obj(layout: &LayoutExport, frame: &Frame) -> Result<String, GridError> {
+    let (positions, faces) = patch_polygons(layout)?;
+    let world: Vec<DVec3> = positions.iter().map(|&p| frame.to_world(p)).collect();
+    Ok(format!(
+        "# quad layout (dual strip weaving): {} vertices, {} edges, {} patches as faces\n{}",
+        layout.vertices.len(),
+        layout.edges.len(),
+        layout.patches.len(),
+        crate::io::write_obj(&world, &faces)
+    ))
+}
+
+/// The committed loops as OBJ polylines (`v` and `l` lines), in the
+/// coordinates `frame` maps to.
+pub fn loops_obj(design: &LayoutDesign, frame: &Frame) -> String {
     let mut out = String::from("# dual loops of a quad layout design (Quadrille)\n");
     let mut next = 1usize;
     for c in design.committed() {
-        for p in &c.dual.points {
+        for p in c.dual.points.iter().map(|&p| frame.to_world(p)) {
             out += &format!("v {} {} {}\n", p.x, p.y, p.z);
         }
         let n = c.dual.points.len();
@@ -450,5 +495,59 @@ mod tests {
         );
         assert_eq!(a.layout_vertices.len(), 3 * c.layout_vertices);
         assert!(!a.layout_edges.is_empty());
+    }
+
+    #[test]
+    fn the_torus_layout_grids_fits_and_exports_faces_in_file_coordinates() {
+        let (mesh, mut d) = torus_design();
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
+        commit_through(&mut d, on_torus(std::f64::consts::PI, 0.0), DVec3::Z);
+        let u = std::f64::consts::FRAC_PI_2;
+        commit_through(&mut d, on_torus(u, 0.0), DVec3::new(-u.sin(), u.cos(), 0.0));
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        let layout = a.layout.as_ref().expect("a layout");
+        let index = SurfaceIndex::new(&mesh).unwrap();
+        let started = std::time::Instant::now();
+        let g = grid_mesh(layout, &a.loop_strip, &[8, 8, 8], &index).unwrap();
+        let ms = started.elapsed().as_secs_f64() * 1e3;
+        let m = &g.mesh;
+        println!(
+            "torus design, grid 8: {} vertices, {} quads, {} folded, {ms:.2} ms",
+            m.vertex_count(),
+            m.face_count(),
+            g.folded
+        );
+        assert!(m.boundary_loops().is_empty());
+        assert!((0..m.face_count() as u32).all(|f| m.degree(f) == 4));
+        assert_eq!(m.euler_characteristic(), 0);
+        // Two patches of 8 × 8.
+        assert_eq!(m.face_count(), a.counts.patches * 64);
+        let fit = crate::progress::silently("fit", |p| {
+            crate::subdivision::fit_control_mesh(m, &mesh, &Default::default(), p)
+        })
+        .unwrap();
+        println!(
+            "torus design, grid 8: limit error {:?} → {:?} (Hausdorff)",
+            fit.before.hausdorff, fit.after.hausdorff
+        );
+        assert!(fit.after.hausdorff.is_finite() && fit.after.hausdorff > 0.0);
+        assert!(fit.after.hausdorff < 0.1, "{}", fit.after.hausdorff);
+        // The patches as faces, in the file's coordinates.
+        let frame = Frame {
+            center: DVec3::new(1.0, 2.0, 3.0),
+            scale: 10.0,
+        };
+        let obj = layout_obj(layout, &frame).unwrap();
+        assert_eq!(
+            obj.lines().filter(|l| l.starts_with("f ")).count(),
+            a.counts.patches
+        );
+        let xs: Vec<f64> = obj
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
+            .collect();
+        let local = layout.vertices[0].position.x;
+        assert!(xs.iter().any(|&x| (x - (1.0 + 10.0 * local)).abs() < 1e-9));
     }
 }

@@ -44,6 +44,49 @@ use crate::pipeline::{Params, Pipeline, Stage};
 const STEPS: [&str; 2] = ["import", "pipeline"];
 
 /// One run of the pipeline over one input file, kept between messages.
+/// The limit surface of a fit as the page draws it: `{ name, positions,
+/// triangles, normals, scalar }`, coloured by the signed error on a
+/// symmetric range. Shared with the design mode's fit.
+pub fn limit_surface_object(f: &crate::subdivision::FitResult) -> Result<Object, JsError> {
+    let faces = f.limit.to_face_list();
+    let tri = TriMesh {
+        positions: f.limit.positions.clone(),
+        triangles: faces.triangulate(&f.limit.positions),
+    };
+    let arrays = MeshArrays::new(&tri, &faces);
+    let values: Vec<f32> = f
+        .after
+        .per_vertex_signed
+        .iter()
+        .map(|&v| v as f32)
+        .collect();
+    // Diverging map: a symmetric range around zero (98th percentile
+    // of |error|), so white means "on the input".
+    let abs: Vec<f32> = values.iter().map(|v| v.abs()).collect();
+    let m = robust_range(&abs).1.max(1e-9);
+    let scalar = Object::new();
+    set(&scalar, "name", "limit surface error")?;
+    set(&scalar, "values", Float32Array::from(&values[..]))?;
+    set(&scalar, "min", -m)?;
+    set(&scalar, "max", m)?;
+    set(&scalar, "colormap", "violet-green")?;
+    let surface = Object::new();
+    set(&surface, "name", "limit surface")?;
+    set(
+        &surface,
+        "positions",
+        Float32Array::from(&arrays.positions[..]),
+    )?;
+    set(
+        &surface,
+        "triangles",
+        Uint32Array::from(&arrays.triangles[..]),
+    )?;
+    set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
+    set(&surface, "scalar", scalar)?;
+    Ok(surface)
+}
+
 #[wasm_bindgen]
 #[derive(Default)]
 pub struct Session {
@@ -464,43 +507,7 @@ fn stage_result(
             let f = &f.result;
             poly_mesh_layers(&r, "control cage", &f.control, false)?;
             r.count("limit surface vertices", f.limit.vertex_count())?;
-            let faces = f.limit.to_face_list();
-            let tri = TriMesh {
-                positions: f.limit.positions.clone(),
-                triangles: faces.triangulate(&f.limit.positions),
-            };
-            let arrays = MeshArrays::new(&tri, &faces);
-            let values: Vec<f32> = f
-                .after
-                .per_vertex_signed
-                .iter()
-                .map(|&v| v as f32)
-                .collect();
-            // Diverging map: a symmetric range around zero (98th percentile
-            // of |error|), so white means "on the input".
-            let abs: Vec<f32> = values.iter().map(|v| v.abs()).collect();
-            let m = robust_range(&abs).1.max(1e-9);
-            let scalar = Object::new();
-            set(&scalar, "name", "limit surface error")?;
-            set(&scalar, "values", Float32Array::from(&values[..]))?;
-            set(&scalar, "min", -m)?;
-            set(&scalar, "max", m)?;
-            set(&scalar, "colormap", "violet-green")?;
-            let surface = Object::new();
-            set(&surface, "name", "limit surface")?;
-            set(
-                &surface,
-                "positions",
-                Float32Array::from(&arrays.positions[..]),
-            )?;
-            set(
-                &surface,
-                "triangles",
-                Uint32Array::from(&arrays.triangles[..]),
-            )?;
-            set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
-            set(&surface, "scalar", scalar)?;
-            set(&r.obj, "surface", surface)?;
+            set(&r.obj, "surface", limit_surface_object(f)?)?;
             set(&r.obj, "limitSurface", to_js(&f.summary)?)?;
         }
     }
