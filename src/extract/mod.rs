@@ -6,7 +6,7 @@
 //! - [`snap`]: thin-triangle snapping, quad diagonals (§5.6, thesis 3.5.2);
 //! - [`faces`]: rotation system, orbits, n-gon splitting, hole loops (§5.7–5.10, thesis 3.5.3);
 //! - [`repair`]: non-manifold repair, orientation, hole filling (thesis 3.6);
-//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, odd-face pairing, edge rotations, smoothing (thesis 3.7);
+//! - [`postprocess`]: T-vertices, feature-aligned quads, flat triangles, odd-face pairing, edge rotations, diagonal collapses, smoothing (thesis 3.7);
 //! - [`pure_quad`]: one Catmull–Clark split (§5.11).
 //!
 //! [`extract`] runs clusters → snapping → faces → repair; [`post_process`]
@@ -315,23 +315,25 @@ pub fn post_process(
                 p.pair_max_corner_deviation,
                 surface,
             );
-            let rotated = if p.rotate_edges_degrees > 0.0 {
-                postprocess::rotate_edges(&mut faces, &mesh_graph, p.rotate_edges_degrees)
+            let (rotated, collapsed) = if p.rotate_edges_degrees > 0.0 {
+                let r = postprocess::rotate_edges(&mut faces, &mesh_graph, p.rotate_edges_degrees);
+                let c = if p.collapse_diagonals {
+                    let d = p.rotate_edges_degrees;
+                    postprocess::collapse_diagonals(&mut faces, &mut mesh_graph, d)
+                } else {
+                    0
+                };
+                (r, c)
             } else {
-                0
+                (0, 0)
             };
-            let collapsed = if p.rotate_edges_degrees > 0.0 && p.collapse_diagonals {
-                postprocess::collapse_diagonals(&mut faces, &mut mesh_graph, p.rotate_edges_degrees)
-            } else {
-                0
-            };
+            report.edges_rotated += rotated;
             report.diagonals_collapsed += collapsed;
-            let rotated = rotated + collapsed;
-            if rotated > 0 {
-                report.edges_rotated += rotated - collapsed;
+            let valences_changed = rotated + collapsed > 0;
+            if valences_changed {
                 postprocess::smooth(&faces, &mut mesh_graph, p, surface);
             }
-            if m > 0 || splits > 0 || rotated > 0 {
+            if m > 0 || splits > 0 || valences_changed {
                 report.non_quad_pairs_merged += m;
                 let (again, map2) =
                     repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
