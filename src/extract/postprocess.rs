@@ -143,6 +143,15 @@ pub struct PostProcessReport {
     pub smoothed_vertices: usize,
 }
 
+/// Removes the faces marked dead, keeping the others' order.
+fn drop_dead(faces: &mut Vec<Vec<u32>>, dead: &[bool]) {
+    let mut k = 0;
+    faces.retain(|_| {
+        k += 1;
+        !dead[k - 1]
+    });
+}
+
 /// The unit normal of face `f` (zero when degenerate).
 fn face_normal(pos: &[DVec3], f: &[u32]) -> DVec3 {
     face_newell_normal(pos, f).normalize_or_zero()
@@ -261,11 +270,7 @@ pub fn remove_t_vertices(faces: &mut Vec<Vec<u32>>, g: &Graph, p: &PostProcessPa
             break;
         }
     }
-    let mut k = 0;
-    faces.retain(|_| {
-        k += 1;
-        !dead[k - 1]
-    });
+    drop_dead(faces, &dead);
     removed
 }
 
@@ -306,11 +311,7 @@ pub fn merge_flat_triangles(faces: &mut Vec<Vec<u32>>, g: &Graph, degrees: f64) 
         dead[h] = true;
         merged += 1;
     }
-    let mut k = 0;
-    faces.retain(|_| {
-        k += 1;
-        !dead[k - 1]
-    });
+    drop_dead(faces, &dead);
     merged
 }
 
@@ -667,11 +668,7 @@ pub fn pair_non_quads(
         added.extend(out);
         merged += 1;
     }
-    let mut k = 0;
-    faces.retain(|_| {
-        k += 1;
-        !dead[k - 1]
-    });
+    drop_dead(faces, &dead);
     faces.extend(added);
     merged
 }
@@ -944,11 +941,7 @@ pub fn collapse_diagonals(faces: &mut Vec<Vec<u32>>, g: &mut Graph, max_deviatio
             dead[fi] = true;
             applied += 1;
         }
-        let mut i = 0;
-        faces.retain(|_| {
-            i += 1;
-            !dead[i - 1]
-        });
+        drop_dead(faces, &dead);
         total += applied;
         if applied == 0 {
             break;
