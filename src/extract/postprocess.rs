@@ -699,6 +699,33 @@ fn quad_shape_ok(pos: &[DVec3], q: [u32; 4], max_deviation: f64, cos_t: f64) -> 
     corners_ok && n1.dot(n2).max(n3.dot(n4)) >= cos_t
 }
 
+/// What the edge rotations and diagonal collapses read per vertex: its
+/// valence (distinct edges), whether it must keep it (input boundary or an
+/// open edge) and its edge neighbours.
+struct Valences {
+    valence: Vec<i32>,
+    fixed: Vec<bool>,
+    neighbours: Vec<Vec<u32>>,
+}
+
+impl Valences {
+    fn new(edges: &HashMap<(u32, u32), Vec<usize>>, g: &Graph) -> Self {
+        let mut v = Valences {
+            valence: vec![0; g.len()],
+            fixed: g.boundary.clone(),
+            neighbours: vec![Vec::new(); g.len()],
+        };
+        for (e, fs) in edges {
+            for (a, b) in [(e.0, e.1), (e.1, e.0)] {
+                v.valence[a as usize] += 1;
+                v.neighbours[a as usize].push(b);
+                v.fixed[a as usize] |= fs.len() != 2;
+            }
+        }
+        v
+    }
+}
+
 /// An edge rotation: valence gain, thesis quad score of the new quads, the
 /// two faces, their replacements and the hexagon's corners.
 type Rotation = (f64, f64, usize, usize, [[u32; 4]; 2], [u32; 6]);
@@ -724,16 +751,7 @@ pub fn rotate_edges(faces: &mut [Vec<u32>], g: &Graph, max_deviation: f64) -> us
     let mut total = 0;
     for _ in 0..8 {
         let edges = edge_map(faces);
-        let mut valence = vec![0i32; g.len()];
-        let mut fixed = g.boundary.clone();
-        for (e, fs) in &edges {
-            valence[e.0 as usize] += 1;
-            valence[e.1 as usize] += 1;
-            if fs.len() != 2 {
-                fixed[e.0 as usize] = true;
-                fixed[e.1 as usize] = true;
-            }
-        }
+        let Valences { valence, fixed, .. } = Valences::new(&edges, g);
         let mut pairs: HashMap<(u32, u32), u32> = HashMap::new();
         for f in faces.iter() {
             add_pairs(&mut pairs, f, 1);
@@ -840,19 +858,11 @@ pub fn collapse_diagonals(faces: &mut Vec<Vec<u32>>, g: &mut Graph, max_deviatio
     let mut total = 0;
     for _ in 0..8 {
         let edges = edge_map(faces);
-        let mut valence = vec![0i32; g.len()];
-        let mut fixed = g.boundary.clone();
-        let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); g.len()];
-        for (e, fs) in &edges {
-            valence[e.0 as usize] += 1;
-            valence[e.1 as usize] += 1;
-            neighbours[e.0 as usize].push(e.1);
-            neighbours[e.1 as usize].push(e.0);
-            if fs.len() != 2 {
-                fixed[e.0 as usize] = true;
-                fixed[e.1 as usize] = true;
-            }
-        }
+        let Valences {
+            valence,
+            fixed,
+            neighbours,
+        } = Valences::new(&edges, g);
         let vf = vertex_faces(g.len(), faces);
         let energy = |v: u32, d: i32| ((valence[v as usize] + d - 4) as f64).powi(2);
         let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
