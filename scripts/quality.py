@@ -89,6 +89,9 @@ ROWS = {
     "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
     "default - diagonal collapses": ("default", {"extraction": {"post": {"collapse_diagonals": False}}}),
     "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
+    "default - wide-corner rotations": ("default", {"extraction": {"post": {"wide_corner_degrees": 0}}}),
+    "default + regular-shape smoothing": ("default", {"extraction": {"post": {"regular_shape_smoothing": True,
+                                                                           "smoothing_iterations": 10}}}),
     "default + pure quad": ("default", {"extraction": {"pure_quad": True,
                                                       "post": {"pair_non_quads_degrees": 0}}}),
     # Folded quads split into triangles before the second pairing, whose

@@ -156,9 +156,11 @@ pub fn schema() -> Vec<ParamDoc> {
         int("extraction.post.pair_max_quads", 0.0, 100.0, "Odd faces pair across strips of at most this many quads."),
         num("extraction.post.split_reflex_degrees", 0.0, 360.0, "Quads with a corner above this are split into two triangles before the pairing; 0 = off."),
         num("extraction.post.rotate_edges_degrees", 0.0, 90.0, "Valence-improving edge rotations between quads, making only quads with corners within 90° ± this; 0 = off."),
+        num("extraction.post.wide_corner_degrees", 0.0, 180.0, "Edge rotations also open quad corners wider than this (0 = off)."),
         flag("extraction.post.collapse_diagonals", "Collapse quads between two valence-3 corners when that evens out the valences."),
         int("extraction.post.smoothing_iterations", 0.0, 100.0, "Tangential smoothing iterations."),
         num("extraction.post.smoothing_feature_degrees", 0.0, 180.0, "Smoothing keeps vertices whose dihedral angle exceeds this (features)."),
+        flag("extraction.post.regular_shape_smoothing", "Smooth towards each face's best-fitting regular polygon (square for quads) instead of the neighbours' mean."),
         flag("extraction.post.reproject", "Project the vertices onto the input at the end."),
         flag("extraction.pure_quad", "One Catmull–Clark split at the end: an all-quad mesh."),
         // fit

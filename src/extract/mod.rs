@@ -274,7 +274,12 @@ pub fn post_process(
     }
     if p.rotate_edges_degrees > 0.0 {
         progress.report(0.55, "edge rotations")?;
-        report.edges_rotated += postprocess::rotate_edges(&mut faces, &g, p.rotate_edges_degrees);
+        report.edges_rotated += postprocess::rotate_edges(
+            &mut faces,
+            &g,
+            p.rotate_edges_degrees,
+            p.wide_corner_degrees,
+        );
         if p.collapse_diagonals {
             report.diagonals_collapsed +=
                 postprocess::collapse_diagonals(&mut faces, &mut g, p.rotate_edges_degrees);
@@ -316,7 +321,12 @@ pub fn post_process(
                 surface,
             );
             let (rotated, collapsed) = if p.rotate_edges_degrees > 0.0 {
-                let r = postprocess::rotate_edges(&mut faces, &mesh_graph, p.rotate_edges_degrees);
+                let r = postprocess::rotate_edges(
+                    &mut faces,
+                    &mesh_graph,
+                    p.rotate_edges_degrees,
+                    p.wide_corner_degrees,
+                );
                 let c = if p.collapse_diagonals {
                     let d = p.rotate_edges_degrees;
                     postprocess::collapse_diagonals(&mut faces, &mut mesh_graph, d)
