@@ -89,6 +89,7 @@ ROWS = {
     "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
     "default - diagonal collapses": ("default", {"extraction": {"post": {"collapse_diagonals": False}}}),
     "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
+    "default - non-quad budget (pair all)": ("default", {"extraction": {"post": {"non_quad_budget_percent": 0}}}),
     "default - wide-corner rotations": ("default", {"extraction": {"post": {"wide_corner_degrees": 0}}}),
     "default + regular-shape smoothing": ("default", {"extraction": {"post": {"regular_shape_smoothing": True,
                                                                            "smoothing_iterations": 10}}}),

@@ -154,6 +154,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("extraction.post.pair_non_quads_degrees", 0.0, 180.0, "Merge neighbouring odd faces into quads within this normal angle; 0 = off."),
         num("extraction.post.pair_max_corner_deviation", 0.0, 90.0, "Odd-face pairing makes only quads whose corners lie within 90° ± this."),
         int("extraction.post.pair_max_quads", 0.0, 100.0, "Odd faces pair across strips of at most this many quads."),
+        num("extraction.post.non_quad_budget_percent", 0.0, 100.0, "The odd-face pairing stops, shortest chains first, once at most this percentage of faces is odd (0 = pair all it can)."),
         num("extraction.post.split_reflex_degrees", 0.0, 360.0, "Quads with a corner above this are split into two triangles before the pairing; 0 = off."),
         num("extraction.post.rotate_edges_degrees", 0.0, 90.0, "Valence-improving edge rotations between quads, making only quads with corners within 90° ± this; 0 = off."),
         num("extraction.post.wide_corner_degrees", 0.0, 180.0, "Edge rotations also open quad corners wider than this (0 = off)."),

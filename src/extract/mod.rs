@@ -258,14 +258,7 @@ pub fn post_process(
     }
     if p.pair_non_quads_degrees > 0.0 {
         for _ in 0..4 {
-            let m = postprocess::pair_non_quads(
-                &mut faces,
-                &g,
-                p.pair_non_quads_degrees,
-                p.pair_max_quads,
-                p.pair_max_corner_deviation,
-                surface,
-            );
+            let m = postprocess::pair_non_quads(&mut faces, &g, p, surface);
             report.non_quad_pairs_merged += m;
             if m == 0 {
                 break;
@@ -312,14 +305,7 @@ pub fn post_process(
         };
         report.reflex_quads_split += splits;
         if faces.iter().any(|f| f.len() != 4) {
-            let m = postprocess::pair_non_quads(
-                &mut faces,
-                &mesh_graph,
-                p.pair_non_quads_degrees,
-                p.pair_max_quads,
-                p.pair_max_corner_deviation,
-                surface,
-            );
+            let m = postprocess::pair_non_quads(&mut faces, &mesh_graph, p, surface);
             let (rotated, collapsed) = if p.rotate_edges_degrees > 0.0 {
                 let r = postprocess::rotate_edges(
                     &mut faces,
