@@ -70,6 +70,9 @@ pub struct Graph {
     pub boundary_loop: Vec<u32>,
     /// The length of every input boundary loop.
     pub input_loop_length: Vec<f64>,
+    /// The connected component of the input the cluster lies in (its
+    /// members are linked, so they share one).
+    pub component: Vec<u32>,
     pub adj: Vec<Vec<u32>>,
 }
 
@@ -92,6 +95,7 @@ impl Graph {
         self.size.push(self.size[v]);
         self.boundary.push(self.boundary[v]);
         self.boundary_loop.push(self.boundary_loop[v]);
+        self.component.push(self.component[v]);
         self.adj.push(Vec::new());
         (self.pos.len() - 1) as u32
     }
@@ -331,6 +335,7 @@ fn compact_clusters(
         boundary: vec![false; m],
         boundary_loop: vec![u32::MAX; m],
         input_loop_length: Vec::new(),
+        component: vec![0; m],
         adj: vec![Vec::new(); m],
     };
     for (c, &r) in kept.iter().enumerate() {
@@ -366,6 +371,12 @@ fn average_attributes(
     let level = input.level;
     let n = level.len();
     let m = g.pos.len();
+    let mut components = UnionFind::new(n);
+    for v in 0..n {
+        for (w, _) in level.links.of(v) {
+            components.union(v as u32, w as u32);
+        }
+    }
     // Attribute averaging with IM's weight exp(−9 |o − v|² / s²).
     let mut wsum = vec![0.0f64; m];
     let mut q_ref: Vec<Option<(Vec3, Vec3)>> = vec![None; m];
@@ -397,6 +408,9 @@ fn average_attributes(
                 .get(v)
                 .copied()
                 .unwrap_or(u32::MAX);
+        }
+        if g.size[c] == 0 {
+            g.component[c] = components.find(v as u32);
         }
         g.size[c] += 1;
         wsum[c] += w;
@@ -432,6 +446,7 @@ impl Graph {
             boundary: map.iter().map(|k| self.boundary[pick(k)]).collect(),
             boundary_loop: map.iter().map(|k| self.boundary_loop[pick(k)]).collect(),
             input_loop_length: self.input_loop_length.clone(),
+            component: map.iter().map(|k| self.component[pick(k)]).collect(),
             adj: vec![Vec::new(); map.len()],
         }
     }

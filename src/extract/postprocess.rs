@@ -1419,6 +1419,7 @@ mod tests {
             boundary: vec![false; n],
             boundary_loop: vec![u32::MAX; n],
             input_loop_length: Vec::new(),
+            component: vec![0; n],
             adj: vec![Vec::new(); n],
             pos,
         }

@@ -555,7 +555,7 @@ pub fn repair(
         }
         pass(&mut faces, g, report);
     }
-    report.fragment_faces += drop_fragments(&mut faces);
+    report.fragment_faces += drop_fragments(&mut faces, g);
     // Guard: whatever from_faces still refuses is fixed directly.
     let mut refills = 0;
     loop {
@@ -617,11 +617,16 @@ pub fn repair(
 
 /// Deviation (not in the thesis or IM): connected components (over shared
 /// vertices) with fewer than 12 faces and a tenth of the largest one's are
-/// dropped. They are fragments below the lattice resolution: the flat
-/// closed tetrahedron a hole filling leaves behind, the stub of a part
-/// thinner than the target edge length (a cow's tail) that came loose from
-/// the surface. Returns the number of dropped faces.
-fn drop_fragments(faces: &mut Vec<Vec<u32>>) -> usize {
+/// dropped unless they are the largest output component of their input
+/// component. They are fragments below the lattice resolution that came
+/// loose from the surface: the flat closed tetrahedron a hole filling
+/// leaves behind, the stub of a part thinner than the target edge length (a
+/// cow's tail). The largest piece of an input component stays, however
+/// small: without it a separate part (a teapot's spout, 12 faces at the
+/// default target) would be lost (Hausdorff distance 0.28 instead of
+/// 0.19 on two of five vertex orders).
+/// Returns the number of dropped faces.
+fn drop_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
     let n = faces
         .iter()
         .flatten()
@@ -647,11 +652,29 @@ fn drop_fragments(faces: &mut Vec<Vec<u32>>) -> usize {
     if !count.values().any(|&c| small(c)) {
         return 0;
     }
+    // The input components that some output component which is not small
+    // covers (by the input component of its first corner).
+    let input_component = |f: &Vec<u32>| {
+        f.first()
+            .and_then(|&v| g.component.get(v as usize))
+            .copied()
+            .unwrap_or(u32::MAX)
+    };
+    // Per input component, the output component that stays: its largest
+    // (the first root on a tie); a small one stays only as that.
+    let mut best: HashMap<u32, (usize, u32)> = HashMap::new();
+    for (f, &r) in faces.iter().zip(&roots) {
+        let e = best.entry(input_component(f)).or_insert((count[&r], r));
+        if count[&r] > e.0 {
+            *e = (count[&r], r);
+        }
+    }
     let before = faces.len();
     let mut k = 0;
-    faces.retain(|_| {
+    faces.retain(|f| {
         k += 1;
-        !small(count[&roots[k - 1]])
+        let r = roots[k - 1];
+        !small(count[&r]) || best[&input_component(f)].1 == r
     });
     before - faces.len()
 }
@@ -676,4 +699,40 @@ fn compact(faces: &[Vec<u32>], g: &Graph) -> (Vec<DVec3>, FaceList, Vec<u32>) {
     }
     let positions = map.iter().map(|&v| g.pos[v as usize]).collect();
     (positions, list, map)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4 × 4 grid of quads (input component 0), a loose quad of the same
+    /// input component, and two separate quads of input component 1, one
+    /// with a triangle attached: the loose quad of component 0 goes, of
+    /// component 1 the larger piece stays.
+    #[test]
+    fn fragments_go_but_the_largest_piece_of_each_input_component() {
+        let id = |i: u32, j: u32| i * 5 + j;
+        let mut faces: Vec<Vec<u32>> = Vec::new();
+        for i in 0..4 {
+            for j in 0..4 {
+                faces.push(vec![id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]);
+            }
+        }
+        faces.push(vec![25, 26, 27, 28]);
+        faces.push(vec![29, 30, 31, 32]);
+        faces.push(vec![29, 32, 37]);
+        faces.push(vec![33, 34, 35, 36]);
+        let mut component = vec![0u32; 29];
+        component.extend([1; 9]);
+        let g = Graph {
+            component,
+            ..Default::default()
+        };
+        assert_eq!(drop_fragments(&mut faces, &g), 2);
+        assert_eq!(faces.len(), 18);
+        assert!(faces.contains(&vec![29, 30, 31, 32]));
+        assert!(faces.contains(&vec![29, 32, 37]));
+        assert!(!faces.contains(&vec![25, 26, 27, 28]));
+        assert!(!faces.contains(&vec![33, 34, 35, 36]));
+    }
 }
