@@ -497,6 +497,7 @@ function requestParametrization() {
   if (current || !lastInput) return; // started when the running job ends
   if (!workerHasInput) { rerun(); return; }
   paramWanted = false;
+  window.quadrille.paramJobs = (window.quadrille.paramJobs || 0) + 1;
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
   current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0, param: true, mapKey: currentMapKey() };
   resetStageBars('parametrization', ['parametrization']);

@@ -853,6 +853,8 @@ impl Session {
             "measures": run.measures,
             "integer_conflicts": run.map.conflicts,
             "rounding_steps": run.map.rounding_steps,
+            "alignment": params.alignment,
+            "closed_loops": run.map.closed_loops,
         });
         set(&r.obj, "param", to_js(&summary)?)?;
         emit.call1(&JsValue::NULL, &r.obj)
