@@ -32,12 +32,13 @@ fn main() {
             Ok(r) => {
                 let (t, m) = (r.timings, &r.measures);
                 println!(
-                    "{name}: {} faces | analysis {:.0} ms, cross field {:.0} ms, parametrization + rounding {:.0} ms ({} re-solves) | {} cones {:?} (Σ {}), {} flipped, stretch {:.3}, shear {:.1}°, misalignment {:.1}°",
+                    "{name}: {} faces | analysis {:.0} ms, cross field {:.0} ms, parametrization + rounding {:.0} ms ({} re-solves, {} symbolic analyses) | {} cones {:?} (Σ {}), {} flipped, stretch {:.3}, shear {:.1}°, misalignment {:.1}°",
                     m.faces,
                     t.analysis_ms,
                     t.cross_field_ms,
                     t.parametrization_ms,
                     r.map.rounding_steps,
+                    r.map.symbolic_analyses,
                     m.cones,
                     m.cones_by_quarters,
                     m.cone_index_sum,

@@ -1,7 +1,7 @@
 // Page wiring: the worker that runs the pipeline, the viewer (Rust + wgpu on
 // this thread), file input, drag and drop, samples, layers, keys. No mesh
 // work happens here, and the user's mesh is never sent anywhere.
-import init, { Viewer } from './pkg/quadrille.js';
+import init, { Viewer, gridMapKey } from './pkg/quadrille.js';
 import { createDesignMode, REGION_SURFACE } from './design.js';
 
 const SAMPLES = ['stanford-bunny', 'fandisk', 'rocker-arm', 'spot', 'cow', 'teapot', 'suzanne', 'beetle', 'torus'];
@@ -469,7 +469,14 @@ function showMesh(name, mesh) {
 
 // The parametrization layer is offered from the import on and computed in
 // the worker when first switched on (after a running pipeline job ends).
+// `mapKey` is what the shown map was computed from (gridMapKey of the
+// parameters: analysis, sizing and target, alignment); a parameter change
+// that leaves it the same keeps the map.
 let paramWanted = false;
+let mapKey = null;
+function currentMapKey() {
+  try { return gridMapKey(JSON.stringify(paramValues)); } catch { return null; }
+}
 function addParametrizationLayer() {
   const was = LAYERS.find((l) => l.name === PARAM_LAYER);
   if (!was) LAYERS.push({ name: PARAM_LAYER, label: 'Parametrization (computed on demand)', kind: 'surface', ...STYLES[PARAM_LAYER], visible: false });
@@ -478,6 +485,7 @@ function addParametrizationLayer() {
 function dropParametrization() {
   delete extraSurfaces[PARAM_LAYER];
   window.quadrille.lastParam = null;
+  mapKey = null;
   if (viewer) viewer.set_points('parametrization cones', new Float32Array(0), new Uint8Array(4), 1);
   available.delete('parametrization cones');
   LAYERS = LAYERS.filter((l) => l.name !== 'parametrization cones');
@@ -489,8 +497,9 @@ function requestParametrization() {
   if (current || !lastInput) return; // started when the running job ends
   if (!workerHasInput) { rerun(); return; }
   paramWanted = false;
+  window.quadrille.paramJobs = (window.quadrille.paramJobs || 0) + 1;
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
-  current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0, param: true };
+  current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0, param: true, mapKey: currentMapKey() };
   resetStageBars('parametrization', ['parametrization']);
   showProgress(`${lastInput.name}: parametrization…`, 0, 'parametrization');
   setStatus(`${lastInput.name}: ${STAGE_TEXT.parametrization}…`);
@@ -529,6 +538,7 @@ function onStage(job, result) {
   if (result.metrics) showMetrics(result.metrics, null);
   if (result.param) {
     window.quadrille.lastParam = result.param;
+    mapKey = job.mapKey ?? null;
     const layer = LAYERS.find((l) => l.name === PARAM_LAYER);
     if (layer) layer.label = 'Parametrization';
   }
@@ -729,9 +739,12 @@ function rerun() {
     run(lastInput.name, lastInput.bytes.slice(0), lastInput.sample);
     return;
   }
+  // A running parametrization is asked again after the pipeline run.
+  if (current && current.param) paramWanted = true;
   if (current) cancel({ quiet: true });
-  // The map depends on the analysis and sizing parameters: recomputed on demand.
-  if (extraSurfaces[PARAM_LAYER]) {
+  // The map depends on the analysis, sizing, target and alignment
+  // parameters: dropped (and recomputed on demand) only when they change.
+  if (extraSurfaces[PARAM_LAYER] && currentMapKey() !== mapKey) {
     dropParametrization();
     if (LAYERS.find((l) => l.name === PARAM_LAYER)?.visible) paramWanted = true;
   }

@@ -32,7 +32,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::{DVec2, DVec3};
 
-use super::solve::{NormalEquations, SpdFactor};
+use super::solve::{NormalEquations, SpdFactor, SpdPattern};
 use super::topology::{EdgeTopology, Fan};
 use crate::mesh::{TriMesh, UnionFind};
 
@@ -290,7 +290,6 @@ struct RelaxedSystem {
 impl RelaxedSystem {
     fn new(r: &Relaxation<'_>) -> Option<RelaxedSystem> {
         let (eq, var, n) = relaxation_system(r);
-        let factor = SpdFactor::new(n, &eq.triplets)?;
         let mut triplets = eq.triplets.clone();
         for (f, &v) in var.iter().enumerate() {
             if v != usize::MAX {
@@ -298,7 +297,10 @@ impl RelaxedSystem {
                 triplets.push((v + 1, v + 1, UNIT_LAMBDA * r.mass[f]));
             }
         }
-        let unit_factor = SpdFactor::new(n, &triplets)?;
+        // One pattern (L has the full diagonal), one symbolic analysis.
+        let pattern = SpdPattern::new(n, &triplets)?;
+        let factor = pattern.factor(&eq.triplets).ok()?;
+        let unit_factor = pattern.factor(&triplets).ok()?;
         Some(RelaxedSystem {
             eq,
             var,

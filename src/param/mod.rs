@@ -129,6 +129,38 @@ impl Default for Params {
     }
 }
 
+impl From<crate::pipeline::AlignmentMode> for Alignment {
+    fn from(mode: crate::pipeline::AlignmentMode) -> Alignment {
+        use crate::pipeline::AlignmentMode as M;
+        match mode {
+            M::None => Alignment::None,
+            M::FeatureVertices => Alignment::FeatureVertices,
+            M::SmoothRegions => Alignment::SmoothRegions,
+            M::Both => Alignment::Both,
+        }
+    }
+}
+
+impl Params {
+    /// The map's parameters for the local pipeline's (the page's): its
+    /// analysis, sizing (so one unit is one target edge of its target),
+    /// alignment mode, smooth-region threshold and Campen §4.2's
+    /// parametrization weight (the position field's `position_weight`,
+    /// the same {0, w} field). The cross-field weights (`feature_weight`,
+    /// `region_weight`) have no counterpart: the map's cross field is
+    /// hard-constrained (∞) where aligned. Everything else is the default.
+    pub fn from_pipeline(p: &crate::pipeline::Params) -> Params {
+        Params {
+            analysis: p.analysis,
+            sizing: p.sizing.clone(),
+            alignment: p.alignment.mode.into(),
+            smooth_regions: p.alignment.smooth_regions,
+            region_weight: f64::from(p.alignment.position_weight),
+            ..Params::default()
+        }
+    }
+}
+
 /// Errors of the map computation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
@@ -445,4 +477,79 @@ pub fn run_with_progress(
             parametrization_ms: t3 - t2,
         },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::AlignmentMode;
+
+    /// The page's alignment mode, smooth-region threshold and §4.2 weight
+    /// reach the map; parameters the map does not read (the local path's
+    /// field and extraction, the cross-field weights) leave it the same,
+    /// so the page keeps the map across them.
+    #[test]
+    fn pipeline_parameters_map_to_the_maps_own() {
+        let mut page = crate::pipeline::Params::default();
+        assert_eq!(
+            Params::from_pipeline(&page).alignment,
+            Alignment::FeatureVertices,
+            "the page's default mode"
+        );
+        page.alignment.mode = AlignmentMode::SmoothRegions;
+        page.alignment.smooth_regions.significance_threshold = 50.0;
+        page.alignment.position_weight = 3.0;
+        page.sizing.target_vertex_count = Some(1234);
+        let map = Params::from_pipeline(&page);
+        assert_eq!(map.alignment, Alignment::SmoothRegions);
+        assert_eq!(map.smooth_regions.significance_threshold, 50.0);
+        assert_eq!(map.region_weight, 3.0);
+        assert_eq!(map.sizing.target_vertex_count, Some(1234));
+        for (mode, want) in [
+            (AlignmentMode::None, Alignment::None),
+            (AlignmentMode::Both, Alignment::Both),
+        ] {
+            assert_eq!(Alignment::from(mode), want);
+        }
+
+        let mut other = page.clone();
+        other.field.orientation_iterations += 7;
+        other.alignment.feature_weight = 2.0;
+        other.alignment.region_weight = 0.25;
+        other.extraction = Default::default();
+        other.fit = Default::default();
+        assert_eq!(Params::from_pipeline(&other), map, "unchanged map");
+        let mut target = page.clone();
+        target.sizing.target_vertex_count = Some(999);
+        let mut mode = page.clone();
+        mode.alignment.mode = AlignmentMode::Both;
+        let mut analysis = page.clone();
+        analysis.analysis.features.anisotropy_threshold += 0.1;
+        for changed in [target, mode, analysis] {
+            assert_ne!(Params::from_pipeline(&changed), map);
+        }
+    }
+
+    /// With the page in smooth-regions mode, the map gets Campen §4.2's
+    /// regions and §4.3's closed loops (a capsule's cylinder is a cyclic
+    /// region); in the page's default mode it has no regions.
+    #[test]
+    fn page_smooth_region_mode_gives_the_map_its_regions_and_closed_loops() {
+        let mesh = crate::mesh::generate::capsule(1.0, 4.0, 64, 12, 32);
+        let mut page = crate::pipeline::Params::default();
+        page.sizing.method = crate::sizing::EdgeLengthMethod::Uniform;
+        page.sizing.target_vertex_count = Some(400);
+        let clock = || 0.0;
+        let plain = run(&mesh, &Params::from_pipeline(&page), &clock).expect("a map");
+        assert!(plain.prepared.regions.is_none());
+        assert_eq!(plain.map.closed_loops, 0);
+        page.alignment.mode = AlignmentMode::SmoothRegions;
+        let smooth = run(&mesh, &Params::from_pipeline(&page), &clock).expect("a map");
+        assert!(smooth.prepared.regions.is_some());
+        assert!(
+            smooth.map.closed_loops > 0,
+            "the cylinder's loops get closing constraints"
+        );
+        assert_eq!(smooth.map.conflicts, 0);
+    }
 }

@@ -22,10 +22,12 @@
 //! (isolines close there; no helix).
 //!
 //! Deviations: the target is Id/S(f) (one parameter unit = one target
-//! edge; Ebke writes S(f)·Id, a density convention); each re-solve
-//! factorizes anew (the eliminated system changes shape) instead of reusing
-//! a symbolic factorization; no stiffening (fold-overs are left to the
-//! extraction, as Ebke §6 does).
+//! edge; Ebke writes S(f)·Id, a density convention); each re-solve is a
+//! new numeric factorization (no local Gauss–Seidel updates as in MIQ),
+//! but in the first solve's index space (rounded variables get identity
+//! rows), so it reuses that solve's symbolic factorization
+//! ([`Resolver`]); no stiffening (fold-overs are left to the extraction,
+//! as Ebke §6 does).
 
 // Parallel per-face arrays read best indexed.
 #![allow(clippy::needless_range_loop)]
@@ -35,7 +37,7 @@ use glam::{DVec2, DVec3};
 use super::constraints::{Added, Eliminator, Expr};
 use super::cross_field::{Cone, CrossField, face_components};
 use super::cut::{Cut, CutInput, cut};
-use super::solve::{NormalEquations, SpdFactor};
+use super::solve::{FactorError, NormalEquations, SpdFactor, SpdPattern};
 use super::topology::EdgeTopology;
 use crate::mesh::TriMesh;
 
@@ -132,6 +134,10 @@ pub struct GridMap {
     pub energy: f64,
     /// Re-solves of the rounding.
     pub rounding_steps: usize,
+    /// Symbolic Cholesky analyses (fill-reducing ordering) over all
+    /// solves: the re-solves reuse the first one's unless a rounded
+    /// expression adds entries outside its pattern.
+    pub symbolic_analyses: usize,
     /// Seam constraints that contradicted earlier ones plus integer
     /// quantities left non-integer (0 in a valid map).
     pub conflicts: usize,
@@ -469,33 +475,85 @@ fn energy_rows(
     rows
 }
 
-/// Minimises the rows under the eliminator's constraints; x per variable.
-fn solve(el: &Eliminator, rows: &[(Vec<(usize, f64)>, f64)]) -> Option<(Vec<f64>, f64)> {
-    let n = el.len();
-    let mut index = vec![usize::MAX; n];
-    let mut free = Vec::new();
-    for (i, slot) in index.iter_mut().enumerate() {
-        if el.is_free(i) {
-            *slot = free.len();
-            free.push(i);
+/// The rounding's re-solves in one index space, that of the variables
+/// free at the first solve: a variable eliminated since then keeps its
+/// place with an identity row, so the later systems' entries mostly lie in
+/// the first pattern and reuse its symbolic factorization (a rounded
+/// expression of several free variables can add entries; then the pattern
+/// is analysed anew and kept).
+#[derive(Default)]
+struct Resolver {
+    /// Per variable: its index in the first solve's system (`usize::MAX`
+    /// if it was not free then).
+    index: Vec<usize>,
+    /// Variables free at the first solve.
+    base: Vec<usize>,
+    pattern: Option<SpdPattern>,
+    /// Symbolic analyses done (for the benchmark's report).
+    analyses: usize,
+}
+
+impl Resolver {
+    /// Factorizes `triplets` with the kept pattern, or with a new one.
+    fn factor(&mut self, triplets: &[(usize, usize, f64)]) -> Option<SpdFactor> {
+        if let Some(p) = &self.pattern {
+            match p.factor(triplets) {
+                Ok(f) => return Some(f),
+                Err(FactorError::NotPositiveDefinite) => return None,
+                Err(FactorError::OutsidePattern) => {}
+            }
         }
+        let p = SpdPattern::new(self.base.len(), triplets)?;
+        self.analyses += 1;
+        let f = p.factor(triplets).ok();
+        self.pattern = Some(p);
+        f
     }
-    let mut eq = NormalEquations::new(free.len());
+}
+
+/// Minimises the rows under the eliminator's constraints; x per variable.
+fn solve(
+    el: &Eliminator,
+    rows: &[(Vec<(usize, f64)>, f64)],
+    rs: &mut Resolver,
+) -> Option<(Vec<f64>, f64)> {
+    let n = el.len();
+    if rs.index.len() != n {
+        rs.index = vec![usize::MAX; n];
+        rs.base.clear();
+        for (i, slot) in rs.index.iter_mut().enumerate() {
+            if el.is_free(i) {
+                *slot = rs.base.len();
+                rs.base.push(i);
+            }
+        }
+        rs.pattern = None;
+    }
+    let m = rs.base.len();
+    let mut eq = NormalEquations::new(m);
     for (terms, target) in rows {
         let e = el.reduce(terms, 0.0);
-        let compact: Vec<(usize, f64)> = e.terms.iter().map(|&(j, c)| (index[j], c)).collect();
+        let compact: Vec<(usize, f64)> = e.terms.iter().map(|&(j, c)| (rs.index[j], c)).collect();
         eq.row(1.0, &compact, target - e.constant);
+    }
+    // Identity rows for the variables eliminated since the first solve
+    // (their value is taken from the eliminator).
+    for (k, &i) in rs.base.iter().enumerate() {
+        if !el.is_free(i) {
+            eq.triplets.push((k, k, 1.0));
+            eq.rhs[k] = 0.0;
+        }
     }
     let y = [0.0, 1e-10, 1e-7].iter().find_map(|&eps| {
         let mut t = eq.triplets.clone();
-        t.extend((0..free.len()).map(|i| (i, i, eps)));
-        SpdFactor::new(free.len(), &t)?
-            .solve(std::slice::from_ref(&eq.rhs))?
-            .pop()
+        t.extend((0..m).map(|i| (i, i, eps)));
+        rs.factor(&t)?.solve(std::slice::from_ref(&eq.rhs))?.pop()
     })?;
     let mut full = vec![0.0; n];
-    for (k, &i) in free.iter().enumerate() {
-        full[i] = y[k];
+    for (k, &i) in rs.base.iter().enumerate() {
+        if el.is_free(i) {
+            full[i] = y[k];
+        }
     }
     let x = el.expand(&full);
     let energy = rows
@@ -525,15 +583,16 @@ fn round(
     ints: &Integers,
     fraction: f64,
     go_on: &mut dyn FnMut(f32) -> bool,
-) -> Result<(Vec<f64>, f64, usize, usize), MapStop> {
+) -> Result<(Vec<f64>, f64, usize, usize, usize), MapStop> {
     let mut done = vec![false; ints.quantities.len()];
     let mut steps = 0;
+    let mut rs = Resolver::default();
     loop {
         let finished = done.iter().filter(|&&d| d).count();
         if !go_on(finished as f32 / ints.quantities.len().max(1) as f32) {
             return Err(MapStop::Cancelled);
         }
-        let (x, energy) = solve(el, rows).ok_or(MapStop::Solve)?;
+        let (x, energy) = solve(el, rows, &mut rs).ok_or(MapStop::Solve)?;
         let mut open: Vec<(f64, usize, f64)> = Vec::new();
         for (q, terms) in ints.quantities.iter().enumerate() {
             if done[q] {
@@ -562,7 +621,7 @@ fn round(
                     (v - v.round()).abs() > 1e-6
                 })
                 .count();
-            return Ok((x, energy, steps, missed));
+            return Ok((x, energy, steps, missed, rs.analyses));
         }
         open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let cones = open.iter().filter(|o| o.0 < 0.0).count();
@@ -670,7 +729,7 @@ pub fn grid_map_with(
     }
     quantities.extend(boundary);
     let rows = energy_rows(input, &c, &frames, &lay);
-    let (x, energy, steps, more) = if input.round {
+    let (x, energy, steps, more, analyses) = if input.round {
         round(
             &mut el,
             &rows,
@@ -682,8 +741,9 @@ pub fn grid_map_with(
         if !go_on(0.0) {
             return Err(MapStop::Cancelled);
         }
-        let (x, e) = solve(&el, &rows).ok_or(MapStop::Solve)?;
-        (x, e, 0, 0)
+        let mut rs = Resolver::default();
+        let (x, e) = solve(&el, &rows, &mut rs).ok_or(MapStop::Solve)?;
+        (x, e, 0, 0, rs.analyses)
     };
     conflicts += more;
     let uv = (0..nf)
@@ -701,6 +761,7 @@ pub fn grid_map_with(
         topology: input.topology.clone(),
         energy,
         rounding_steps: steps,
+        symbolic_analyses: analyses,
         conflicts,
         closed_loops,
     })

@@ -192,6 +192,7 @@ mod tests {
             topology,
             energy: 0.0,
             rounding_steps: 0,
+            symbolic_analyses: 0,
             conflicts: 0,
             closed_loops: 0,
         };

@@ -87,6 +87,17 @@ pub fn limit_surface_object(f: &crate::subdivision::FitResult) -> Result<Object,
     Ok(surface)
 }
 
+/// What the integer-grid map depends on, for the page's parameters (JSON
+/// of [`Params`]): the JSON of the map's own parameters
+/// ([`crate::param::Params::from_pipeline`]). The page keeps the map
+/// across a parameter change that leaves it the same.
+#[wasm_bindgen(js_name = gridMapKey)]
+pub fn grid_map_key(json: &str) -> Result<String, JsError> {
+    let params: Params =
+        serde_json::from_str(json).map_err(|e| js_err(format!("parameters: {e}")))?;
+    serde_json::to_string(&crate::param::Params::from_pipeline(&params)).map_err(js_err)
+}
+
 #[wasm_bindgen]
 #[derive(Default)]
 pub struct Session {
@@ -782,11 +793,7 @@ impl Session {
             .pipeline
             .as_ref()
             .ok_or_else(|| js_err("nothing was imported"))?;
-        let params = crate::param::Params {
-            analysis: self.params.analysis,
-            sizing: self.params.sizing.clone(),
-            ..Default::default()
-        };
+        let params = crate::param::Params::from_pipeline(&self.params);
         let mut last = f64::NEG_INFINITY;
         let mut sink = |stage: &str, fraction: f32, text: &str| {
             let now = js_sys::Date::now();
@@ -846,6 +853,8 @@ impl Session {
             "measures": run.measures,
             "integer_conflicts": run.map.conflicts,
             "rounding_steps": run.map.rounding_steps,
+            "alignment": params.alignment,
+            "closed_loops": run.map.closed_loops,
         });
         set(&r.obj, "param", to_js(&summary)?)?;
         emit.call1(&JsValue::NULL, &r.obj)
