@@ -87,6 +87,9 @@ ROWS = {
     # Overlays on the defaults: Instant Meshes' own pure-quad route (extract
     # at a quarter of the count, one split), with the odd-face pairing off.
     "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
+    # Thin parts: the length capped at pi x shape diameter / edges around.
+    "default + thin parts (3 edges)": ("default", {"sizing": {"thin_part_edges": 3}}),
+    "default + thin parts (5 edges)": ("default", {"sizing": {"thin_part_edges": 5}}),
     "default - diagonal collapses": ("default", {"extraction": {"post": {"collapse_diagonals": False}}}),
     "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
     "default - non-quad budget (pair all)": ("default", {"extraction": {"post": {"non_quad_budget_percent": 0}}}),
@@ -162,7 +165,8 @@ def run_tool(args, tool, src, stem, target):
 # and its coarsening follow the vertex order), so the reproduction and
 # acceptance ratios are also read off medians over the same re-orderings
 # for every tool.
-ORDER_ROWS = ("instant-meshes", "im-equivalent", "default")
+ORDER_ROWS = ("instant-meshes", "im-equivalent", "default", "default + thin parts (3 edges)",
+              "default + thin parts (5 edges)")
 
 
 def reordered_copy(src, dst, seed):

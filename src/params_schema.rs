@@ -122,6 +122,8 @@ pub fn schema() -> Vec<ParamDoc> {
         p("sizing.transfer_function", Kind::Json, "Control points [c, T(c)] of the transfer function (c: normalised curvature 0–100, T: × global edge length)."),
         num("sizing.min_factor", 0.01, 100.0, "Shortest edge, × global edge length."),
         num("sizing.max_factor", 0.01, 100.0, "Longest edge, × global edge length."),
+        num("sizing.thin_part_edges", 0.0, 64.0, "Edges around a thin part's cross-section: the length is capped at π × shape diameter / this; 0 = off."),
+        num("sizing.thin_part_gradation", 0.0, 10.0, "Growth of the thin-part cap per unit of distance away from the thin part."),
         // field
         int("field.orientation_iterations", 0.0, 100.0, "Gauss–Seidel sweeps per level of the orientation field (Instant Meshes: 6)."),
         int("field.position_iterations", 0.0, 100.0, "Sweeps per level of the position field (thesis §3.4: 10–15)."),

@@ -33,8 +33,8 @@ use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
 use crate::extract::{self, ExtractInput, Extracted, ExtractionParams, PostProcessed};
 use crate::field::{
     self, FieldParams, Hierarchy, LevelSizing, OrientationConstraints, Singularity, mesh_links,
-    orientation_singularities, position_singularities, restrict_by_area, solve_orientation,
-    solve_position,
+    orientation_singularities, position_singularities, restrict_by_area, restrict_by_min,
+    solve_orientation, solve_position,
 };
 use crate::io::Imported;
 use crate::mesh::{PolyMesh, TriMesh, VertexAdjacency};
@@ -465,8 +465,18 @@ impl Pipeline {
             LevelSizing::Summation => restrict_by_area(&hierarchy, &level0),
             LevelSizing::PerLevel => {
                 let mut scale = vec![level0];
+                let caps = a.sizing.thin_part_cap.as_ref().map(|cap| {
+                    let cap: Vec<f32> = cap.iter().map(|&c| c as f32).collect();
+                    restrict_by_min(&hierarchy, &cap)
+                });
                 for (l, level) in hierarchy.levels.iter().enumerate().skip(1) {
-                    scale.push(level_sizing(level, stage, &self.params));
+                    let mut sizing = level_sizing(level, stage, &self.params);
+                    if let Some(caps) = &caps {
+                        for (s, &c) in sizing.iter_mut().zip(&caps[l]) {
+                            *s = s.min(c);
+                        }
+                    }
+                    scale.push(sizing);
                     progress.report(
                         l as f32 / hierarchy.depth() as f32,
                         "sizing field per level",
@@ -894,6 +904,11 @@ pub fn calibrate_to_vertex_count(a: &mut SurfaceAnalysis, target: Option<usize>)
         for pair in d {
             pair[0] *= factor;
             pair[1] *= factor;
+        }
+    }
+    if let Some(cap) = &mut a.sizing.thin_part_cap {
+        for c in cap {
+            *c *= factor;
         }
     }
     factor

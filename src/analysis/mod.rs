@@ -30,6 +30,7 @@ pub mod filtered_normals;
 pub mod normals;
 pub mod selection;
 pub mod smooth_regions;
+pub mod thickness;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -76,6 +77,10 @@ pub struct SizingField {
     pub edge_length: Vec<f64>,
     /// With [`CurvatureSelection::Directional`]: lengths along (d1, d2).
     pub directional: Option<Vec<[f64; 2]>>,
+    /// The graded thin-part cap already applied to `edge_length`
+    /// ([`thickness::thin_part_cap`]), kept for the coarse levels; `None`
+    /// when it is off or caps nothing.
+    pub thin_part_cap: Option<Vec<f64>>,
 }
 
 /// Everything [`analyze`] computes, per vertex (`vertex_*`, `curvature`,
@@ -97,6 +102,47 @@ pub struct SurfaceAnalysis {
     pub features: FeatureVertices,
     /// Unit filtered normal per face (the face normals when filtering is off).
     pub filtered_normals: Vec<DVec3>,
+}
+
+/// Applies the thin-part cap (`sizing.thin_part_edges` > 0) to the sizing
+/// field and its directional channels.
+type CappedSizing = (Vec<f64>, Option<Vec<[f64; 2]>>, Option<Vec<f64>>);
+fn cap_thin_parts(
+    mesh: &TriMesh,
+    normals: &[DVec3],
+    adjacency: &VertexAdjacency,
+    mut edge_length: Vec<f64>,
+    mut directional: Option<Vec<[f64; 2]>>,
+    params: &SizingParams,
+) -> CappedSizing {
+    if !(params.thin_part_edges.is_finite() && params.thin_part_edges > 0.0) {
+        return (edge_length, directional, None);
+    }
+    let Some(index) = crate::spatial::SurfaceIndex::new(mesh) else {
+        return (edge_length, directional, None);
+    };
+    let diameter = thickness::shape_diameter(mesh, normals, &index);
+    let cap = thickness::thin_part_cap(
+        mesh,
+        adjacency,
+        &diameter,
+        &edge_length,
+        params.thin_part_edges,
+        thickness::FLOOR,
+        params.thin_part_gradation,
+    );
+    if let Some(cap) = &cap {
+        for (s, &c) in edge_length.iter_mut().zip(cap) {
+            *s = s.min(c);
+        }
+        if let Some(d) = &mut directional {
+            for (pair, &c) in d.iter_mut().zip(cap) {
+                pair[0] = pair[0].min(c);
+                pair[1] = pair[1].min(c);
+            }
+        }
+    }
+    (edge_length, directional, cap)
 }
 
 /// Runs the whole analysis on `mesh` in pipeline order.
@@ -155,6 +201,14 @@ pub fn analyze_with_progress(
             .map(|(a, b)| [a, b])
             .collect()
     });
+    let (edge_length, directional, thin_part_cap) = cap_thin_parts(
+        mesh,
+        &vertex_normals,
+        &adjacency,
+        edge_length,
+        directional,
+        sizing_params,
+    );
     progress.report(0.8, "feature vertices")?;
     let features = feature_vertices(&curvature, &adjacency, &params.features);
     progress.report(0.85, "filtered normals")?;
@@ -199,6 +253,7 @@ pub fn analyze_with_progress(
             context,
             edge_length,
             directional,
+            thin_part_cap,
         },
         features,
         filtered_normals: filtered,

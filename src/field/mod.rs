@@ -100,6 +100,26 @@ pub fn restrict_by_area(hierarchy: &Hierarchy, values: &[f32]) -> Vec<Vec<f32>> 
     out
 }
 
+/// The smallest value of each coarse vertex's children on every level,
+/// level 0 first (for bounds such as the thin-part cap, where a mean would
+/// let a coarse vertex exceed the bound of part of its region).
+pub fn restrict_by_min(hierarchy: &Hierarchy, values: &[f32]) -> Vec<Vec<f32>> {
+    let mut out = vec![values.to_vec()];
+    for l in 1..hierarchy.levels.len() {
+        let prev = &out[l - 1];
+        let next = (0..hierarchy.levels[l].len())
+            .map(|c| {
+                hierarchy.levels[l]
+                    .children(c)
+                    .map(|child| prev[child])
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .collect();
+        out.push(next);
+    }
+    out
+}
+
 /// Level-0 links: one per triangle edge, weight 1.
 pub fn mesh_links(vertex_count: usize, triangles: &[[u32; 3]]) -> Links {
     Links::from_edges(
