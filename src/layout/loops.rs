@@ -276,6 +276,8 @@ pub struct LoopEngine {
 struct LayeredWorkspace {
     dist: Vec<f32>,
     parent: Vec<u32>,
+    /// The source the path to the state started from.
+    label: Vec<u32>,
     /// `2·generation` once reached, `2·generation + 1` once settled.
     state: Vec<u32>,
     generation: u32,
@@ -288,6 +290,7 @@ impl LayeredWorkspace {
         if self.state.len() < states {
             self.dist.resize(states, f32::INFINITY);
             self.parent.resize(states, NONE);
+            self.label.resize(states, NONE);
             self.state.resize(states, 0);
         }
         self.generation = self.generation.wrapping_add(1);
@@ -300,11 +303,11 @@ impl LayeredWorkspace {
     }
 }
 
-/// How a layered search ends: back at the start node after the last layer
-/// (a closed loop), or at the last anchor, leaving to ∂ at the given cost
-/// per candidate of the last layer (a dual curve, §5.7).
+/// How a layered search ends: back at the node its path started from
+/// after the last layer (a closed loop), or at the last anchor, leaving to
+/// ∂ at the given cost per candidate of the last layer (a dual curve, §5.7).
 enum LayeredEnd<'a> {
-    Closed(u32),
+    Closed,
     Open(&'a [f32]),
 }
 
@@ -473,7 +476,8 @@ impl LoopEngine {
     /// at the next anchor's vertex and y is one of its candidates (turning
     /// at most its `close` limit), the arc also leads to (y, l + 1). The
     /// closed loop runs from (a₀, 0) to (a₀, n) for each a₀ of the smallest
-    /// layer (the others pruned by the best cycle so far); the dual curve
+    /// layer (pruned by the best loop so far, the first bound from one
+    /// search from all of them at once); the dual curve
     /// from every (b, 0) at its distance from ∂ to some (a, n − 1) plus a's
     /// distance to ∂. The same optimum as the metagraph of all pairwise
     /// searches (tested against it), without searching every pair.
@@ -493,15 +497,28 @@ impl LoopEngine {
         let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
         let rotated: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
         let mut best: Option<(f32, Vec<u32>, bool)> = None;
-        for &a0 in &layers[s] {
+        // First from all of the smallest layer at once, each path closing
+        // at its own start: a loop, not necessarily the cheapest (a state
+        // keeps only its cheapest start), whose cost bounds the searches
+        // from each start that follow.
+        let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
+        let starts_of = |a0: &u32| -> Vec<(u32, f32)> { vec![(*a0, 0.0)] };
+        let runs: Vec<Vec<(u32, f32)>> = if all.len() > 1 {
+            std::iter::once(all.clone())
+                .chain(layers[s].iter().map(starts_of))
+                .collect()
+        } else {
+            vec![all]
+        };
+        for sources in &runs {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
             if let Some((cost, mut nodes, starts)) = self.layered_search(
                 verts,
                 layers,
                 close,
                 &rotated,
-                &[(a0, 0.0)],
-                LayeredEnd::Closed(a0),
+                sources,
+                LayeredEnd::Closed,
                 bound,
             ) {
                 // Start the loop at anchor 0's candidate, as the pairwise
@@ -578,7 +595,7 @@ impl LoopEngine {
         let graph = &self.graph;
         let g = &graph.g;
         let nodes = graph.node_count();
-        let closed = matches!(end, LayeredEnd::Closed(_));
+        let closed = matches!(end, LayeredEnd::Closed);
         // Layer `last` only ends paths; layers below it expand.
         let last = if closed { n } else { n - 1 };
         // The anchor each layer heads to, its heuristic, and a lower bound
@@ -616,6 +633,7 @@ impl LoopEngine {
                 ws.state[st] = reached;
                 ws.dist[st] = c;
                 ws.parent[st] = NONE;
+                ws.label[st] = b;
                 ws.heap.push(Reverse(((c + h(st)).to_bits(), st as u32)));
             }
         }
@@ -635,12 +653,12 @@ impl LoopEngine {
             let d = ws.dist[st];
             if l == last {
                 let total = match end {
-                    LayeredEnd::Closed(a0) if x == a0 as usize => d,
+                    LayeredEnd::Closed if x == ws.label[st] as usize => d,
                     LayeredEnd::Open(leave) => layers[order[n - 1]]
                         .iter()
                         .position(|&a| a as usize == x)
                         .map_or(f32::INFINITY, |i| d + leave[i]),
-                    LayeredEnd::Closed(_) => f32::INFINITY,
+                    LayeredEnd::Closed => f32::INFINITY,
                 };
                 if total < best.0 {
                     best = (total, st as u32);
@@ -650,10 +668,8 @@ impl LoopEngine {
             let next = order[(l + 1) % n];
             let at_goal = g.target[x] as usize == goals[l];
             let disabled = &self.disabled;
-            let only = match end {
-                LayeredEnd::Closed(a0) if l + 1 == last => Some(a0),
-                _ => None,
-            };
+            let label = ws.label[st];
+            let only = (closed && l + 1 == last).then_some(label);
             let base = l * nodes;
             graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
@@ -665,6 +681,7 @@ impl LoopEngine {
                         ws.state[t] = reached;
                         ws.dist[t] = nd;
                         ws.parent[t] = st as u32;
+                        ws.label[t] = label;
                         ws.heap.push(Reverse(((nd + h(t)).to_bits(), t as u32)));
                     }
                 };
