@@ -68,7 +68,11 @@ impl LayoutAnalyzer {
         let a = layout_glue::analyze_loops(&self.mesh, &loops, &moves, &now_ms);
         let out = analysis_to_js(&a)?;
         let (counts, flat) = layout_glue::flatten_covered(&a.covered);
-        set(&out, "coveredCounts", js_sys::Uint32Array::from(&counts[..]))?;
+        set(
+            &out,
+            "coveredCounts",
+            js_sys::Uint32Array::from(&counts[..]),
+        )?;
         set(
             &out,
             "coveredDirections",

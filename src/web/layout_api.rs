@@ -484,7 +484,10 @@ impl LayoutDesigner {
         match format {
             "obj" => match self.input_layout() {
                 Some(l) => analysis_glue::layout_obj(&l, &self.frame).map_err(js),
-                None => Ok(analysis_glue::loops_obj(&self.committed_loops(), &self.frame)),
+                None => Ok(analysis_glue::loops_obj(
+                    &self.committed_loops(),
+                    &self.frame,
+                )),
             },
             "grid-obj" => {
                 let (_, g) = self
