@@ -1,6 +1,7 @@
 // The design mode's worker (dual strip weaving, Campen & Kobbelt 2014 §4.1):
 // one LayoutDesigner (Rust) holds the loop engine and the undoable design
-// state, so hover queries and the strip analysis never block the page.
+// state, so hover queries never block the page; the strip analysis runs in
+// a further worker (analysis-worker.js) so it never blocks hover either.
 //
 // Messages in:   { type: 'init', bytes: ArrayBuffer, name }
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
@@ -25,7 +26,6 @@ const ready = init();
 let wasmMs = null;
 ready.then(() => { wasmMs = performance.now() - loaded; });
 let designer = null;
-let analysisQueued = false;
 
 function transferables(value, out = []) {
   if (ArrayBuffer.isView(value)) out.push(value.buffer);
@@ -42,22 +42,43 @@ function fail(error) {
   self.postMessage({ type: 'error', message, fatal });
 }
 
-// The analysis runs after the reply to the action has gone out, and only
-// for the latest revision (actions that arrive meanwhile are handled first).
-function queueAnalysis() {
-  if (analysisQueued) return;
-  analysisQueued = true;
-  setTimeout(() => {
-    analysisQueued = false;
-    if (!designer || !designer.analysisStale()) return;
-    try {
-      const started = performance.now();
-      const analysis = designer.analyze();
-      self.postMessage({ type: 'analysis', analysis, ms: performance.now() - started }, transferables(analysis));
-    } catch (error) {
-      fail(error);
+// The analysis runs in a worker of its own (analysis-worker.js): after each
+// action that changed the committed loops (or the layout-vertex moves) the
+// loops go there with a new serial; its answer is used only when it is for
+// the newest serial, and its covered directions (§6.2) only when they are
+// for the current revision (LayoutDesigner.applyCovered checks).
+let analyzer = null;
+let analyzerInit = null;
+let serial = 0;
+
+function startAnalyzer() {
+  if (analyzer) analyzer.terminate();
+  analyzer = new Worker(new URL('./analysis-worker.js', import.meta.url), { type: 'module' });
+  analyzer.onmessage = (event) => {
+    const r = event.data;
+    if (r.serial !== serial || !designer) return;
+    if (r.type === 'error') {
+      self.postMessage({ type: 'error', message: `analysis: ${r.message}`, fatal: false });
+      if (r.fatal) startAnalyzer();
+      return;
     }
-  }, 0);
+    const a = r.analysis;
+    designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections);
+    delete a.coveredCounts;
+    delete a.coveredDirections;
+    self.postMessage({ type: 'analysis', analysis: a, ms: r.ms }, transferables(a));
+  };
+  analyzer.onerror = (e) => {
+    self.postMessage({ type: 'error', message: `analysis worker: ${e.message || e}`, fatal: false });
+  };
+  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name });
+}
+
+function queueAnalysis() {
+  const input = designer && designer.takeAnalysisInput();
+  if (!input) return;
+  serial += 1;
+  analyzer.postMessage({ type: 'analyze', serial, input }, transferables(input));
 }
 
 const ACTIONS = new Set(['addAnchor', 'setLastAnchorDirection', 'insertAnchorOnLoop', 'moveGrabbedAnchor', 'clearAnchors',
@@ -73,6 +94,8 @@ self.onmessage = async (event) => {
       self.postMessage({ type: 'progress', text: `building the loop engine for ${m.name}…` });
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
+      analyzerInit = { bytes: m.bytes.slice(0), name: m.name };
+      startAnalyzer();
       designer.warmUp();
       const surface = designer.surface();
       self.postMessage({
@@ -93,7 +116,7 @@ self.onmessage = async (event) => {
       const value = designer[m.name](...(m.args || []));
       const state = designer.state();
       self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t }, transferables(state));
-      if (designer.analysisStale()) queueAnalysis();
+      queueAnalysis();
     } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
       try {
         const value = m.type === 'export' ? designer.export(m.format)

@@ -387,13 +387,15 @@ impl LayoutDesign {
 
     /// §6.2 from the strip analysis: per-vertex covered directions of the
     /// strips of revision `revision` (ignored when stale). Returns whether
-    /// they were applied.
+    /// they were applied. The hover proposal on screen is kept (the
+    /// analysis arrives from its own worker, possibly after the user
+    /// hovered; Enter commits the loop that is shown); the next hover
+    /// searches with the new covered set.
     pub fn apply_covered(&mut self, revision: u64, covered: &[Vec<DVec3>]) -> bool {
         if revision != self.revision {
             return false;
         }
         self.engine.set_covered(covered);
-        self.hover = None;
         true
     }
 

@@ -182,6 +182,7 @@ struct Workspace {
     heap: BinaryHeap<Reverse<u64>>,
     /// Per out-edge of the goal vertex: best closing cost and the closing
     /// predecessor.
+    #[cfg(test)]
     cand: Vec<(f32, u32)>,
     path: Vec<u32>,
     /// Scratch for the second half of a bidirectional loop.
@@ -264,6 +265,50 @@ pub struct LoopEngine {
     hover_radius: f32,
     has_boundary: bool,
     ws: Workspace,
+    /// The state of [`LoopEngine::layered_cycle`]'s search.
+    layered: LayeredWorkspace,
+}
+
+/// Per (g′ node, layer) state of the layered search
+/// ([`LoopEngine::layered_cycle`]), indexed `layer · N + node`, stamped
+/// like [`Workspace`] so that nothing has to be cleared between searches.
+#[derive(Debug, Clone, Default)]
+struct LayeredWorkspace {
+    dist: Vec<f32>,
+    parent: Vec<u32>,
+    /// The source the path to the state started from.
+    label: Vec<u32>,
+    /// `2·generation` once reached, `2·generation + 1` once settled.
+    state: Vec<u32>,
+    generation: u32,
+    heap: BinaryHeap<Reverse<(u32, u32)>>,
+}
+
+impl LayeredWorkspace {
+    /// Starts a search over `states` states.
+    fn start(&mut self, states: usize) -> u32 {
+        if self.state.len() < states {
+            self.dist.resize(states, f32::INFINITY);
+            self.parent.resize(states, NONE);
+            self.label.resize(states, NONE);
+            self.state.resize(states, 0);
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 || self.generation >= 1 << 30 {
+            self.state.iter_mut().for_each(|s| *s = 0);
+            self.generation = 1;
+        }
+        self.heap.clear();
+        self.generation
+    }
+}
+
+/// How a layered search ends: back at the node its path started from
+/// after the last layer (a closed loop), or at the last anchor, leaving to
+/// ∂ at the given cost per candidate of the last layer (a dual curve, §5.7).
+enum LayeredEnd<'a> {
+    Closed,
+    Open(&'a [f32]),
 }
 
 impl LoopEngine {
@@ -287,6 +332,7 @@ impl LoopEngine {
                 slot: vec![Slot::default(); nodes],
                 ..Workspace::default()
             },
+            layered: LayeredWorkspace::default(),
         }
     }
 
@@ -418,44 +464,270 @@ impl LoopEngine {
             let (cost, kind) = self.best_through(verts[0], f32::INFINITY)?;
             return Some(self.make_loop(kind, cost));
         }
-        let best = self.metagraph_cycle(&verts, &layers, &close, None);
-        if !best.0.is_finite() {
-            return None;
-        }
-        let (cost, choice, closed) = best;
-        // choice[i] = index into layers[i] of the node used at anchor i.
-        let mut nodes: Vec<u32> = Vec::new();
-        let chosen: Vec<u32> = (0..n).map(|i| layers[i][choice[i]]).collect();
-        if !closed {
-            nodes.extend(self.boundary_path(chosen[0]));
-            nodes.pop();
-        }
-        let segments = if closed { n } else { n - 1 };
-        for i in 0..segments {
-            let j = (i + 1) % n;
-            let (a, b) = (chosen[i], chosen[j]);
-            self.search(a, verts[j], Some(b), f32::INFINITY, close[j]);
-            let (_, pred) = self.cand_of(verts[j], b);
-            if pred == NONE {
-                return None;
-            }
-            nodes.extend(self.path_to(pred));
-        }
-        if !closed {
-            let last = chosen[n - 1];
-            let mut tail = self.reversed_boundary_path(last);
-            if !tail.is_empty() {
-                tail.remove(0);
-            }
-            nodes.push(last);
-            nodes.extend(tail);
-            // `nodes` may now contain `last` twice if the final segment ended
-            // with it; segments end *before* their target, so it does not.
-        }
+        let (cost, nodes, closed) = self.layered_cycle(&verts, &layers, &close)?;
         Some(self.loop_from_nodes(nodes, cost as f64, closed))
     }
 
-    /// The minimum-weight cycle of §5.4's metagraph (and, with a boundary,
+    /// The minimum-cost loop through the anchors' candidate layers in order
+    /// (§5.4's metagraph cycle, and with a boundary the cheapest ∂ → ξ₀ →
+    /// … → ξ_{n−1} → ∂ dual curve of §5.7) as ONE A* per start candidate
+    /// over a layered copy of g′: state (x, l) is node x having passed the
+    /// anchors 1…l. From (x, l) every arc x → y leads to (y, l); when x ends
+    /// at the next anchor's vertex and y is one of its candidates (turning
+    /// at most its `close` limit), the arc also leads to (y, l + 1). The
+    /// closed loop runs from (a₀, 0) to (a₀, n) for each a₀ of the smallest
+    /// layer (pruned by the best loop so far, the first bound from one
+    /// search from all of them at once); the dual curve
+    /// from every (b, 0) at its distance from ∂ to some (a, n − 1) plus a's
+    /// distance to ∂. The same optimum as the metagraph of all pairwise
+    /// searches (tested against it), without searching every pair.
+    /// Returns the cost, the g′ nodes in order (starting at anchor 0's
+    /// candidate for a loop; from ∂ to ∂ for a dual curve) and whether the
+    /// loop is closed.
+    fn layered_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+    ) -> Option<(f32, Vec<u32>, bool)> {
+        let n = layers.len();
+        if n == 0 || layers.iter().any(|l| l.is_empty()) {
+            return None;
+        }
+        let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
+        let rotated: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
+        let mut best: Option<(f32, Vec<u32>, bool)> = None;
+        // First from all of the smallest layer at once, each path closing
+        // at its own start: a loop, not necessarily the cheapest (a state
+        // keeps only its cheapest start), whose cost bounds the searches
+        // from each start that follow.
+        let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
+        let starts_of = |a0: &u32| -> Vec<(u32, f32)> { vec![(*a0, 0.0)] };
+        let runs: Vec<Vec<(u32, f32)>> = if all.len() > 1 {
+            std::iter::once(all.clone())
+                .chain(layers[s].iter().map(starts_of))
+                .collect()
+        } else {
+            vec![all]
+        };
+        for sources in &runs {
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            if let Some((cost, mut nodes, starts)) = self.layered_search(
+                verts,
+                layers,
+                close,
+                &rotated,
+                sources,
+                LayeredEnd::Closed,
+                bound,
+            ) {
+                // Start the loop at anchor 0's candidate, as the pairwise
+                // method does.
+                let first = starts[(n - s) % n];
+                nodes.rotate_left(first);
+                best = Some((cost, nodes, true));
+            }
+        }
+        if self.has_boundary {
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            // A dual curve cheaper than `bound` has both ends closer to ∂.
+            self.settle_boundary(bound);
+            if let Some(f) = self.boundary_field.as_ref() {
+                let enter: Vec<(u32, f32)> = layers[0]
+                    .iter()
+                    .map(|&b| (b, f.distance(b)))
+                    .filter(|e| e.1.is_finite())
+                    .collect();
+                let leave: Vec<f32> = layers[n - 1]
+                    .iter()
+                    .map(|&a| {
+                        let r = self.graph.g.reverse[a as usize];
+                        if r == NONE {
+                            f32::INFINITY
+                        } else {
+                            f.distance(r)
+                        }
+                    })
+                    .collect();
+                let order: Vec<usize> = (0..n).collect();
+                if let Some((cost, nodes, _)) = self.layered_search(
+                    verts,
+                    layers,
+                    close,
+                    &order,
+                    &enter,
+                    LayeredEnd::Open(&leave),
+                    bound,
+                ) {
+                    let (b0, last) = (nodes[0], nodes[nodes.len() - 1]);
+                    let mut full = self.boundary_path(b0);
+                    full.pop();
+                    full.extend(nodes);
+                    let mut tail = self.reversed_boundary_path(last);
+                    if !tail.is_empty() {
+                        tail.remove(0);
+                    }
+                    full.extend(tail);
+                    best = Some((cost, full, false));
+                }
+            }
+        }
+        best
+    }
+
+    /// One A* over the layered g′ of [`Self::layered_cycle`] with the
+    /// anchors visited in `order`, from `sources` (node of layer 0's
+    /// candidates, initial cost) to `end`, pruned at `bound`. Returns the
+    /// cost, the nodes of the path (without the closing state) and the
+    /// position in it where each layer begins.
+    #[allow(clippy::too_many_arguments)]
+    fn layered_search(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        order: &[usize],
+        sources: &[(u32, f32)],
+        end: LayeredEnd<'_>,
+        bound: f32,
+    ) -> Option<(f32, Vec<u32>, Vec<usize>)> {
+        let n = order.len();
+        let graph = &self.graph;
+        let g = &graph.g;
+        let nodes = graph.node_count();
+        let closed = matches!(end, LayeredEnd::Closed);
+        // Layer `last` only ends paths; layers below it expand.
+        let last = if closed { n } else { n - 1 };
+        // The anchor each layer heads to, its heuristic, and a lower bound
+        // of every later segment (admissible and consistent: a candidate of
+        // the next anchor is at least that segment's bound from the one
+        // after).
+        let goals: Vec<usize> = (0..last).map(|l| verts[order[(l + 1) % n]]).collect();
+        let hs: Vec<_> = goals.iter().map(|&v| graph.heuristic_to(v)).collect();
+        let seg_lb: Vec<f32> = (0..last)
+            .map(|l| {
+                layers[order[l]]
+                    .iter()
+                    .map(|&a| hs[l](a as usize))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0)
+            })
+            .collect();
+        let mut rest = vec![0.0f32; last + 1];
+        for l in (0..last).rev() {
+            rest[l] = rest[l + 1] + if l + 1 < last { seg_lb[l + 1] } else { 0.0 };
+        }
+        let h = |state: usize| -> f32 {
+            let (l, x) = (state / nodes, state % nodes);
+            if l >= last { 0.0 } else { hs[l](x) + rest[l] }
+        };
+        let ws = &mut self.layered;
+        let now = ws.start(nodes * (last + 1));
+        let (reached, settled) = (2 * now, 2 * now + 1);
+        for &(b, c) in sources {
+            let st = b as usize;
+            if self.disabled[st] || !c.is_finite() {
+                continue;
+            }
+            if ws.state[st] < reached || c < ws.dist[st] {
+                ws.state[st] = reached;
+                ws.dist[st] = c;
+                ws.parent[st] = NONE;
+                ws.label[st] = b;
+                ws.heap.push(Reverse(((c + h(st)).to_bits(), st as u32)));
+            }
+        }
+        let mut best = (bound, NONE);
+        let mut effort = 0u64;
+        while let Some(Reverse((k, st))) = ws.heap.pop() {
+            let st = st as usize;
+            if ws.state[st] == settled {
+                continue;
+            }
+            if f32::from_bits(k) >= best.0 {
+                break;
+            }
+            ws.state[st] = settled;
+            effort += 1;
+            let (l, x) = (st / nodes, st % nodes);
+            let d = ws.dist[st];
+            if l == last {
+                let total = match end {
+                    LayeredEnd::Closed if x == ws.label[st] as usize => d,
+                    LayeredEnd::Open(leave) => layers[order[n - 1]]
+                        .iter()
+                        .position(|&a| a as usize == x)
+                        .map_or(f32::INFINITY, |i| d + leave[i]),
+                    LayeredEnd::Closed => f32::INFINITY,
+                };
+                if total < best.0 {
+                    best = (total, st as u32);
+                }
+                continue;
+            }
+            let next = order[(l + 1) % n];
+            let at_goal = g.target[x] as usize == goals[l];
+            let disabled = &self.disabled;
+            let label = ws.label[st];
+            let only = (closed && l + 1 == last).then_some(label);
+            let base = l * nodes;
+            graph.for_each_arc(x, |y, w| {
+                if disabled[y] {
+                    return;
+                }
+                let nd = d + w;
+                let mut relax = |t: usize| {
+                    if ws.state[t] < reached || nd < ws.dist[t] {
+                        ws.state[t] = reached;
+                        ws.dist[t] = nd;
+                        ws.parent[t] = st as u32;
+                        ws.label[t] = label;
+                        ws.heap.push(Reverse(((nd + h(t)).to_bits(), t as u32)));
+                    }
+                };
+                relax(base + y);
+                if at_goal
+                    && only.is_none_or(|o| o as usize == y)
+                    && layers[next].contains(&(y as u32))
+                    && graph.turn(x, y).abs() <= close[next]
+                {
+                    relax(base + nodes + y);
+                }
+            });
+        }
+        self.ws.effort += effort;
+        let (cost, end_state) = best;
+        if end_state == NONE {
+            return None;
+        }
+        let mut states = Vec::new();
+        let mut st = end_state;
+        while st != NONE && states.len() <= ws.parent.len() {
+            states.push(st);
+            st = ws.parent[st as usize];
+        }
+        states.reverse();
+        if closed {
+            states.pop();
+        }
+        let mut starts = vec![0usize; n];
+        for (i, w) in states.windows(2).enumerate() {
+            let (la, lb) = (w[0] as usize / nodes, w[1] as usize / nodes);
+            if lb != la && lb < n {
+                starts[lb] = i + 1;
+            }
+        }
+        let path = states
+            .iter()
+            .map(|&s| (s as usize % nodes) as u32)
+            .collect();
+        Some((cost, path, starts))
+    }
+
+    #[cfg(test)]
+    /// The tests' reference for [`Self::layered_cycle`] (the method the
+    /// engine used before it):
+    /// the minimum-weight cycle of §5.4's metagraph (and, with a boundary,
     /// the cheapest ∂ → ξ₀ → … → ξ_{n−1} → ∂ path, §5.7): cost, chosen index
     /// per layer, closed. `radius`: the first R (tests: ∞, no pruning).
     ///
@@ -1122,6 +1394,7 @@ impl LoopEngine {
         p
     }
 
+    #[cfg(test)]
     /// A* in g′ from `source` towards the out-edges of `goal` (all of them,
     /// or only `only`), each reached through an arc. Results in `ws.cand`.
     fn search(&mut self, source: u32, goal: usize, only: Option<u32>, bound: f32, close_turn: f32) {
@@ -1204,6 +1477,7 @@ impl LoopEngine {
         }
     }
 
+    #[cfg(test)]
     /// The backward search of §5.4 into node `b`: by reversal symmetry of
     /// the g′ weights, the cost of `a ⇝ b` is that of `reverse(b) ⇝
     /// reverse(a)`, so one A* forward from `reverse(b)` (its first arc, the
@@ -1274,6 +1548,7 @@ impl LoopEngine {
         }
     }
 
+    #[cfg(test)]
     fn cand_of(&self, goal: usize, b: u32) -> (f32, u32) {
         let row = self.graph.g.out_edges(goal);
         if !row.contains(&(b as usize)) {
@@ -1284,27 +1559,6 @@ impl LoopEngine {
             .get(b as usize - row.start)
             .copied()
             .unwrap_or((f32::INFINITY, NONE))
-    }
-
-    /// Source … `last` of the latest search.
-    fn path_to(&self, last: u32) -> Vec<u32> {
-        let mut out = Vec::new();
-        self.collect_path(last, &mut out);
-        out
-    }
-
-    fn collect_path(&self, last: u32, out: &mut Vec<u32>) {
-        let start = out.len();
-        let mut x = last;
-        let reached = 2 * self.ws.generation;
-        while x != NONE
-            && self.ws.slot[x as usize].state >= reached
-            && out.len() - start <= self.ws.slot.len()
-        {
-            out.push(x);
-            x = self.ws.slot[x as usize].parent;
-        }
-        out[start..].reverse();
     }
 
     fn make_loop(&self, kind: Kind, cost: f32) -> DualLoop {
@@ -1373,6 +1627,7 @@ fn key(cost: f32, node: u32) -> u64 {
     ((cost.max(0.0).to_bits() as u64) << 32) | node as u64
 }
 
+#[cfg(test)]
 /// Min-cost walk through the metagraph layers. With `start = Some(i)`: a
 /// cycle from node i of layer `s` through all layers back to it. With
 /// `ends = Some((enter, leave))`: ∂ → layer 0 → … → layer n−1 → ∂.
@@ -1658,9 +1913,10 @@ mod tests {
 
     /// The metagraph cycle pruned by the growing radius equals the unpruned
     /// one (every search run to all targets) for two and three anchors,
-    /// positional and directional, on closed and open meshes.
+    /// positional and directional, on closed and open meshes; so does the
+    /// engine's layered search, whose loop walks its cost.
     #[test]
-    fn pruned_metagraph_cycle_equals_the_unpruned_one() {
+    fn pruned_metagraph_cycle_and_layered_search_equal_the_unpruned_one() {
         let meshes = [torus(2.0, 0.7, 30, 12), cylinder(1.0, 3.0, 24, 12)];
         let mut compared = 0;
         for mesh in &meshes {
@@ -1702,6 +1958,42 @@ mod tests {
                             pruned.0,
                             full.0
                         );
+                        // The layered search: the same optimum, and a walk
+                        // that really costs it (a closed walk of g′-arcs, or
+                        // a curve from ∂ to ∂ through every anchor's vertex).
+                        let (cost, nodes, closed) = e
+                            .layered_cycle(verts, &layers, &close)
+                            .unwrap_or_else(|| panic!("{verts:?}: no layered cycle"));
+                        assert!(
+                            (cost - full.0).abs() <= tol,
+                            "{verts:?} directional {directional}: layered {cost} vs {}",
+                            full.0
+                        );
+                        assert_eq!(closed, full.2, "{verts:?}: closed or open");
+                        if closed {
+                            let (walked, ok) = walk_cost(&e, &nodes);
+                            assert!(ok, "{verts:?}: the layered loop is not a cycle of arcs");
+                            assert!(
+                                (walked - cost).abs() <= tol,
+                                "{verts:?}: the loop walks {walked}, reported {cost}"
+                            );
+                            assert!(
+                                layers[0].contains(&nodes[0]),
+                                "{verts:?}: the loop starts at anchor 0"
+                            );
+                        } else {
+                            for w in nodes.windows(2) {
+                                assert!(e.graph.is_arc(w[0] as usize, w[1] as usize));
+                            }
+                        }
+                        for &v in verts {
+                            assert!(
+                                nodes
+                                    .iter()
+                                    .any(|&x| e.graph.g.source[x as usize] as usize == v),
+                                "{verts:?}: the loop misses anchor vertex {v}"
+                            );
+                        }
                         compared += 1;
                     }
                 }

@@ -129,6 +129,8 @@ pub struct LayoutDesigner {
     /// Revision and layout-vertex moves the last analysis was computed for.
     analysed: Option<(u64, Vec<(u32, DVec3)>)>,
     analysis: Option<analysis_glue::Analysis>,
+    /// Revision and moves last handed to the analysis worker.
+    posted: Option<(u64, Vec<(u32, DVec3)>)>,
     last_error: Option<String>,
     /// The anchor inserted by the last grab, moved by the drag that follows.
     grabbed: Option<usize>,
@@ -141,6 +143,29 @@ pub struct LayoutDesigner {
     /// fit; dropped when the design changes.
     grid: Option<(u64, LayoutGrid)>,
     fit: Option<FitResult>,
+}
+
+/// The mesh the design runs on (the input, or its proxy above
+/// [`proxy::PROXY_ABOVE_FACES`] faces), the input when it is a proxy, the
+/// file's frame and the input's face count: the same in the layout and the
+/// analysis worker (the decimation is deterministic).
+pub(super) fn design_meshes(
+    bytes: &[u8],
+    name: &str,
+) -> Result<(TriMesh, Option<TriMesh>, Frame, usize), JsError> {
+    let imported = crate::io::import(bytes, name).map_err(|e| JsError::new(&e.to_string()))?;
+    let input_faces = imported.mesh.face_count();
+    let frame = imported.frame;
+    Ok(if input_faces > proxy::PROXY_ABOVE_FACES {
+        (
+            proxy::decimate(&imported.mesh, proxy::PROXY_FACES),
+            Some(imported.mesh),
+            frame,
+            input_faces,
+        )
+    } else {
+        (imported.mesh, None, frame, input_faces)
+    })
 }
 
 fn point(p: &[f64]) -> Result<DVec3, JsError> {
@@ -158,7 +183,7 @@ fn polyline(points: &[DVec3]) -> Float32Array {
     Float32Array::from(&flat[..])
 }
 
-fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsError> {
+pub(super) fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsError> {
     Reflect::set(target, &JsValue::from_str(key), &value.into())
         .map(|_| ())
         .map_err(|_| JsError::new(&format!("could not set {key}")))
@@ -170,17 +195,7 @@ impl LayoutDesigner {
     /// proxy of about [`proxy::PROXY_FACES`] faces for large meshes).
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<LayoutDesigner, JsError> {
-        let imported = crate::io::import(bytes, name).map_err(|e| JsError::new(&e.to_string()))?;
-        let input_faces = imported.mesh.face_count();
-        let frame = imported.frame;
-        let (mesh, original) = if input_faces > proxy::PROXY_ABOVE_FACES {
-            (
-                proxy::decimate(&imported.mesh, proxy::PROXY_FACES),
-                Some(imported.mesh),
-            )
-        } else {
-            (imported.mesh, None)
-        };
+        let (mesh, original, frame, input_faces) = design_meshes(bytes, name)?;
         let engine = LoopEngine::new(&mesh, &ElasticaParams::default());
         Ok(LayoutDesigner {
             mesh,
@@ -188,6 +203,7 @@ impl LayoutDesigner {
             design: LayoutDesign::new(engine),
             analysed: None,
             analysis: None,
+            posted: None,
             last_error: None,
             grabbed: None,
             frame,
@@ -381,6 +397,51 @@ impl LayoutDesigner {
         Ok(out)
     }
 
+    /// What the analysis worker needs for the current committed loops
+    /// (`{ revision, points: Float64Array (xyz), lengths: Uint32Array
+    /// (points per loop), closed: Uint8Array, moves: Float64Array (vertex,
+    /// x, y, z) }`), or null when it was already handed out for them.
+    #[wasm_bindgen(js_name = takeAnalysisInput)]
+    pub fn take_analysis_input(&mut self) -> Result<JsValue, JsError> {
+        let key = (self.design.revision(), self.design.moves().to_vec());
+        if self.posted.as_ref() == Some(&key) {
+            return Ok(JsValue::NULL);
+        }
+        let out = Object::new();
+        set(&out, "revision", key.0 as f64)?;
+        let c = self.design.committed();
+        let points: Vec<f64> = c
+            .iter()
+            .flat_map(|c| c.dual.points.iter().flat_map(|p| [p.x, p.y, p.z]))
+            .collect();
+        let lengths: Vec<u32> = c.iter().map(|c| c.dual.points.len() as u32).collect();
+        let closed: Vec<u8> = c.iter().map(|c| c.dual.closed as u8).collect();
+        let moves: Vec<f64> = key
+            .1
+            .iter()
+            .flat_map(|&(v, p)| [v as f64, p.x, p.y, p.z])
+            .collect();
+        set(&out, "points", js_sys::Float64Array::from(&points[..]))?;
+        set(&out, "lengths", js_sys::Uint32Array::from(&lengths[..]))?;
+        set(&out, "closed", Uint8Array::from(&closed[..]))?;
+        set(&out, "moves", js_sys::Float64Array::from(&moves[..]))?;
+        self.posted = Some(key);
+        Ok(out.into())
+    }
+
+    /// §6.2 from the analysis worker: the covered directions of revision
+    /// `revision` (`counts[v]` directions of vertex v, xyz each in
+    /// `directions`); ignored when stale. Returns whether they were applied.
+    #[wasm_bindgen(js_name = applyCovered)]
+    pub fn apply_covered(&mut self, revision: f64, counts: &[u32], directions: &[f64]) -> bool {
+        let Some(covered) = analysis_glue::unflatten_covered(counts, directions) else {
+            self.last_error = Some("malformed covered directions".to_string());
+            return false;
+        };
+        covered.len() == self.mesh.vertex_count()
+            && self.design.apply_covered(revision as u64, &covered)
+    }
+
     /// Whether the analysis is behind the committed loops.
     #[wasm_bindgen(js_name = analysisStale)]
     pub fn analysis_stale(&self) -> bool {
@@ -423,7 +484,10 @@ impl LayoutDesigner {
         match format {
             "obj" => match self.input_layout() {
                 Some(l) => analysis_glue::layout_obj(&l, &self.frame).map_err(js),
-                None => Ok(analysis_glue::loops_obj(&self.design, &self.frame)),
+                None => Ok(analysis_glue::loops_obj(
+                    &self.committed_loops(),
+                    &self.frame,
+                )),
             },
             "grid-obj" => {
                 let (_, g) = self
@@ -551,6 +615,14 @@ impl LayoutDesigner {
 }
 
 impl LayoutDesigner {
+    fn committed_loops(&self) -> Vec<(&[DVec3], bool)> {
+        self.design
+            .committed()
+            .iter()
+            .map(|c| (&c.dual.points[..], c.dual.closed))
+            .collect()
+    }
+
     /// The current layout on the input: the analysis' layout, mapped onto
     /// the input when the design runs on a proxy.
     fn input_layout(&self) -> Option<crate::layout::primal::LayoutExport> {
@@ -570,7 +642,7 @@ impl LayoutDesigner {
 }
 
 /// Milliseconds from the worker's `performance.now()` (0 without one).
-fn now_ms() -> f64 {
+pub(super) fn now_ms() -> f64 {
     let performance = Reflect::get(&js_sys::global(), &JsValue::from_str("performance")).ok();
     let now = performance
         .as_ref()
@@ -582,7 +654,7 @@ fn now_ms() -> f64 {
     }
 }
 
-fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
+pub(super) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
     let json = serde_json::to_string(value).map_err(|e| JsError::new(&e.to_string()))?;
     js_sys::JSON::parse(&json).map_err(|_| JsError::new("could not encode a result"))
 }
@@ -590,7 +662,7 @@ fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
 /// `{ available, stripes, stripeColours, regionCategory, singularities,
 /// singularityColours, layoutVertices, layoutEdges, counts, sufficient,
 /// status, timings }`.
-fn analysis_to_js(a: &analysis_glue::Analysis) -> Result<Object, JsError> {
+pub(super) fn analysis_to_js(a: &analysis_glue::Analysis) -> Result<Object, JsError> {
     let out = Object::new();
     set(&out, "available", a.available)?;
     set(&out, "stripes", Float32Array::from(&a.stripes[..]))?;

@@ -96,6 +96,9 @@ pub struct Analysis {
     /// The layout, and the committed strip of each of its loops.
     pub layout: Option<LayoutExport>,
     pub loop_strip: Vec<usize>,
+    /// §6.2: per vertex of the mesh, the directions the strips cover (empty:
+    /// none computed).
+    pub covered: Vec<Vec<DVec3>>,
 }
 
 /// Runs the analysis of the committed loops on `mesh`: embeds them (§6.1
@@ -104,23 +107,45 @@ pub struct Analysis {
 /// (§4.2) and, when they are all discs, the primal layout (§7) with the
 /// user's vertex moves. `clock` gives milliseconds.
 pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f64) -> Analysis {
+    let loops: Vec<(&[DVec3], bool)> = design
+        .committed()
+        .iter()
+        .map(|c| (&c.dual.points[..], c.dual.closed))
+        .collect();
+    let a = analyze_loops(mesh, &loops, design.moves(), clock);
+    if !a.covered.is_empty() {
+        design.apply_covered(design.revision(), &a.covered);
+    }
+    a
+}
+
+/// [`analyze`] of committed loops given as (polyline, closed) with the
+/// layout-vertex moves, without a design session: what the analysis worker
+/// runs. The covered directions of §6.2 are returned in
+/// [`Analysis::covered`] for the session to apply.
+pub fn analyze_loops(
+    mesh: &TriMesh,
+    loops: &[(&[DVec3], bool)],
+    moves: &[(u32, DVec3)],
+    clock: &dyn Fn() -> f64,
+) -> Analysis {
     let mut a = Analysis {
         counts: Counts {
-            strips: design.committed().len(),
+            strips: loops.len(),
             ..Counts::default()
         },
         ..Analysis::default()
     };
-    a.obj = loops_obj(design, &Frame::IDENTITY);
+    a.obj = loops_obj(loops, &Frame::IDENTITY);
     let mut notes = Vec::new();
     // Committed loop index of each embedded loop.
     let mut embedded: Vec<EmbeddedLoop> = Vec::new();
     let mut committed_of: Vec<usize> = Vec::new();
-    if !design.committed().is_empty() {
+    if !loops.is_empty() {
         match LoopEmbedder::new(mesh) {
             Ok(embedder) => {
-                for (i, c) in design.committed().iter().enumerate() {
-                    match embedder.embed(&c.dual.points, c.dual.closed) {
+                for (i, &(points, closed)) in loops.iter().enumerate() {
+                    match embedder.embed(points, closed) {
                         Ok(l) => {
                             embedded.push(l);
                             committed_of.push(i);
@@ -157,9 +182,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
         }
     }
     a.counts.singularities = strips.singularities.len();
-    if !strips.covered.is_empty() {
-        design.apply_covered(design.revision(), &strips.covered);
-    }
+    a.covered = strips.covered.clone();
     notes.extend(strips.notes.iter().cloned());
     a.counts.strips_grown = strips.strips.len();
 
@@ -204,7 +227,7 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
                 let started = clock();
                 match QuadLayout::build(mesh, &embedded, &regions, &strips.singularities) {
                     Ok(mut l) => {
-                        for &(v, p) in design.moves() {
+                        for &(v, p) in moves {
                             if let Err(e) = l.move_vertex(v as usize, p) {
                                 notes.push(format!("vertex {v} not moved: {e}"));
                             }
@@ -252,6 +275,41 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
     a
 }
 
+/// §6.2's covered directions as they cross between the workers: the
+/// number per vertex and the directions' xyz in one flat array.
+pub fn flatten_covered(covered: &[Vec<DVec3>]) -> (Vec<u32>, Vec<f64>) {
+    let counts = covered.iter().map(|c| c.len() as u32).collect();
+    let flat = covered
+        .iter()
+        .flatten()
+        .flat_map(|d| [d.x, d.y, d.z])
+        .collect();
+    (counts, flat)
+}
+
+/// The inverse of [`flatten_covered`]; `None` when the lengths disagree.
+pub fn unflatten_covered(counts: &[u32], flat: &[f64]) -> Option<Vec<Vec<DVec3>>> {
+    let total: usize = counts.iter().map(|&c| c as usize).sum();
+    if flat.len() != 3 * total {
+        return None;
+    }
+    let mut k = 0;
+    Some(
+        counts
+            .iter()
+            .map(|&c| {
+                (0..c)
+                    .map(|_| {
+                        let d = DVec3::new(flat[k], flat[k + 1], flat[k + 2]);
+                        k += 3;
+                        d
+                    })
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
 const SINGULARITY_3: [u8; 4] = [31, 111, 221, 255];
 const SINGULARITY_5: [u8; 4] = [216, 52, 44, 255];
 
@@ -297,14 +355,14 @@ pub fn layout_obj(layout: &LayoutExport, frame: &Frame) -> Result<String, GridEr
 
 /// The committed loops as OBJ polylines (`v` and `l` lines), in the
 /// coordinates `frame` maps to.
-pub fn loops_obj(design: &LayoutDesign, frame: &Frame) -> String {
+pub fn loops_obj(loops: &[(&[DVec3], bool)], frame: &Frame) -> String {
     let mut out = String::from("# dual loops of a quad layout design (Quadrille)\n");
     let mut next = 1usize;
-    for c in design.committed() {
-        for p in c.dual.points.iter().map(|&p| frame.to_world(p)) {
+    for &(points, _) in loops {
+        for p in points.iter().map(|&p| frame.to_world(p)) {
             out += &format!("v {} {} {}\n", p.x, p.y, p.z);
         }
-        let n = c.dual.points.len();
+        let n = points.len();
         if n >= 2 {
             out += "l";
             for k in 0..n {

@@ -22,6 +22,9 @@ pub mod worker_api;
 pub mod layout_api;
 
 #[cfg(target_arch = "wasm32")]
+pub mod analysis_api;
+
+#[cfg(target_arch = "wasm32")]
 mod panic {
     use std::cell::RefCell;
     use wasm_bindgen::prelude::*;
