@@ -1428,6 +1428,13 @@ for (const b of document.querySelectorAll('[data-preset]')) {
   b.addEventListener('click', () => { if (viewer) { viewer.view_preset(b.dataset.preset); requestRender(); } });
 }
 $('flat-shading').addEventListener('change', () => { if (viewer) { viewer.set_flat_shading($('flat-shading').checked); requestRender(); } });
+$('crease-angle').addEventListener('change', () => {
+  if (!viewer) return;
+  const wanted = Number($('crease-angle').value);
+  const used = viewer.set_crease_angle(wanted);
+  if (used !== wanted) $('crease-angle').value = String(used);
+  requestRender();
+});
 // Small screens: the panel is a drawer over the view.
 $('panel-toggle').addEventListener('click', () => {
   const open = !document.body.classList.contains('panel-open');
@@ -1436,6 +1443,15 @@ $('panel-toggle').addEventListener('click', () => {
   $('panel-toggle').textContent = open ? 'Close the panel' : 'Layers & controls';
 });
 window.quadrille.camera = () => (viewer ? [...viewer.camera_state()] : null);
+// Tests: looks from (yaw, pitch) at the framed surface.
+window.quadrille.setCamera = ([yaw, pitch]) => {
+  if (!viewer) return;
+  const s = viewer.camera_state();
+  s[0] = yaw;
+  s[1] = pitch;
+  viewer.set_camera_state(s);
+  requestRender();
+};
 $('screenshot').addEventListener('click', saveScreenshot);
 for (const b of document.querySelectorAll('#exports button')) b.addEventListener('click', () => downloadMesh(b.dataset.kind, b.dataset.format));
 $('share').addEventListener('click', share);

@@ -33,6 +33,10 @@ pub struct Viewer {
     own_colors: Option<Vec<[u8; 4]>>,
     /// The surface carries (u, v): draw the checkerboard.
     grid: bool,
+    /// The surface's (u, v), kept to upload again when the crease split changes.
+    uv: Option<Vec<[f32; 2]>>,
+    /// Smooth shading keeps edges sharper than this (degrees) sharp.
+    crease_degrees: f32,
 }
 
 /// Where `pick` met the surface (local coordinates).
@@ -83,6 +87,8 @@ impl Viewer {
             flat: false,
             own_colors: None,
             grid: false,
+            uv: None,
+            crease_degrees: super::scene::CREASE_DEGREES,
         })
     }
 
@@ -123,12 +129,14 @@ impl Viewer {
     ) -> Result<(), JsError> {
         let surface = Surface::new(positions, triangles, normals).map_err(js)?;
         let colors = vec![PLAIN; surface.positions.len()];
-        self.gpu.set_surface(Some((&surface, &colors)));
+        self.gpu
+            .set_surface(Some((&surface, &colors)), self.crease_degrees);
         self.gpu.clear_layers();
         self.surface = Some(surface);
         self.scalar = None;
         self.own_colors = None;
         self.grid = false;
+        self.uv = None;
         self.fit_view();
         Ok(())
     }
@@ -144,11 +152,13 @@ impl Viewer {
     ) -> Result<(), JsError> {
         let surface = Surface::new(positions, triangles, normals).map_err(js)?;
         let colors = vec![PLAIN; surface.positions.len()];
-        self.gpu.set_surface(Some((&surface, &colors)));
+        self.gpu
+            .set_surface(Some((&surface, &colors)), self.crease_degrees);
         self.surface = Some(surface);
         self.scalar = None;
         self.own_colors = None;
         self.grid = false;
+        self.uv = None;
         Ok(())
     }
 
@@ -164,6 +174,7 @@ impl Viewer {
             .len();
         let uv = super::scene::uv_pairs(uv, count).map_err(js)?;
         self.gpu.set_surface_uv(&uv);
+        self.uv = Some(uv);
         self.grid = true;
         Ok(())
     }
@@ -345,6 +356,27 @@ impl Viewer {
     /// Flat shading (one normal per triangle) or smooth (vertex normals).
     pub fn set_flat_shading(&mut self, flat: bool) {
         self.flat = flat;
+    }
+
+    /// Smooth shading keeps edges whose dihedral angle exceeds `degrees`
+    /// sharp (default [`CREASE_DEGREES`]; 180 smooths across every edge).
+    /// Returns the angle in use.
+    ///
+    /// [`CREASE_DEGREES`]: super::scene::CREASE_DEGREES
+    pub fn set_crease_angle(&mut self, degrees: f32) -> f32 {
+        if degrees.is_finite() && (0.0..=180.0).contains(&degrees) && degrees != self.crease_degrees
+        {
+            self.crease_degrees = degrees;
+            if let Some(surface) = &self.surface {
+                let colors = vec![PLAIN; surface.positions.len()];
+                self.gpu.set_surface(Some((surface, &colors)), degrees);
+                if let Some(uv) = &self.uv {
+                    self.gpu.set_surface_uv(uv);
+                }
+                self.upload_colors();
+            }
+        }
+        self.crease_degrees
     }
 
     /// Frames the whole surface.
