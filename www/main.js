@@ -259,7 +259,34 @@ function setScalar(name) {
   requestRender();
 }
 
+// Input ⇄ result: one control flips the view between the input mesh (its
+// surface and edges alone) and what the last run made; the result layers
+// hidden for the input view come back as they were.
+const INPUT_LAYERS = new Set(['surface', 'scalar', 'polygon edges', 'boundary', 'picked']);
+let compareHidden = []; // the result layers hidden to show the input
+const resultLayers = () => LAYERS.filter((l) => !INPUT_LAYERS.has(l.name) && l.visible && available.has(l.name));
+function toggleCompare() {
+  const shown = resultLayers();
+  if (shown.length) {
+    compareHidden = shown.map((l) => l.name);
+    for (const name of compareHidden) setLayerVisible(name, false);
+  } else {
+    const back = compareHidden.length ? compareHidden : ['quad mesh', 'quad mesh faces'];
+    compareHidden = [];
+    // Line and point layers first, then the one surface layer.
+    const order = (n) => (LAYERS.find((l) => l.name === n)?.kind === 'surface' ? 1 : 0);
+    for (const name of [...back].sort((a, b) => order(a) - order(b))) if (available.has(name)) setLayerVisible(name, true);
+  }
+}
+function updateCompareButton() {
+  const showingResult = resultLayers().length > 0;
+  $('compare').textContent = showingResult ? 'Show the input (H)' : 'Show the result (H)';
+  $('compare').disabled = !showingResult && !available.has('quad mesh faces') && !compareHidden.some((n) => available.has(n));
+  $('compare').setAttribute('aria-pressed', String(!showingResult));
+}
+
 function updateLayersPanel() {
+  updateCompareButton();
   $('layers').replaceChildren(...LAYERS.map((layer) => {
     const li = document.createElement('li');
     const box = document.createElement('input');
@@ -444,6 +471,7 @@ function showMesh(name, mesh) {
     inputSurface = mesh;
     extraSurfaces = {};
     drawnSurface = 'input';
+    compareHidden = [];
     viewer.set_mesh(mesh.positions, mesh.triangles, mesh.normals);
     viewer.set_edges('polygon edges', mesh.polygonEdges, layerColor('polygon edges'));
     viewer.set_edges('boundary', mesh.boundaryEdges, layerColor('boundary'));
@@ -1378,6 +1406,7 @@ async function share() {
 // ---------------------------------------------------------------- shortcuts help
 
 const OTHER_KEYS = [['F', 'fit view'], ['P', 'PNG screenshot'], ['O', 'open a file'], ['T', 'design layout mode (dual strip weaving)'],
+  ['H', 'compare: the input ⇄ the result'],
   ['Enter', 'design mode: commit the loop as a strip'], ['Esc', 'cancel / close · design mode: clear the anchors'],
   ['Ctrl+Z · Ctrl+Shift+Z', 'design mode: undo · redo'], ['Wheel', 'design mode: browse alternative loops'],
   ['Shift+wheel', 'design mode: zoom'], ['Right-drag · Alt+drag', 'design mode: turn the view'], ['?', 'this list']];
@@ -1423,6 +1452,8 @@ $('file').addEventListener('change', (e) => {
   e.target.value = '';
 });
 $('cancel').addEventListener('click', () => cancel());
+$('compare').addEventListener('click', toggleCompare);
+window.quadrille.drawnSurface = () => drawnSurface;
 $('fit').addEventListener('click', fitView);
 for (const b of document.querySelectorAll('[data-preset]')) {
   b.addEventListener('click', () => { if (viewer) { viewer.view_preset(b.dataset.preset); requestRender(); } });
@@ -1484,6 +1515,7 @@ document.addEventListener('keydown', (e) => {
   else if (key === 'p') saveScreenshot();
   else if (key === 'o') $('file').click();
   else if (key === 't') toggleDesign();
+  else if (key === 'h') toggleCompare();
   else if (key === '?') toggleShortcuts();
   else if (key === 'escape') { if (!$('shortcuts').hidden) toggleShortcuts(false); else cancel(); }
   else return;

@@ -1284,6 +1284,30 @@ test('smooth shading is smooth on curved parts and keeps fandisk\u2019s creases 
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('one control switches the view between the input and the result, and back', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const clip = await page.locator('#canvas').boundingBox();
+  const state = () => page.evaluate(() => ({ surface: window.quadrille.drawnSurface(), quads: document.getElementById('layer-quad-mesh').checked, legend: document.getElementById('legend').textContent, button: document.getElementById('compare').textContent }));
+  const result = await state();
+  assert(result.surface === 'quad mesh faces' && result.quads && result.button.includes('input'), `the result is shown first: ${JSON.stringify(result)}`);
+  const resultPng = await page.screenshot({ path: join(artifacts, `compare-result-${env.backend}.png`), clip });
+  await page.click('#compare');
+  await settle(page);
+  const input = await state();
+  assert(input.surface === 'input' && !input.quads && input.button.includes('result') && !input.legend.includes('face degree'), `the input alone: ${JSON.stringify(input)}`);
+  const inputPng = await page.screenshot({ path: join(artifacts, `compare-input-${env.backend}.png`), clip });
+  const changed = lumDiff(resultPng, inputPng);
+  assert(changed > 0.02, `the picture changes: ${(100 * changed).toFixed(2)} % of pixels`);
+  await page.keyboard.press('h');
+  await settle(page);
+  const back = await state();
+  assert(back.surface === 'quad mesh faces' && back.quads && back.button.includes('input'), `the key brings the result back: ${JSON.stringify(back)}`);
+  const backPng = await page.screenshot({ path: join(artifacts, `compare-back-${env.backend}.png`), clip });
+  assert(lumDiff(backPng, resultPng) < 0.001, `the same result picture again: ${(100 * lumDiff(backPng, resultPng)).toFixed(3)} % differ`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('touch: one finger orbits, a pinch zooms, two fingers pan', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
