@@ -173,6 +173,7 @@ async function startViewer() {
     return;
   }
   window.quadrille.backend = viewer.backend;
+  viewer.set_glyph_spacing(Number($('glyph-spacing').value) * dpr());
   $('backend-badge').textContent = `${viewer.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'} · ${viewer.tier}`;
   new ResizeObserver(resizeCanvas).observe(canvas);
   resizeCanvas();
@@ -192,8 +193,8 @@ const BASE_LAYERS = [
   { name: 'picked', label: 'Picked point', color: '#ff7a1a', visible: true, size: 11 },
 ];
 const STYLES = {
-  'principal directions': { key: 'd', color: '#c0392b', color2: '#1f5fbf', hidden: true },
-  'cross field': { key: 'x', color: '#33415c', dense: true },
+  'principal directions': { key: 'd', color: '#c0392b', color2: '#1f5fbf', hidden: true, glyph: true },
+  'cross field': { key: 'x', color: '#33415c', dense: true, glyph: true },
   'extracted mesh': { key: 'm', color: '#111111', hidden: true },
   'quad mesh': { key: 'q', color: '#111111' },
   'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 5 },
@@ -556,7 +557,9 @@ function onStage(job, result) {
     available.add('scalar');
   }
   for (const [name, l] of Object.entries(result.lines || {})) {
-    viewer.set_lines(name, l.segments, l.colors);
+    // Field glyphs are drawn at screen density (the glyph spacing control).
+    if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2);
+    else viewer.set_lines(name, l.segments, l.colors);
     addLayer(name, 'lines', l.segments.length / 6);
   }
   for (const [name, p] of Object.entries(result.points || {})) {
@@ -1459,6 +1462,10 @@ for (const b of document.querySelectorAll('[data-preset]')) {
   b.addEventListener('click', () => { if (viewer) { viewer.view_preset(b.dataset.preset); requestRender(); } });
 }
 $('flat-shading').addEventListener('change', () => { if (viewer) { viewer.set_flat_shading($('flat-shading').checked); requestRender(); } });
+// Glyph spacing in CSS pixels; the viewer counts drawing-buffer pixels.
+const applyGlyphSpacing = () => { if (viewer) { viewer.set_glyph_spacing(Number($('glyph-spacing').value) * dpr()); requestRender(); } };
+$('glyph-spacing').addEventListener('input', applyGlyphSpacing);
+window.quadrille.glyphCount = (name) => (viewer ? viewer.glyph_count(name) : 0);
 $('crease-angle').addEventListener('change', () => {
   if (!viewer) return;
   const wanted = Number($('crease-angle').value);
@@ -1475,11 +1482,12 @@ $('panel-toggle').addEventListener('click', () => {
 });
 window.quadrille.camera = () => (viewer ? [...viewer.camera_state()] : null);
 // Tests: looks from (yaw, pitch) at the framed surface.
-window.quadrille.setCamera = ([yaw, pitch]) => {
+window.quadrille.setCamera = ([yaw, pitch, distance]) => {
   if (!viewer) return;
   const s = viewer.camera_state();
-  s[0] = yaw;
-  s[1] = pitch;
+  s[0] = yaw ?? s[0];
+  s[1] = pitch ?? s[1];
+  s[2] = distance ?? s[2];
   viewer.set_camera_state(s);
   requestRender();
 };

@@ -438,8 +438,11 @@ fn stage_result(
             for (v, c) in s.curvature.iter().enumerate() {
                 let p = as_vec3(mesh.positions[v]);
                 let h = (s.sizing.edge_length[v] * 0.35) as f32;
+                // d1 × d2 along the normal: the viewer keeps glyphs that face the eye.
+                let n = s.vertex_normals.get(v).copied().unwrap_or_default();
+                let d2 = if c.d1.cross(c.d2).dot(n) < 0.0 { -c.d2 } else { c.d2 };
                 centred(&mut segments, p, as_vec3(c.d1), h);
-                centred(&mut segments, p, as_vec3(c.d2), h);
+                centred(&mut segments, p, as_vec3(d2), h);
                 colors.extend_from_slice(&D1_COLOR);
                 colors.extend_from_slice(&D2_COLOR);
             }

@@ -1308,6 +1308,49 @@ test('one control switches the view between the input and the result, and back',
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('field glyphs keep their screen spacing when zooming, and the spacing control sets it', async (env) => {
+  const { page, errors } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  await surfaceOnly(page);
+  await page.check('#layer-cross-field');
+  await page.evaluate(() => window.quadrille.setCamera([0, 0]));
+  await settle(page);
+  const base = await page.evaluate(() => window.quadrille.camera()[2]);
+  const clip = await page.locator('#canvas').boundingBox();
+  // Glyphs per 10 000 pixels covered by the bunny (drawing-buffer pixels).
+  const density = async (distance, file) => {
+    await page.evaluate((d) => window.quadrille.setCamera([0, 0, d]), distance);
+    await settle(page);
+    const count = await page.evaluate(() => window.quadrille.glyphCount('cross field'));
+    const covered = inkFraction(await page.screenshot({ path: join(artifacts, `${file}-${env.backend}.png`), clip }));
+    const pixels = covered * clip.width * clip.height * (await page.evaluate(() => window.devicePixelRatio)) ** 2;
+    return { count, covered, per10k: 1e4 * count / pixels };
+  };
+  const mid = await density(base, 'glyphs-mid');
+  const near = await density(base * 0.6, 'glyphs-near');
+  const far = await density(base * 1.8, 'glyphs-far');
+  const sites = await page.evaluate(() => window.quadrille.lastRun.counts.vertices);
+  console.log(`      [${env.backend}] cross-field glyphs (of ${sites} sites) per 10k covered px: near ${near.count} → ${near.per10k.toFixed(1)}, mid ${mid.count} → ${mid.per10k.toFixed(1)}, far ${far.count} → ${far.per10k.toFixed(1)}`);
+  assert(mid.count > 50 && mid.count < sites / 4, `thinned to the screen: ${mid.count} of ${sites}`);
+  for (const [name, d] of [['near', near], ['far', far]]) {
+    assert(d.per10k > 0.6 * mid.per10k && d.per10k < 1.6 * mid.per10k, `${name}: ${d.per10k.toFixed(1)} glyphs per 10k px vs ${mid.per10k.toFixed(1)}`);
+  }
+  assert(near.covered > 2 * far.covered, `the zoom changed the picture: ${near.covered} vs ${far.covered} covered`);
+  // Twice the spacing: about a quarter of the glyphs.
+  await page.evaluate((d) => window.quadrille.setCamera([0, 0, d]), base);
+  await page.locator('#glyph-spacing').fill('48');
+  await settle(page);
+  const sparse = await page.evaluate(() => window.quadrille.glyphCount('cross field'));
+  await page.screenshot({ path: join(artifacts, `glyphs-sparse-${env.backend}.png`), clip });
+  assert(sparse > 0.15 * mid.count && sparse < 0.4 * mid.count, `spacing 48 px: ${sparse} glyphs vs ${mid.count} at 24 px`);
+  // The principal directions follow the same spacing.
+  await page.check('#layer-principal-directions');
+  await settle(page);
+  const principal = await page.evaluate(() => window.quadrille.glyphCount('principal directions'));
+  assert(principal > 0.6 * sparse && principal < 1.6 * sparse, `principal directions: ${principal} glyphs vs ${sparse} crosses`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('touch: one finger orbits, a pinch zooms, two fingers pan', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');

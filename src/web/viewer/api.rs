@@ -2,14 +2,14 @@
 //! arrays), pixels out. The page wires input events to `orbit`, `pan`,
 //! `zoom` and `pick` and calls `render` when something changed.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::Vec3;
 use wasm_bindgen::prelude::*;
 
 use super::camera::OrbitCamera;
 use super::gpu::{BackendPreference, Gpu, Tier};
-use super::scene::{LineSet, PLAIN, PointSet, Scalar, SceneError, Surface};
+use super::scene::{GlyphSet, LineSet, PLAIN, PointSet, Scalar, SceneError, Surface};
 
 fn js(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
@@ -37,6 +37,11 @@ pub struct Viewer {
     uv: Option<Vec<[f32; 2]>>,
     /// Smooth shading keeps edges sharper than this (degrees) sharp.
     crease_degrees: f32,
+    /// Glyph layers by name, thinned to `glyph_spacing` drawing-buffer
+    /// pixels whenever the view changes (`glyph_view` is the last one).
+    glyphs: BTreeMap<String, (GlyphSet, usize)>,
+    glyph_spacing: f32,
+    glyph_view: Option<[f32; 9]>,
 }
 
 /// Where `pick` met the surface (local coordinates).
@@ -89,6 +94,9 @@ impl Viewer {
             grid: false,
             uv: None,
             crease_degrees: super::scene::CREASE_DEGREES,
+            glyphs: BTreeMap::new(),
+            glyph_spacing: 24.0,
+            glyph_view: None,
         })
     }
 
@@ -132,6 +140,7 @@ impl Viewer {
         self.gpu
             .set_surface(Some((&surface, &colors)), self.crease_degrees);
         self.gpu.clear_layers();
+        self.glyphs.clear();
         self.surface = Some(surface);
         self.scalar = None;
         self.own_colors = None;
@@ -243,8 +252,41 @@ impl Viewer {
     /// RGBA colour for all or one per segment. An empty array removes it.
     pub fn set_lines(&mut self, name: &str, segments: &[f32], rgba: &[u8]) -> Result<(), JsError> {
         let lines = LineSet::from_segments(segments, rgba).map_err(js)?;
+        self.glyphs.remove(name);
         self.gpu.set_lines(name, Some(&lines));
         Ok(())
+    }
+
+    /// A glyph layer: centred segments (six floats each), `per_site`
+    /// consecutive ones per glyph (a cross field's two arms), one RGBA
+    /// colour for all or one per segment. Drawn at screen density, at most
+    /// one glyph per cell of the glyph spacing, each about that size on
+    /// screen, re-sampled when the view changes. An empty array removes it.
+    pub fn set_glyphs(
+        &mut self,
+        name: &str,
+        segments: &[f32],
+        rgba: &[u8],
+        per_site: u32,
+    ) -> Result<(), JsError> {
+        let glyphs = GlyphSet::from_segments(segments, rgba, per_site as usize).map_err(js)?;
+        self.glyphs.insert(name.to_string(), (glyphs, 0));
+        self.glyph_view = None;
+        Ok(())
+    }
+
+    /// Distance between glyphs in drawing-buffer pixels (at least 4).
+    pub fn set_glyph_spacing(&mut self, px: f32) -> f32 {
+        if px.is_finite() {
+            self.glyph_spacing = px.max(4.0);
+            self.glyph_view = None;
+        }
+        self.glyph_spacing
+    }
+
+    /// How many glyphs of a glyph layer the last frame drew.
+    pub fn glyph_count(&self, name: &str) -> u32 {
+        self.glyphs.get(name).map_or(0, |g| g.1 as u32)
     }
 
     /// A line layer from vertex index pairs over the surface, e.g. the
@@ -409,6 +451,7 @@ impl Viewer {
 
     /// Draws a frame.
     pub fn render(&mut self) -> Result<(), JsError> {
+        self.thin_glyphs();
         let hidden = &self.hidden;
         self.gpu
             .render(
@@ -423,6 +466,30 @@ impl Viewer {
 }
 
 impl Viewer {
+    /// Re-samples the glyph layers when the camera, the target size or the
+    /// spacing changed since the last frame.
+    fn thin_glyphs(&mut self) {
+        let (w, h) = self.gpu.size();
+        let c = self.camera.state();
+        let view = [c[0], c[1], c[2], c[3], c[4], c[5], w as f32, h as f32, self.glyph_spacing];
+        if self.glyph_view == Some(view) {
+            return;
+        }
+        self.glyph_view = Some(view);
+        let (view_proj, eye) = (self.camera.view_proj(), self.camera.eye());
+        for (name, (glyphs, count)) in self.glyphs.iter_mut() {
+            let (lines, n) = glyphs.thin(
+                view_proj,
+                eye,
+                self.camera.fov_y,
+                (w as f32, h as f32),
+                self.glyph_spacing,
+            );
+            *count = n;
+            self.gpu.set_lines(name, Some(&lines));
+        }
+    }
+
     fn upload_colors(&mut self) {
         let Some(surface) = &self.surface else { return };
         let colors = match self

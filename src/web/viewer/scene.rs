@@ -476,6 +476,108 @@ impl LineSet {
     }
 }
 
+/// Tangent glyphs (a cross field's two arms, the principal directions) at
+/// sites on the surface, drawn at screen density: at most one glyph per
+/// square cell of the screen, so they stay legible at any zoom.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GlyphSet {
+    pub centres: Vec<Vec3>,
+    /// `per_site` arms per site (unit directions), site after site.
+    pub arms: Vec<Vec3>,
+    /// One colour per arm.
+    pub colors: Vec<[u8; 4]>,
+    pub per_site: usize,
+}
+
+impl GlyphSet {
+    /// From centred segments (six floats each), `per_site` consecutive
+    /// ones making one glyph; one colour for all or one per segment.
+    pub fn from_segments(segments: &[f32], rgba: &[u8], per_site: usize) -> Result<GlyphSet, SceneError> {
+        let lines = LineSet::from_segments(segments, rgba)?;
+        let per_site = per_site.max(1);
+        if lines.segments.len() % per_site != 0 {
+            return Err(SceneError::Length {
+                what: "glyph segments",
+                len: lines.segments.len(),
+                multiple: per_site,
+            });
+        }
+        let centres = lines
+            .segments
+            .chunks_exact(per_site)
+            .map(|g| (g[0][0] + g[0][1]) * 0.5)
+            .collect();
+        let arms = lines
+            .segments
+            .iter()
+            .map(|[a, b]| (*b - *a).normalize_or_zero())
+            .collect();
+        Ok(GlyphSet {
+            centres,
+            arms,
+            colors: lines.colors,
+            per_site,
+        })
+    }
+
+    /// The glyphs seen through `view_proj` from `eye` on a `width` ×
+    /// `height` pixel target: per cell of `spacing` pixels the site nearest
+    /// the cell's centre that is in view and faces the eye (the first two
+    /// arms' cross product; glyphs of one arm always do), each arm scaled
+    /// to 0.4 `spacing` pixels either side (`fov_y` gives pixels per world
+    /// unit at a site's distance). Returns the segments and how many glyphs.
+    pub fn thin(
+        &self,
+        view_proj: glam::Mat4,
+        eye: Vec3,
+        fov_y: f32,
+        (width, height): (f32, f32),
+        spacing: f32,
+    ) -> (LineSet, usize) {
+        use std::collections::HashMap;
+        let spacing = spacing.max(1.0);
+        let mut best: HashMap<(i32, i32), (usize, f32)> = HashMap::new();
+        for (i, &c) in self.centres.iter().enumerate() {
+            if self.per_site >= 2 {
+                let n = self.arms[i * self.per_site].cross(self.arms[i * self.per_site + 1]);
+                if n.dot(eye - c) <= 0.0 {
+                    continue;
+                }
+            }
+            let clip = view_proj * c.extend(1.0);
+            if clip.w <= 1e-6 {
+                continue;
+            }
+            let ndc = clip.truncate() / clip.w;
+            if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 || !(0.0..=1.0).contains(&ndc.z) {
+                continue;
+            }
+            let (x, y) = ((ndc.x + 1.0) * 0.5 * width, (1.0 - ndc.y) * 0.5 * height);
+            let cell = ((x / spacing).floor() as i32, (y / spacing).floor() as i32);
+            let (cx, cy) = ((cell.0 as f32 + 0.5) * spacing, (cell.1 as f32 + 0.5) * spacing);
+            let d = (x - cx).powi(2) + (y - cy).powi(2);
+            let slot = best.entry(cell).or_insert((i, d));
+            if d < slot.1 {
+                *slot = (i, d);
+            }
+        }
+        let mut kept: Vec<usize> = best.into_values().map(|(i, _)| i).collect();
+        kept.sort_unstable();
+        let world_per_px = 2.0 * (fov_y * 0.5).tan() / height.max(1.0);
+        let mut lines = LineSet::default();
+        for &i in &kept {
+            let c = self.centres[i];
+            let half = 0.4 * spacing * world_per_px * c.distance(eye);
+            for k in i * self.per_site..(i + 1) * self.per_site {
+                let d = self.arms[k] * half;
+                lines.segments.push([c - d, c + d]);
+                lines.colors.push(self.colors[k]);
+            }
+        }
+        (lines, kept.len())
+    }
+}
+
 /// Round markers of one pixel size, one colour each.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PointSet {
@@ -627,5 +729,59 @@ mod tests {
         assert!((d.normals[0] - d.normals[3]).length() < 1e-6, "welded corner 0/3 share a fan");
         assert!((d.normals[2] - d.normals[4]).length() < 1e-6, "welded corner 2/4 share a fan");
         assert!((d.normals[1] - Vec3::Z).length() < 1e-6);
+    }
+
+    #[test]
+    fn glyphs_thin_to_one_per_screen_cell() {
+        // A 200 × 200 grid of crosses on the plane z = 0, seen from +z.
+        let mut seg = Vec::new();
+        for i in 0..200 {
+            for j in 0..200 {
+                let c = Vec3::new(i as f32 / 100.0 - 1.0, j as f32 / 100.0 - 1.0, 0.0);
+                for d in [Vec3::X, Vec3::Y] {
+                    seg.extend((c - d * 0.001).to_array());
+                    seg.extend((c + d * 0.001).to_array());
+                }
+            }
+        }
+        let g = GlyphSet::from_segments(&seg, &[1, 2, 3, 255], 2).unwrap();
+        assert_eq!(g.centres.len(), 40000);
+        let mut cam = super::super::camera::OrbitCamera::default();
+        cam.aspect = 1.0;
+        cam.fit(Vec3::ZERO, 1.0);
+        cam.yaw = 0.0;
+        cam.pitch = 0.0;
+        let count = |cam: &super::super::camera::OrbitCamera, spacing: f32| {
+            g.thin(cam.view_proj(), cam.eye(), cam.fov_y, (400.0, 400.0), spacing).1
+        };
+        let near = {
+            let mut c = cam.clone();
+            c.distance *= 0.5;
+            c
+        };
+        let far = {
+            let mut c = cam.clone();
+            c.distance *= 2.0;
+            c
+        };
+        // The plane covers the view up close: one glyph per 20-pixel cell.
+        assert_eq!(count(&near, 20.0), 400);
+        // Farther, the same cells over a smaller picture; doubling the spacing quarters them.
+        let (a, b) = (count(&cam, 20.0), count(&cam, 40.0));
+        assert!((3.0..5.0).contains(&(a as f32 / b as f32)), "{a} vs {b}");
+        assert!(count(&far, 20.0) < a);
+        // Seen from behind (−z), every glyph faces away.
+        let mut back = cam.clone();
+        back.yaw = std::f32::consts::PI;
+        assert_eq!(count(&back, 20.0), 0);
+        // Arms span 0.4 spacing either side on screen.
+        let (lines, n) = g.thin(near.view_proj(), near.eye(), near.fov_y, (400.0, 400.0), 20.0);
+        assert_eq!(lines.segments.len(), 2 * n);
+        let [p, q] = lines.segments[0];
+        let px = |v: Vec3| {
+            let c = near.view_proj() * v.extend(1.0);
+            c.truncate().truncate() / c.w * 200.0
+        };
+        assert!(((px(q) - px(p)).length() - 16.0).abs() < 0.5, "{}", (px(q) - px(p)).length());
     }
 }
