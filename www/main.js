@@ -504,7 +504,7 @@ function showMesh(name, mesh) {
 let paramWanted = false;
 let mapKey = null;
 function currentMapKey() {
-  try { return gridMapKey(JSON.stringify(paramValues)); } catch { return null; }
+  try { return gridMapKey(paramValues); } catch { return null; }
 }
 function addParametrizationLayer() {
   const was = LAYERS.find((l) => l.name === PARAM_LAYER);
@@ -759,7 +759,7 @@ function run(name, bytes, sample = null) {
   resetStageBars();
   showProgress(`${name}: reading ${(bytes.byteLength / 1024).toFixed(0)} KiB…`, 0);
   setStatus(`${name}: ${STAGE_TEXT.import}…`);
-  worker.postMessage({ type: 'run', job: current.job, name, bytes, params: JSON.stringify(paramValues), cancelFlag: flag }, [bytes]);
+  worker.postMessage({ type: 'run', job: current.job, name, bytes, params: paramValues, cancelFlag: flag }, [bytes]);
 }
 
 // New parameters: the worker keeps the input and every stage before the
@@ -784,7 +784,7 @@ function rerun() {
   resetStageBars('analysis');
   showProgress(`${lastInput.name}: new parameters…`, 0);
   setStatus(`Parameters changed: running ${lastInput.name} again from the first stage they affect…`);
-  worker.postMessage({ type: 'params', job: current.job, params: JSON.stringify(paramValues), cancelFlag: flag });
+  worker.postMessage({ type: 'params', job: current.job, params: paramValues, cancelFlag: flag });
 }
 
 // Cancel: ask the worker (it checks between stages, and the shared flag in

@@ -1351,6 +1351,36 @@ test('field glyphs keep their screen spacing when zooming, and the spacing contr
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('parameters cross to the worker as objects: the run echoes them, nulls included; a wrong type is a clear error', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const leaves = (o, prefix = '', out = {}) => {
+    for (const [k, v] of Object.entries(o)) {
+      const path = prefix ? `${prefix}.${k}` : k;
+      if (v && typeof v === 'object' && !Array.isArray(v)) leaves(v, path, out);
+      else out[path] = v;
+    }
+    return out;
+  };
+  const { page: mine, run } = await page.evaluate(() => ({ page: window.quadrille.params(), run: window.quadrille.lastRun.parameters }));
+  const [a, b] = [leaves(mine), leaves(run)];
+  const nulls = Object.keys(a).filter((k) => a[k] === null);
+  assert(nulls.length > 0, 'some parameters are null (auto) by default');
+  for (const [k, v] of Object.entries(a)) {
+    assert(JSON.stringify(b[k]) === JSON.stringify(v) && (v !== null || b[k] === null), `${k}: page ${JSON.stringify(v)}, worker ${b[k] === undefined ? 'undefined' : JSON.stringify(b[k])}`);
+  }
+  await page.evaluate(() => window.quadrille.setParam('field.position_iterations', 'many'));
+  await page.waitForFunction(() => window.quadrille.lastError && window.quadrille.lastError.includes('parameters'), null, { timeout: 30000 });
+  const message = await page.evaluate(() => window.quadrille.lastError);
+  assert(message.includes('invalid type') && message.includes('many'), `the error says what is wrong: ${message}`);
+  assert((await page.textContent('#status')).includes('parameters'), 'the error is on the page');
+  await page.evaluate(() => window.quadrille.setParam('field.position_iterations', 7));
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.position_iterations === 7 && window.quadrille.lastRun.complete, null, { timeout: 60000 });
+  const counts = await page.evaluate(() => window.quadrille.lastRun.counts);
+  assert(counts.quad_mesh_faces > 0 && counts.vertices === 2930, `the run goes on: ${JSON.stringify(counts)}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('touch: one finger orbits, a pinch zooms, two fingers pan', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');

@@ -237,14 +237,10 @@ impl Viewer {
             .filter(|_| !self.hidden.contains(SCALAR))
         {
             None => Ok(JsValue::NULL),
-            Some(s) => {
-                let json = serde_json::json!({
-                    "name": s.name, "min": s.min, "max": s.max,
-                    "colormap": s.colormap.name(), "stops": s.colormap.css_stops(),
-                });
-                js_sys::JSON::parse(&json.to_string())
-                    .map_err(|_| js("could not encode the legend"))
-            }
+            Some(s) => crate::web::worker_api::to_js(&serde_json::json!({
+                "name": s.name, "min": s.min, "max": s.max,
+                "colormap": s.colormap.name(), "stops": s.colormap.css_stops(),
+            })),
         }
     }
 
@@ -471,7 +467,17 @@ impl Viewer {
     fn thin_glyphs(&mut self) {
         let (w, h) = self.gpu.size();
         let c = self.camera.state();
-        let view = [c[0], c[1], c[2], c[3], c[4], c[5], w as f32, h as f32, self.glyph_spacing];
+        let view = [
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            c[4],
+            c[5],
+            w as f32,
+            h as f32,
+            self.glyph_spacing,
+        ];
         if self.glyph_view == Some(view) {
             return;
         }

@@ -186,15 +186,19 @@ impl Surface {
     ///
     /// [`EdgeTopology::sharp_edges`]: crate::mesh::EdgeTopology::sharp_edges
     pub fn split_at_creases(&self, degrees: f32) -> DrawMesh {
-        use crate::mesh::TriMesh;
         use crate::mesh::EdgeTopology;
+        use crate::mesh::TriMesh;
         use std::collections::{HashMap, HashSet};
         let mut weld_of = HashMap::new();
         let welded: Vec<u32> = self
             .positions
             .iter()
             .enumerate()
-            .map(|(i, p)| *weld_of.entry(p.to_array().map(f32::to_bits)).or_insert(i as u32))
+            .map(|(i, p)| {
+                *weld_of
+                    .entry(p.to_array().map(f32::to_bits))
+                    .or_insert(i as u32)
+            })
             .collect();
         let triangles: Vec<[u32; 3]> = self
             .triangles
@@ -226,7 +230,8 @@ impl Surface {
                 if a == b {
                     continue;
                 }
-                let corner = |v: u32| 3 * t as u32 + if v == tri[k] { k } else { (k + 1) % 3 } as u32;
+                let corner =
+                    |v: u32| 3 * t as u32 + if v == tri[k] { k } else { (k + 1) % 3 } as u32;
                 let key = (a.min(b), a.max(b));
                 sides
                     .entry(key)
@@ -492,7 +497,11 @@ pub struct GlyphSet {
 impl GlyphSet {
     /// From centred segments (six floats each), `per_site` consecutive
     /// ones making one glyph; one colour for all or one per segment.
-    pub fn from_segments(segments: &[f32], rgba: &[u8], per_site: usize) -> Result<GlyphSet, SceneError> {
+    pub fn from_segments(
+        segments: &[f32],
+        rgba: &[u8],
+        per_site: usize,
+    ) -> Result<GlyphSet, SceneError> {
         let lines = LineSet::from_segments(segments, rgba)?;
         let per_site = per_site.max(1);
         if lines.segments.len() % per_site != 0 {
@@ -554,7 +563,10 @@ impl GlyphSet {
             }
             let (x, y) = ((ndc.x + 1.0) * 0.5 * width, (1.0 - ndc.y) * 0.5 * height);
             let cell = ((x / spacing).floor() as i32, (y / spacing).floor() as i32);
-            let (cx, cy) = ((cell.0 as f32 + 0.5) * spacing, (cell.1 as f32 + 0.5) * spacing);
+            let (cx, cy) = (
+                (cell.0 as f32 + 0.5) * spacing,
+                (cell.1 as f32 + 0.5) * spacing,
+            );
             let d = (x - cx).powi(2) + (y - cy).powi(2);
             let slot = best.entry(cell).or_insert((i, d));
             if d < slot.1 {
@@ -684,7 +696,14 @@ mod tests {
         for i in 0..8 {
             p.extend([(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]);
         }
-        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
         let t: Vec<u32> = quads
             .iter()
             .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
@@ -702,7 +721,11 @@ mod tests {
             let [a, b, e] = c.triangles[t].map(|v| c.positions[v as usize]);
             let face = (b - a).cross(e - a).normalize();
             for &v in tri {
-                assert!((d.normals[v as usize] - face).length() < 1e-5, "{:?} vs {face:?}", d.normals[v as usize]);
+                assert!(
+                    (d.normals[v as usize] - face).length() < 1e-5,
+                    "{:?} vs {face:?}",
+                    d.normals[v as usize]
+                );
             }
         }
         // 180°: nothing is sharp; one normal per corner, the diagonal of the cube.
@@ -722,12 +745,20 @@ mod tests {
         assert!(d.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
         // The same two triangles with their own corners (a result surface):
         // the shared corners keep their own vertices but one normal.
-        let p = [0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 0., 0., 1., 1., 0., 0., 1., 0.2];
+        let p = [
+            0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 0., 0., 1., 1., 0., 0., 1., 0.2,
+        ];
         let s = Surface::new(&p, &[0, 1, 2, 3, 4, 5], &[0.0; 18]).unwrap();
         let d = s.split_at_creases(CREASE_DEGREES);
         assert_eq!(d.source, vec![0, 1, 2, 3, 4, 5]);
-        assert!((d.normals[0] - d.normals[3]).length() < 1e-6, "welded corner 0/3 share a fan");
-        assert!((d.normals[2] - d.normals[4]).length() < 1e-6, "welded corner 2/4 share a fan");
+        assert!(
+            (d.normals[0] - d.normals[3]).length() < 1e-6,
+            "welded corner 0/3 share a fan"
+        );
+        assert!(
+            (d.normals[2] - d.normals[4]).length() < 1e-6,
+            "welded corner 2/4 share a fan"
+        );
         assert!((d.normals[1] - Vec3::Z).length() < 1e-6);
     }
 
@@ -752,7 +783,14 @@ mod tests {
         cam.yaw = 0.0;
         cam.pitch = 0.0;
         let count = |cam: &super::super::camera::OrbitCamera, spacing: f32| {
-            g.thin(cam.view_proj(), cam.eye(), cam.fov_y, (400.0, 400.0), spacing).1
+            g.thin(
+                cam.view_proj(),
+                cam.eye(),
+                cam.fov_y,
+                (400.0, 400.0),
+                spacing,
+            )
+            .1
         };
         let near = {
             let mut c = cam.clone();
@@ -775,13 +813,23 @@ mod tests {
         back.yaw = std::f32::consts::PI;
         assert_eq!(count(&back, 20.0), 0);
         // Arms span 0.4 spacing either side on screen.
-        let (lines, n) = g.thin(near.view_proj(), near.eye(), near.fov_y, (400.0, 400.0), 20.0);
+        let (lines, n) = g.thin(
+            near.view_proj(),
+            near.eye(),
+            near.fov_y,
+            (400.0, 400.0),
+            20.0,
+        );
         assert_eq!(lines.segments.len(), 2 * n);
         let [p, q] = lines.segments[0];
         let px = |v: Vec3| {
             let c = near.view_proj() * v.extend(1.0);
             c.truncate().truncate() / c.w * 200.0
         };
-        assert!(((px(q) - px(p)).length() - 16.0).abs() < 0.5, "{}", (px(q) - px(p)).length());
+        assert!(
+            ((px(q) - px(p)).length() - 16.0).abs() < 0.5,
+            "{}",
+            (px(q) - px(p)).length()
+        );
     }
 }
