@@ -534,7 +534,7 @@ impl GlyphSet {
     /// the cell's centre that is in view and faces the eye (the first two
     /// arms' cross product; glyphs of one arm always do), each arm scaled
     /// to 0.4 `spacing` pixels either side (`fov_y` gives pixels per world
-    /// unit at a site's distance). Returns the segments and how many glyphs.
+    /// unit at a site's view depth). Returns the segments and how many glyphs.
     pub fn thin(
         &self,
         view_proj: glam::Mat4,
@@ -545,7 +545,8 @@ impl GlyphSet {
     ) -> (LineSet, usize) {
         use std::collections::HashMap;
         let spacing = spacing.max(1.0);
-        let mut best: HashMap<(i32, i32), (usize, f32)> = HashMap::new();
+        // Per cell: site, squared distance to the cell centre, view depth.
+        let mut best: HashMap<(i32, i32), (usize, f32, f32)> = HashMap::new();
         for (i, &c) in self.centres.iter().enumerate() {
             if self.per_site >= 2 {
                 let n = self.arms[i * self.per_site].cross(self.arms[i * self.per_site + 1]);
@@ -568,18 +569,19 @@ impl GlyphSet {
                 (cell.1 as f32 + 0.5) * spacing,
             );
             let d = (x - cx).powi(2) + (y - cy).powi(2);
-            let slot = best.entry(cell).or_insert((i, d));
+            let slot = best.entry(cell).or_insert((i, d, clip.w));
             if d < slot.1 {
-                *slot = (i, d);
+                *slot = (i, d, clip.w);
             }
         }
-        let mut kept: Vec<usize> = best.into_values().map(|(i, _)| i).collect();
-        kept.sort_unstable();
+        let mut kept: Vec<(usize, f32)> = best.into_values().map(|(i, _, w)| (i, w)).collect();
+        kept.sort_unstable_by_key(|k| k.0);
         let world_per_px = 2.0 * (fov_y * 0.5).tan() / height.max(1.0);
         let mut lines = LineSet::default();
-        for &i in &kept {
+        for &(i, depth) in &kept {
             let c = self.centres[i];
-            let half = 0.4 * spacing * world_per_px * c.distance(eye);
+            // Pixels per world unit go with the view depth (clip w).
+            let half = 0.4 * spacing * world_per_px * depth;
             for k in i * self.per_site..(i + 1) * self.per_site {
                 let d = self.arms[k] * half;
                 lines.segments.push([c - d, c + d]);
