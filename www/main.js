@@ -173,6 +173,7 @@ async function startViewer() {
     return;
   }
   window.quadrille.backend = viewer.backend;
+  viewer.set_glyph_spacing(Number($('glyph-spacing').value) * dpr());
   $('backend-badge').textContent = `${viewer.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'} · ${viewer.tier}`;
   new ResizeObserver(resizeCanvas).observe(canvas);
   resizeCanvas();
@@ -192,8 +193,8 @@ const BASE_LAYERS = [
   { name: 'picked', label: 'Picked point', color: '#ff7a1a', visible: true, size: 11 },
 ];
 const STYLES = {
-  'principal directions': { key: 'd', color: '#c0392b', color2: '#1f5fbf', hidden: true },
-  'cross field': { key: 'x', color: '#33415c', dense: true },
+  'principal directions': { key: 'd', color: '#c0392b', color2: '#1f5fbf', hidden: true, glyph: true },
+  'cross field': { key: 'x', color: '#33415c', dense: true, glyph: true },
   'extracted mesh': { key: 'm', color: '#111111', hidden: true },
   'quad mesh': { key: 'q', color: '#111111' },
   'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 5 },
@@ -259,7 +260,34 @@ function setScalar(name) {
   requestRender();
 }
 
+// Input ⇄ result: one control flips the view between the input mesh (its
+// surface and edges alone) and what the last run made; the result layers
+// hidden for the input view come back as they were.
+const INPUT_LAYERS = new Set(['surface', 'scalar', 'polygon edges', 'boundary', 'picked']);
+let compareHidden = []; // the result layers hidden to show the input
+const resultLayers = () => LAYERS.filter((l) => !INPUT_LAYERS.has(l.name) && l.visible && available.has(l.name));
+function toggleCompare() {
+  const shown = resultLayers();
+  if (shown.length) {
+    compareHidden = shown.map((l) => l.name);
+    for (const name of compareHidden) setLayerVisible(name, false);
+  } else {
+    const back = compareHidden.length ? compareHidden : ['quad mesh', 'quad mesh faces'];
+    compareHidden = [];
+    // Line and point layers first, then the one surface layer.
+    const order = (n) => (LAYERS.find((l) => l.name === n)?.kind === 'surface' ? 1 : 0);
+    for (const name of [...back].sort((a, b) => order(a) - order(b))) if (available.has(name)) setLayerVisible(name, true);
+  }
+}
+function updateCompareButton() {
+  const showingResult = resultLayers().length > 0;
+  $('compare').textContent = showingResult ? 'Show the input (H)' : 'Show the result (H)';
+  $('compare').disabled = !showingResult && !available.has('quad mesh faces') && !compareHidden.some((n) => available.has(n));
+  $('compare').setAttribute('aria-pressed', String(!showingResult));
+}
+
 function updateLayersPanel() {
+  updateCompareButton();
   $('layers').replaceChildren(...LAYERS.map((layer) => {
     const li = document.createElement('li');
     const box = document.createElement('input');
@@ -444,6 +472,7 @@ function showMesh(name, mesh) {
     inputSurface = mesh;
     extraSurfaces = {};
     drawnSurface = 'input';
+    compareHidden = [];
     viewer.set_mesh(mesh.positions, mesh.triangles, mesh.normals);
     viewer.set_edges('polygon edges', mesh.polygonEdges, layerColor('polygon edges'));
     viewer.set_edges('boundary', mesh.boundaryEdges, layerColor('boundary'));
@@ -475,7 +504,7 @@ function showMesh(name, mesh) {
 let paramWanted = false;
 let mapKey = null;
 function currentMapKey() {
-  try { return gridMapKey(JSON.stringify(paramValues)); } catch { return null; }
+  try { return gridMapKey(paramValues); } catch { return null; }
 }
 function addParametrizationLayer() {
   const was = LAYERS.find((l) => l.name === PARAM_LAYER);
@@ -528,7 +557,9 @@ function onStage(job, result) {
     available.add('scalar');
   }
   for (const [name, l] of Object.entries(result.lines || {})) {
-    viewer.set_lines(name, l.segments, l.colors);
+    // Field glyphs are drawn at screen density (the glyph spacing control).
+    if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2);
+    else viewer.set_lines(name, l.segments, l.colors);
     addLayer(name, 'lines', l.segments.length / 6);
   }
   for (const [name, p] of Object.entries(result.points || {})) {
@@ -728,7 +759,7 @@ function run(name, bytes, sample = null) {
   resetStageBars();
   showProgress(`${name}: reading ${(bytes.byteLength / 1024).toFixed(0)} KiB…`, 0);
   setStatus(`${name}: ${STAGE_TEXT.import}…`);
-  worker.postMessage({ type: 'run', job: current.job, name, bytes, params: JSON.stringify(paramValues), cancelFlag: flag }, [bytes]);
+  worker.postMessage({ type: 'run', job: current.job, name, bytes, params: paramValues, cancelFlag: flag }, [bytes]);
 }
 
 // New parameters: the worker keeps the input and every stage before the
@@ -753,7 +784,7 @@ function rerun() {
   resetStageBars('analysis');
   showProgress(`${lastInput.name}: new parameters…`, 0);
   setStatus(`Parameters changed: running ${lastInput.name} again from the first stage they affect…`);
-  worker.postMessage({ type: 'params', job: current.job, params: JSON.stringify(paramValues), cancelFlag: flag });
+  worker.postMessage({ type: 'params', job: current.job, params: paramValues, cancelFlag: flag });
 }
 
 // Cancel: ask the worker (it checks between stages, and the shared flag in
@@ -1378,6 +1409,7 @@ async function share() {
 // ---------------------------------------------------------------- shortcuts help
 
 const OTHER_KEYS = [['F', 'fit view'], ['P', 'PNG screenshot'], ['O', 'open a file'], ['T', 'design layout mode (dual strip weaving)'],
+  ['H', 'compare: the input ⇄ the result'],
   ['Enter', 'design mode: commit the loop as a strip'], ['Esc', 'cancel / close · design mode: clear the anchors'],
   ['Ctrl+Z · Ctrl+Shift+Z', 'design mode: undo · redo'], ['Wheel', 'design mode: browse alternative loops'],
   ['Shift+wheel', 'design mode: zoom'], ['Right-drag · Alt+drag', 'design mode: turn the view'], ['?', 'this list']];
@@ -1423,11 +1455,24 @@ $('file').addEventListener('change', (e) => {
   e.target.value = '';
 });
 $('cancel').addEventListener('click', () => cancel());
+$('compare').addEventListener('click', toggleCompare);
+window.quadrille.drawnSurface = () => drawnSurface;
 $('fit').addEventListener('click', fitView);
 for (const b of document.querySelectorAll('[data-preset]')) {
   b.addEventListener('click', () => { if (viewer) { viewer.view_preset(b.dataset.preset); requestRender(); } });
 }
 $('flat-shading').addEventListener('change', () => { if (viewer) { viewer.set_flat_shading($('flat-shading').checked); requestRender(); } });
+// Glyph spacing in CSS pixels; the viewer counts drawing-buffer pixels.
+const applyGlyphSpacing = () => { if (viewer) { viewer.set_glyph_spacing(Number($('glyph-spacing').value) * dpr()); requestRender(); } };
+$('glyph-spacing').addEventListener('input', applyGlyphSpacing);
+window.quadrille.glyphCount = (name) => (viewer ? viewer.glyph_count(name) : 0);
+$('crease-angle').addEventListener('change', () => {
+  if (!viewer) return;
+  const wanted = Number($('crease-angle').value);
+  const used = viewer.set_crease_angle(wanted);
+  if (used !== wanted) $('crease-angle').value = String(used);
+  requestRender();
+});
 // Small screens: the panel is a drawer over the view.
 $('panel-toggle').addEventListener('click', () => {
   const open = !document.body.classList.contains('panel-open');
@@ -1436,6 +1481,16 @@ $('panel-toggle').addEventListener('click', () => {
   $('panel-toggle').textContent = open ? 'Close the panel' : 'Layers & controls';
 });
 window.quadrille.camera = () => (viewer ? [...viewer.camera_state()] : null);
+// Tests: looks from (yaw, pitch) at the framed surface.
+window.quadrille.setCamera = ([yaw, pitch, distance]) => {
+  if (!viewer) return;
+  const s = viewer.camera_state();
+  s[0] = yaw ?? s[0];
+  s[1] = pitch ?? s[1];
+  s[2] = distance ?? s[2];
+  viewer.set_camera_state(s);
+  requestRender();
+};
 $('screenshot').addEventListener('click', saveScreenshot);
 for (const b of document.querySelectorAll('#exports button')) b.addEventListener('click', () => downloadMesh(b.dataset.kind, b.dataset.format));
 $('share').addEventListener('click', share);
@@ -1468,6 +1523,7 @@ document.addEventListener('keydown', (e) => {
   else if (key === 'p') saveScreenshot();
   else if (key === 'o') $('file').click();
   else if (key === 't') toggleDesign();
+  else if (key === 'h') toggleCompare();
   else if (key === '?') toggleShortcuts();
   else if (key === 'escape') { if (!$('shortcuts').hidden) toggleShortcuts(false); else cancel(); }
   else return;

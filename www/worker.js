@@ -1,8 +1,8 @@
 // The pipeline's worker: all mesh work happens here, never on the page's
 // thread. One Session (Rust) lives here between messages.
 //
-// Messages in:   { type: 'run', job, name, bytes: ArrayBuffer, params: JSON text, cancelFlag?: SharedArrayBuffer }
-//                { type: 'params', job, params: JSON text, cancelFlag? }   re-runs from the first changed stage
+// Messages in:   { type: 'run', job, name, bytes: ArrayBuffer, params: object, cancelFlag?: SharedArrayBuffer }
+//                { type: 'params', job, params: object, cancelFlag? }   re-runs from the first changed stage
 //                { type: 'param', job, cancelFlag? }   the parametrization layer, on demand (needs an import)
 //                { type: 'export', id, kind, format }
 //                { type: 'schema', id }
@@ -109,7 +109,7 @@ self.onmessage = async (event) => {
   const message = event.data;
   if (message.type === 'run') {
     drive(message, (s) => {
-      s.setParams(message.params || '{}');
+      s.setParams(message.params ?? {});
       s.start(new Uint8Array(message.bytes), message.name);
       return 'import';
     });

@@ -10,7 +10,8 @@
 //! [`crate::pipeline::Pipeline::run`]). The worker goes back to its event
 //! loop between steps, where a `cancel` message is seen.
 //!
-//! Parameters: `setParams(json)` hands the pipeline new parameters
+//! Parameters: `setParams(object)` (serde-wasm-bindgen, like every small
+//! structured value crossing the boundary) hands the pipeline new parameters
 //! ([`crate::pipeline::Pipeline::set_params`]); only the stages from the
 //! first one they change on run again at the next `step`. `summary()`
 //! lists the stages the latest run ran (`stagesRun`). `parameterSchema()`
@@ -87,14 +88,13 @@ pub fn limit_surface_object(f: &crate::subdivision::FitResult) -> Result<Object,
     Ok(surface)
 }
 
-/// What the integer-grid map depends on, for the page's parameters (JSON
-/// of [`Params`]): the JSON of the map's own parameters
-/// ([`crate::param::Params::from_pipeline`]). The page keeps the map
-/// across a parameter change that leaves it the same.
+/// What the integer-grid map depends on, for the page's parameters (an
+/// object shaped as [`Params`]): the JSON text of the map's own parameters
+/// ([`crate::param::Params::from_pipeline`]), a key the page compares; it
+/// keeps the map across a parameter change that leaves the key the same.
 #[wasm_bindgen(js_name = gridMapKey)]
-pub fn grid_map_key(json: &str) -> Result<String, JsError> {
-    let params: Params =
-        serde_json::from_str(json).map_err(|e| js_err(format!("parameters: {e}")))?;
+pub fn grid_map_key(params: JsValue) -> Result<String, JsError> {
+    let params = params_from_js(params)?;
     serde_json::to_string(&crate::param::Params::from_pipeline(&params)).map_err(js_err)
 }
 
@@ -141,9 +141,23 @@ fn set(target: &Object, key: &str, value: impl Into<JsValue>) -> Result<(), JsEr
         .map_err(|_| JsError::new(&format!("could not set {key}")))
 }
 
-fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
-    let json = serde_json::to_string(value).map_err(|e| JsError::new(&e.to_string()))?;
-    js_sys::JSON::parse(&json).map_err(|_| JsError::new("could not encode a result"))
+/// A small structured value (parameters, summaries, a stage's metadata)
+/// as a plain JS value through serde-wasm-bindgen, shaped as its JSON
+/// would be (maps as objects, `None` as `null`); big arrays go as typed
+/// arrays instead.
+pub(crate) fn to_js<T: serde::Serialize + ?Sized>(value: &T) -> Result<JsValue, JsError> {
+    value
+        .serialize(&serde_wasm_bindgen::Serializer::json_compatible())
+        .map_err(|e| JsError::new(&format!("could not encode a result: {e}")))
+}
+
+/// The page's parameters (a plain object shaped as [`Params`]' JSON;
+/// missing fields take their defaults), or an error naming what is wrong.
+fn params_from_js(value: JsValue) -> Result<Params, JsError> {
+    if value.is_undefined() || value.is_null() {
+        return Ok(Params::default());
+    }
+    serde_wasm_bindgen::from_value(value).map_err(|e| js_err(format!("parameters: {e}")))
 }
 
 fn js_err(e: impl std::fmt::Display) -> JsError {
@@ -438,8 +452,15 @@ fn stage_result(
             for (v, c) in s.curvature.iter().enumerate() {
                 let p = as_vec3(mesh.positions[v]);
                 let h = (s.sizing.edge_length[v] * 0.35) as f32;
+                // d1 × d2 along the normal: the viewer keeps glyphs that face the eye.
+                let n = s.vertex_normals.get(v).copied().unwrap_or_default();
+                let d2 = if c.d1.cross(c.d2).dot(n) < 0.0 {
+                    -c.d2
+                } else {
+                    c.d2
+                };
                 centred(&mut segments, p, as_vec3(c.d1), h);
-                centred(&mut segments, p, as_vec3(c.d2), h);
+                centred(&mut segments, p, as_vec3(d2), h);
                 colors.extend_from_slice(&D1_COLOR);
                 colors.extend_from_slice(&D2_COLOR);
             }
@@ -549,13 +570,13 @@ impl Session {
         to_js(&crate::params_schema::schema_json())
     }
 
-    /// New parameters (JSON of [`Params`]; missing fields take their
-    /// defaults). Returns the first stage that must run again, or
-    /// `undefined` when nothing changed; the next `step` runs from there.
+    /// New parameters (a plain object shaped as [`Params`]' JSON; missing
+    /// fields take their defaults). Returns the first stage that must run
+    /// again, or `undefined` when nothing changed; the next `step` runs
+    /// from there.
     #[wasm_bindgen(js_name = setParams)]
-    pub fn set_params(&mut self, json: &str) -> Result<Option<String>, JsError> {
-        let params: Params =
-            serde_json::from_str(json).map_err(|e| js_err(format!("parameters: {e}")))?;
+    pub fn set_params(&mut self, params: JsValue) -> Result<Option<String>, JsError> {
+        let params = params_from_js(params)?;
         let changed = match self.pipeline.as_mut() {
             Some(p) => p.set_params(params.clone()),
             None => None,

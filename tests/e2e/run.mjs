@@ -1203,6 +1203,215 @@ test('the parametrization stage shows its progress, Cancel stops it and the page
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+// Kinks of the luminance along rows and columns where three pixels two
+// apart are drawn: |l(x−2) − 2 l(x) + l(x+2)| of 3–20 levels (facets of
+// flat shading break the smooth gradient there) are `facet`, larger ones
+// (creases, occluding contours) `strong`.
+function shadingSteps(png) {
+  const { data, width, height } = PNG.sync.read(png);
+  const lum = (i) => 0.3 * data[i] + 0.59 * data[i + 1] + 0.11 * data[i + 2];
+  const ink = (i) => Math.abs(data[i] - BACKGROUND[0]) + Math.abs(data[i + 1] - BACKGROUND[1]) + Math.abs(data[i + 2] - BACKGROUND[2]) > 30;
+  let facet = 0, strong = 0, pairs = 0;
+  for (let y = 2; y < height - 2; y++) {
+    for (let x = 2; x < width - 2; x++) {
+      const i = 4 * (y * width + x);
+      if (!ink(i)) continue;
+      for (const step of [8, 8 * width]) {
+        if (!ink(i - step) || !ink(i + step)) continue;
+        pairs++;
+        const d = Math.abs(lum(i - step) - 2 * lum(i) + lum(i + step));
+        if (d >= 20) strong++;
+        else if (d >= 3) facet++;
+      }
+    }
+  }
+  return { facet, strong, pairs };
+}
+
+// Hides every layer but the surface (lines and markers draw steps of their own).
+async function surfaceOnly(page) {
+  for (const box of await page.locator('#layers input[type=checkbox]').all()) {
+    const id = await box.getAttribute('id');
+    if (id !== 'layer-surface' && await box.isChecked() && await box.isEnabled()) await box.uncheck();
+  }
+  await settle(page);
+}
+
+// Fraction of pixels whose luminance differs by more than 12 levels.
+function lumDiff(pngA, pngB) {
+  const a = PNG.sync.read(pngA).data, b = PNG.sync.read(pngB).data;
+  const lum = (d, i) => 0.3 * d[i] + 0.59 * d[i + 1] + 0.11 * d[i + 2];
+  let n = 0;
+  for (let i = 0; i < a.length; i += 4) if (Math.abs(lum(a, i) - lum(b, i)) > 12) n++;
+  return n / (a.length / 4);
+}
+
+test('smooth shading is smooth on curved parts and keeps fandisk\u2019s creases sharp', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  await surfaceOnly(page);
+  const clip = await page.locator('#canvas').boundingBox();
+  const shot = (name) => page.screenshot({ path: join(artifacts, `${name}-${env.backend}.png`), clip });
+  const setFlat = async (on) => { await (on ? page.check('#flat-shading') : page.uncheck('#flat-shading')); await settle(page); };
+  const setCrease = async (deg) => { await page.fill('#crease-angle', String(deg)); await page.dispatchEvent('#crease-angle', 'change'); await settle(page); };
+  // Spot's curved surface: flat shading shows the facets as faint steps, smooth does not.
+  const spotSmooth = shadingSteps(await shot('spot-smooth'));
+  await setFlat(true);
+  const spotFlat = shadingSteps(await shot('spot-flat'));
+  await setFlat(false);
+  console.log(`      [${env.backend}] spot faint steps: smooth ${spotSmooth.facet}, flat ${spotFlat.facet} of ${spotSmooth.pairs} pairs`);
+  assert(spotFlat.facet > 1.5 * spotSmooth.facet, `flat shading shows the facets: ${spotFlat.facet} faint steps vs ${spotSmooth.facet} smooth`);
+  // Fandisk: at its creases the smooth picture keeps the flat one's steps;
+  // smoothing across every edge (180°) smears them into gradients.
+  await page.click('#sample-buttons >> text=fandisk');
+  await waitForRun(page, 'fandisk.obj');
+  await surfaceOnly(page);
+  await page.evaluate(() => { window.quadrille.setCamera([0.7, 0.45]); });
+  await settle(page);
+  const smooth = await shot('fandisk-smooth');
+  await setFlat(true);
+  const flat = await shot('fandisk-flat');
+  await setFlat(false);
+  await setCrease(180);
+  const smeared = await shot('fandisk-smeared');
+  await setCrease(30);
+  const again = await shot('fandisk-smooth-again');
+  const [kept, lost, same] = [lumDiff(smooth, flat), lumDiff(smeared, flat), lumDiff(again, smooth)];
+  console.log(`      [${env.backend}] fandisk pixels differing from flat shading: smooth ${(100 * kept).toFixed(2)} %, smoothed across creases ${(100 * lost).toFixed(2)} %`);
+  assert(lost > 0.01, `smoothing across the creases changes the picture: ${(100 * lost).toFixed(2)} %`);
+  assert(kept < 0.25 * lost, `the creases stay sharp steps in smooth mode: ${(100 * kept).toFixed(2)} % of pixels differ from flat (${(100 * lost).toFixed(2)} % without the split)`);
+  assert(same === 0, `the default angle gives the same picture again: ${(100 * same).toFixed(2)} % differ`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('one control switches the view between the input and the result, and back', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const clip = await page.locator('#canvas').boundingBox();
+  const state = () => page.evaluate(() => ({ surface: window.quadrille.drawnSurface(), quads: document.getElementById('layer-quad-mesh').checked, legend: document.getElementById('legend').textContent, button: document.getElementById('compare').textContent }));
+  const result = await state();
+  assert(result.surface === 'quad mesh faces' && result.quads && result.button.includes('input'), `the result is shown first: ${JSON.stringify(result)}`);
+  const resultPng = await page.screenshot({ path: join(artifacts, `compare-result-${env.backend}.png`), clip });
+  await page.click('#compare');
+  await settle(page);
+  const input = await state();
+  assert(input.surface === 'input' && !input.quads && input.button.includes('result') && !input.legend.includes('face degree'), `the input alone: ${JSON.stringify(input)}`);
+  const inputPng = await page.screenshot({ path: join(artifacts, `compare-input-${env.backend}.png`), clip });
+  const changed = lumDiff(resultPng, inputPng);
+  assert(changed > 0.02, `the picture changes: ${(100 * changed).toFixed(2)} % of pixels`);
+  await page.keyboard.press('h');
+  await settle(page);
+  const back = await state();
+  assert(back.surface === 'quad mesh faces' && back.quads && back.button.includes('input'), `the key brings the result back: ${JSON.stringify(back)}`);
+  const backPng = await page.screenshot({ path: join(artifacts, `compare-back-${env.backend}.png`), clip });
+  assert(lumDiff(backPng, resultPng) < 0.001, `the same result picture again: ${(100 * lumDiff(backPng, resultPng)).toFixed(3)} % differ`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('field glyphs keep their screen spacing when zooming, and the spacing control sets it', async (env) => {
+  const { page, errors } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  await surfaceOnly(page);
+  await page.check('#layer-cross-field');
+  await page.evaluate(() => window.quadrille.setCamera([0, 0]));
+  await settle(page);
+  const base = await page.evaluate(() => window.quadrille.camera()[2]);
+  const clip = await page.locator('#canvas').boundingBox();
+  // Glyphs per 10 000 pixels covered by the bunny (drawing-buffer pixels).
+  const density = async (distance, file) => {
+    await page.evaluate((d) => window.quadrille.setCamera([0, 0, d]), distance);
+    await settle(page);
+    const count = await page.evaluate(() => window.quadrille.glyphCount('cross field'));
+    const covered = inkFraction(await page.screenshot({ path: join(artifacts, `${file}-${env.backend}.png`), clip }));
+    const pixels = covered * clip.width * clip.height * (await page.evaluate(() => window.devicePixelRatio)) ** 2;
+    return { count, covered, per10k: 1e4 * count / pixels };
+  };
+  const mid = await density(base, 'glyphs-mid');
+  const near = await density(base * 0.6, 'glyphs-near');
+  const far = await density(base * 1.8, 'glyphs-far');
+  const sites = await page.evaluate(() => window.quadrille.lastRun.counts.vertices);
+  console.log(`      [${env.backend}] cross-field glyphs (of ${sites} sites) per 10k covered px: near ${near.count} → ${near.per10k.toFixed(1)}, mid ${mid.count} → ${mid.per10k.toFixed(1)}, far ${far.count} → ${far.per10k.toFixed(1)}`);
+  assert(mid.count > 50 && mid.count < sites / 4, `thinned to the screen: ${mid.count} of ${sites}`);
+  for (const [name, d] of [['near', near], ['far', far]]) {
+    assert(d.per10k > 0.6 * mid.per10k && d.per10k < 1.6 * mid.per10k, `${name}: ${d.per10k.toFixed(1)} glyphs per 10k px vs ${mid.per10k.toFixed(1)}`);
+  }
+  assert(near.covered > 2 * far.covered, `the zoom changed the picture: ${near.covered} vs ${far.covered} covered`);
+  // Twice the spacing: about a quarter of the glyphs.
+  await page.evaluate((d) => window.quadrille.setCamera([0, 0, d]), base);
+  await page.locator('#glyph-spacing').fill('48');
+  await settle(page);
+  const sparse = await page.evaluate(() => window.quadrille.glyphCount('cross field'));
+  await page.screenshot({ path: join(artifacts, `glyphs-sparse-${env.backend}.png`), clip });
+  assert(sparse > 0.15 * mid.count && sparse < 0.4 * mid.count, `spacing 48 px: ${sparse} glyphs vs ${mid.count} at 24 px`);
+  // The principal directions follow the same spacing.
+  await page.check('#layer-principal-directions');
+  await settle(page);
+  const principal = await page.evaluate(() => window.quadrille.glyphCount('principal directions'));
+  assert(principal > 0.6 * sparse && principal < 1.6 * sparse, `principal directions: ${principal} glyphs vs ${sparse} crosses`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('parameters cross to the worker as objects: the run echoes them, nulls included; a wrong type is a clear error', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const leaves = (o, prefix = '', out = {}) => {
+    for (const [k, v] of Object.entries(o)) {
+      const path = prefix ? `${prefix}.${k}` : k;
+      if (v && typeof v === 'object' && !Array.isArray(v)) leaves(v, path, out);
+      else out[path] = v;
+    }
+    return out;
+  };
+  const { page: mine, run } = await page.evaluate(() => ({ page: window.quadrille.params(), run: window.quadrille.lastRun.parameters }));
+  const [a, b] = [leaves(mine), leaves(run)];
+  const nulls = Object.keys(a).filter((k) => a[k] === null);
+  assert(nulls.length > 0, 'some parameters are null (auto) by default');
+  for (const [k, v] of Object.entries(a)) {
+    assert(JSON.stringify(b[k]) === JSON.stringify(v) && (v !== null || b[k] === null), `${k}: page ${JSON.stringify(v)}, worker ${b[k] === undefined ? 'undefined' : JSON.stringify(b[k])}`);
+  }
+  await page.evaluate(() => window.quadrille.setParam('field.position_iterations', 'many'));
+  await page.waitForFunction(() => window.quadrille.lastError && window.quadrille.lastError.includes('parameters'), null, { timeout: 30000 });
+  const message = await page.evaluate(() => window.quadrille.lastError);
+  assert(message.includes('invalid type') && message.includes('many'), `the error says what is wrong: ${message}`);
+  assert((await page.textContent('#status')).includes('parameters'), 'the error is on the page');
+  await page.evaluate(() => window.quadrille.setParam('field.position_iterations', 7));
+  await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.position_iterations === 7 && window.quadrille.lastRun.complete, null, { timeout: 60000 });
+  const counts = await page.evaluate(() => window.quadrille.lastRun.counts);
+  assert(counts.quad_mesh_faces > 0 && counts.vertices === 2930, `the run goes on: ${JSON.stringify(counts)}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('touch: one finger orbits, a pinch zooms, two fingers pan', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 5 });
+  const box = await page.locator('#canvas').boundingBox();
+  const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+  // A gesture: fingers from `from` to `to` (page pixels) in ten moves.
+  const gesture = async (from, to) => {
+    const at = (t) => from.map(([x, y], id) => ({ x: x + (to[id][0] - x) * t, y: y + (to[id][1] - y) * t, id }));
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: at(0) });
+    for (let k = 1; k <= 10; k++) await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: at(k / 10) });
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    await settle(page);
+    return page.evaluate(() => window.quadrille.camera());
+  };
+  const start = await page.evaluate(() => window.quadrille.camera());
+  const orbited = await gesture([[cx, cy]], [[cx + 160, cy + 40]]);
+  assert(Math.abs(orbited[0] - start[0]) > 0.3 && Math.abs(orbited[1] - start[1]) > 0.02, `one finger turns the view: ${start} → ${orbited}`);
+  assert(Math.abs(orbited[2] - start[2]) < 1e-6, `an orbit keeps the distance: ${start[2]} → ${orbited[2]}`);
+  const pinched = await gesture([[cx - 40, cy], [cx + 40, cy]], [[cx - 160, cy], [cx + 160, cy]]);
+  assert(pinched[2] < 0.6 * orbited[2], `spreading two fingers zooms in: distance ${orbited[2]} → ${pinched[2]}`);
+  assert(Math.abs(pinched[0] - orbited[0]) < 1e-6, 'a pinch does not turn the view');
+  const panned = await gesture([[cx - 60, cy], [cx + 60, cy]], [[cx - 60, cy + 150], [cx + 60, cy + 150]]);
+  const moved = Math.hypot(panned[3] - pinched[3], panned[4] - pinched[4], panned[5] - pinched[5]);
+  assert(moved > 0.05 * pinched[2] && Math.abs(panned[0] - pinched[0]) < 1e-6, `two fingers moving together pan: target moved ${moved} (distance ${pinched[2]})`);
+  assert(await page.evaluate(() => window.quadrille.lastPick == null), 'no gesture was taken for a tap');
+  await page.screenshot({ path: join(artifacts, `touch-${env.backend}.png`) });
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 const only = process.env.TEST_FILTER ? new RegExp(process.env.TEST_FILTER) : null;
 const wanted = process.argv.slice(2).length ? process.argv.slice(2) : Object.keys(CONFIGS);
 const { server, url } = await startServer();

@@ -2,14 +2,14 @@
 //! arrays), pixels out. The page wires input events to `orbit`, `pan`,
 //! `zoom` and `pick` and calls `render` when something changed.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::Vec3;
 use wasm_bindgen::prelude::*;
 
 use super::camera::OrbitCamera;
 use super::gpu::{BackendPreference, Gpu, Tier};
-use super::scene::{LineSet, PLAIN, PointSet, Scalar, SceneError, Surface};
+use super::scene::{GlyphSet, LineSet, PLAIN, PointSet, Scalar, SceneError, Surface};
 
 fn js(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
@@ -33,6 +33,15 @@ pub struct Viewer {
     own_colors: Option<Vec<[u8; 4]>>,
     /// The surface carries (u, v): draw the checkerboard.
     grid: bool,
+    /// The surface's (u, v), kept to upload again when the crease split changes.
+    uv: Option<Vec<[f32; 2]>>,
+    /// Smooth shading keeps edges sharper than this (degrees) sharp.
+    crease_degrees: f32,
+    /// Glyph layers by name, thinned to `glyph_spacing` drawing-buffer
+    /// pixels whenever the view changes (`glyph_view` is the last one).
+    glyphs: BTreeMap<String, (GlyphSet, usize)>,
+    glyph_spacing: f32,
+    glyph_view: Option<[f32; 9]>,
 }
 
 /// Where `pick` met the surface (local coordinates).
@@ -83,6 +92,11 @@ impl Viewer {
             flat: false,
             own_colors: None,
             grid: false,
+            uv: None,
+            crease_degrees: super::scene::CREASE_DEGREES,
+            glyphs: BTreeMap::new(),
+            glyph_spacing: 24.0,
+            glyph_view: None,
         })
     }
 
@@ -123,12 +137,15 @@ impl Viewer {
     ) -> Result<(), JsError> {
         let surface = Surface::new(positions, triangles, normals).map_err(js)?;
         let colors = vec![PLAIN; surface.positions.len()];
-        self.gpu.set_surface(Some((&surface, &colors)));
+        self.gpu
+            .set_surface(Some((&surface, &colors)), self.crease_degrees);
         self.gpu.clear_layers();
+        self.glyphs.clear();
         self.surface = Some(surface);
         self.scalar = None;
         self.own_colors = None;
         self.grid = false;
+        self.uv = None;
         self.fit_view();
         Ok(())
     }
@@ -144,11 +161,13 @@ impl Viewer {
     ) -> Result<(), JsError> {
         let surface = Surface::new(positions, triangles, normals).map_err(js)?;
         let colors = vec![PLAIN; surface.positions.len()];
-        self.gpu.set_surface(Some((&surface, &colors)));
+        self.gpu
+            .set_surface(Some((&surface, &colors)), self.crease_degrees);
         self.surface = Some(surface);
         self.scalar = None;
         self.own_colors = None;
         self.grid = false;
+        self.uv = None;
         Ok(())
     }
 
@@ -164,6 +183,7 @@ impl Viewer {
             .len();
         let uv = super::scene::uv_pairs(uv, count).map_err(js)?;
         self.gpu.set_surface_uv(&uv);
+        self.uv = Some(uv);
         self.grid = true;
         Ok(())
     }
@@ -217,14 +237,10 @@ impl Viewer {
             .filter(|_| !self.hidden.contains(SCALAR))
         {
             None => Ok(JsValue::NULL),
-            Some(s) => {
-                let json = serde_json::json!({
-                    "name": s.name, "min": s.min, "max": s.max,
-                    "colormap": s.colormap.name(), "stops": s.colormap.css_stops(),
-                });
-                js_sys::JSON::parse(&json.to_string())
-                    .map_err(|_| js("could not encode the legend"))
-            }
+            Some(s) => crate::web::worker_api::to_js(&serde_json::json!({
+                "name": s.name, "min": s.min, "max": s.max,
+                "colormap": s.colormap.name(), "stops": s.colormap.css_stops(),
+            })),
         }
     }
 
@@ -232,8 +248,41 @@ impl Viewer {
     /// RGBA colour for all or one per segment. An empty array removes it.
     pub fn set_lines(&mut self, name: &str, segments: &[f32], rgba: &[u8]) -> Result<(), JsError> {
         let lines = LineSet::from_segments(segments, rgba).map_err(js)?;
+        self.glyphs.remove(name);
         self.gpu.set_lines(name, Some(&lines));
         Ok(())
+    }
+
+    /// A glyph layer: centred segments (six floats each), `per_site`
+    /// consecutive ones per glyph (a cross field's two arms), one RGBA
+    /// colour for all or one per segment. Drawn at screen density, at most
+    /// one glyph per cell of the glyph spacing, each about that size on
+    /// screen, re-sampled when the view changes. An empty array removes it.
+    pub fn set_glyphs(
+        &mut self,
+        name: &str,
+        segments: &[f32],
+        rgba: &[u8],
+        per_site: u32,
+    ) -> Result<(), JsError> {
+        let glyphs = GlyphSet::from_segments(segments, rgba, per_site as usize).map_err(js)?;
+        self.glyphs.insert(name.to_string(), (glyphs, 0));
+        self.glyph_view = None;
+        Ok(())
+    }
+
+    /// Distance between glyphs in drawing-buffer pixels (at least 4).
+    pub fn set_glyph_spacing(&mut self, px: f32) -> f32 {
+        if px.is_finite() {
+            self.glyph_spacing = px.max(4.0);
+            self.glyph_view = None;
+        }
+        self.glyph_spacing
+    }
+
+    /// How many glyphs of a glyph layer the last frame drew.
+    pub fn glyph_count(&self, name: &str) -> u32 {
+        self.glyphs.get(name).map_or(0, |g| g.1 as u32)
     }
 
     /// A line layer from vertex index pairs over the surface, e.g. the
@@ -347,6 +396,27 @@ impl Viewer {
         self.flat = flat;
     }
 
+    /// Smooth shading keeps edges whose dihedral angle exceeds `degrees`
+    /// sharp (default [`CREASE_DEGREES`]; 180 smooths across every edge).
+    /// Returns the angle in use.
+    ///
+    /// [`CREASE_DEGREES`]: super::scene::CREASE_DEGREES
+    pub fn set_crease_angle(&mut self, degrees: f32) -> f32 {
+        if degrees.is_finite() && (0.0..=180.0).contains(&degrees) && degrees != self.crease_degrees
+        {
+            self.crease_degrees = degrees;
+            if let Some(surface) = &self.surface {
+                let colors = vec![PLAIN; surface.positions.len()];
+                self.gpu.set_surface(Some((surface, &colors)), degrees);
+                if let Some(uv) = &self.uv {
+                    self.gpu.set_surface_uv(uv);
+                }
+                self.upload_colors();
+            }
+        }
+        self.crease_degrees
+    }
+
     /// Frames the whole surface.
     pub fn fit_view(&mut self) {
         if let Some((center, radius)) = self.surface.as_ref().and_then(Surface::bounding_sphere) {
@@ -377,6 +447,7 @@ impl Viewer {
 
     /// Draws a frame.
     pub fn render(&mut self) -> Result<(), JsError> {
+        self.thin_glyphs();
         let hidden = &self.hidden;
         self.gpu
             .render(
@@ -391,6 +462,40 @@ impl Viewer {
 }
 
 impl Viewer {
+    /// Re-samples the glyph layers when the camera, the target size or the
+    /// spacing changed since the last frame.
+    fn thin_glyphs(&mut self) {
+        let (w, h) = self.gpu.size();
+        let c = self.camera.state();
+        let view = [
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            c[4],
+            c[5],
+            w as f32,
+            h as f32,
+            self.glyph_spacing,
+        ];
+        if self.glyph_view == Some(view) {
+            return;
+        }
+        self.glyph_view = Some(view);
+        let (view_proj, eye) = (self.camera.view_proj(), self.camera.eye());
+        for (name, (glyphs, count)) in self.glyphs.iter_mut() {
+            let (lines, n) = glyphs.thin(
+                view_proj,
+                eye,
+                self.camera.fov_y,
+                (w as f32, h as f32),
+                self.glyph_spacing,
+            );
+            *count = n;
+            self.gpu.set_lines(name, Some(&lines));
+        }
+    }
+
     fn upload_colors(&mut self) {
         let Some(surface) = &self.surface else { return };
         let colors = match self

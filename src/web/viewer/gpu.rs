@@ -83,6 +83,8 @@ struct SurfaceBuffers {
     uv: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
+    /// Drawn vertex → surface vertex (the crease split).
+    draw: super::scene::DrawMesh,
 }
 
 struct Instances {
@@ -376,59 +378,70 @@ impl Gpu {
             })
     }
 
-    /// Uploads a surface with its per-vertex colours (`None` removes it).
-    pub fn set_surface(&mut self, surface: Option<(&Surface, &[[u8; 4]])>) {
+    /// Uploads a surface with its per-vertex colours (`None` removes it),
+    /// its vertices split at creases sharper than `crease_degrees`.
+    pub fn set_surface(&mut self, surface: Option<(&Surface, &[[u8; 4]])>, crease_degrees: f32) {
         self.mesh = surface
             .filter(|(s, _)| !s.triangles.is_empty())
             .map(|(s, colors)| {
-                let flat = |v: &[glam::Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<_>>();
+                let draw = s.split_at_creases(crease_degrees);
+                let positions: Vec<[f32; 3]> = draw
+                    .source
+                    .iter()
+                    .map(|&v| s.positions[v as usize].to_array())
+                    .collect();
+                let normals: Vec<[f32; 3]> = draw.normals.iter().map(|n| n.to_array()).collect();
+                let colors = draw
+                    .expand(colors)
+                    .unwrap_or_else(|| vec![super::scene::PLAIN; draw.source.len()]);
                 SurfaceBuffers {
                     positions: self.buffer(
                         "positions",
-                        bytemuck::cast_slice(&flat(&s.positions)),
+                        bytemuck::cast_slice(&positions),
                         wgpu::BufferUsages::VERTEX,
                     ),
                     normals: self.buffer(
                         "normals",
-                        bytemuck::cast_slice(&flat(&s.normals)),
+                        bytemuck::cast_slice(&normals),
                         wgpu::BufferUsages::VERTEX,
                     ),
                     colors: self.buffer(
                         "colors",
-                        bytemuck::cast_slice(colors),
+                        bytemuck::cast_slice(&colors),
                         wgpu::BufferUsages::VERTEX,
                     ),
                     uv: self.buffer(
                         "uv",
-                        bytemuck::cast_slice(&vec![[0.0f32; 2]; s.positions.len()]),
+                        bytemuck::cast_slice(&vec![[0.0f32; 2]; draw.source.len()]),
                         wgpu::BufferUsages::VERTEX,
                     ),
                     indices: self.buffer(
                         "indices",
-                        bytemuck::cast_slice(&s.triangles),
+                        bytemuck::cast_slice(&draw.triangles),
                         wgpu::BufferUsages::INDEX,
                     ),
-                    index_count: (s.triangles.len() * 3) as u32,
+                    index_count: (draw.triangles.len() * 3) as u32,
+                    draw,
                 }
             });
     }
 
-    /// Replaces the surface's per-vertex colours (same vertex count).
+    /// Replaces the surface's per-vertex colours (one per surface vertex).
     pub fn set_surface_colors(&mut self, colors: &[[u8; 4]]) {
         if let Some(mesh) = &self.mesh {
-            if mesh.colors.size() == (colors.len() * 4) as u64 {
+            if let Some(c) = mesh.draw.expand(colors) {
                 self.queue
-                    .write_buffer(&mesh.colors, 0, bytemuck::cast_slice(colors));
+                    .write_buffer(&mesh.colors, 0, bytemuck::cast_slice(&c));
             }
         }
     }
 
-    /// Replaces the surface's per-vertex (u, v) (same vertex count).
+    /// Replaces the surface's per-vertex (u, v) (one per surface vertex).
     pub fn set_surface_uv(&mut self, uv: &[[f32; 2]]) {
         if let Some(mesh) = &self.mesh {
-            if mesh.uv.size() == (uv.len() * 8) as u64 {
+            if let Some(c) = mesh.draw.expand(uv) {
                 self.queue
-                    .write_buffer(&mesh.uv, 0, bytemuck::cast_slice(uv));
+                    .write_buffer(&mesh.uv, 0, bytemuck::cast_slice(&c));
             }
         }
     }

@@ -141,6 +141,157 @@ impl Surface {
     }
 }
 
+/// Dihedral angle (degrees) above which smooth shading keeps an edge sharp:
+/// fandisk's CAD creases stay creases, a scan's fine triangles stay smooth.
+pub const CREASE_DEGREES: f32 = 30.0;
+
+/// The surface as the GPU draws it: vertices split where a crease passes,
+/// so each side of a sharp edge has its own smooth normal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DrawMesh {
+    /// For each drawn vertex, the surface vertex it copies (its colour, uv).
+    pub source: Vec<u32>,
+    pub normals: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl DrawMesh {
+    /// Per-drawn-vertex values from per-surface-vertex ones.
+    pub fn expand<T: Copy>(&self, values: &[T]) -> Option<Vec<T>> {
+        self.source
+            .iter()
+            .map(|&v| values.get(v as usize).copied())
+            .collect()
+    }
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
+}
+
+impl Surface {
+    /// Smooth normals split at creases. Vertices at the same position are
+    /// welded first (a result surface gives every face its own corners);
+    /// the corners around a welded vertex form one smooth fan across every
+    /// edge of two triangles that [`EdgeTopology::sharp_edges`] (the
+    /// crate's one dihedral-angle test) does not call sharp at `degrees`,
+    /// and each fan gets the angle-weighted mean of its faces' normals.
+    /// A fan whose normals cancel falls back to the given vertex normal.
+    /// 180° never splits.
+    ///
+    /// [`EdgeTopology::sharp_edges`]: crate::mesh::EdgeTopology::sharp_edges
+    pub fn split_at_creases(&self, degrees: f32) -> DrawMesh {
+        use crate::mesh::EdgeTopology;
+        use crate::mesh::TriMesh;
+        use std::collections::{HashMap, HashSet};
+        let mut weld_of = HashMap::new();
+        let welded: Vec<u32> = self
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                *weld_of
+                    .entry(p.to_array().map(f32::to_bits))
+                    .or_insert(i as u32)
+            })
+            .collect();
+        let triangles: Vec<[u32; 3]> = self
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| welded[v as usize]))
+            .collect();
+        let face_normals: Vec<glam::DVec3> = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| self.positions[v as usize].as_dvec3());
+                (b - a).cross(c - a)
+            })
+            .collect();
+        let mesh = TriMesh {
+            positions: self.positions.iter().map(|p| p.as_dvec3()).collect(),
+            triangles,
+        };
+        let sharp: HashSet<(u32, u32)> =
+            EdgeTopology::sharp_edges(&mesh, &face_normals, f64::from(degrees), false)
+                .into_iter()
+                .map(|e| (e.a, e.b))
+                .collect();
+        // Corner 3t + k is triangle t's k-th corner.
+        let mut parent: Vec<u32> = (0..3 * mesh.triangles.len() as u32).collect();
+        let mut sides: HashMap<(u32, u32), Vec<(u32, u32)>> = HashMap::new();
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                if a == b {
+                    continue;
+                }
+                let corner =
+                    |v: u32| 3 * t as u32 + if v == tri[k] { k } else { (k + 1) % 3 } as u32;
+                let key = (a.min(b), a.max(b));
+                sides
+                    .entry(key)
+                    .or_default()
+                    .push((corner(key.0), corner(key.1)));
+            }
+        }
+        for (key, s) in &sides {
+            if let [x, y] = s[..] {
+                if !sharp.contains(key) {
+                    for (c, d) in [(x.0, y.0), (x.1, y.1)] {
+                        let (rc, rd) = (find(&mut parent, c), find(&mut parent, d));
+                        parent[rc as usize] = rd;
+                    }
+                }
+            }
+        }
+        let mut fan_normal = vec![glam::DVec3::ZERO; parent.len()];
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let n = face_normals[t].normalize_or_zero();
+            for k in 0..3 {
+                let p = |j: usize| mesh.positions[tri[j % 3] as usize];
+                let angle = (p(k + 1) - p(k)).angle_between(p(k + 2) - p(k));
+                let root = find(&mut parent, (3 * t + k) as u32);
+                if angle.is_finite() {
+                    fan_normal[root as usize] += n * angle;
+                }
+            }
+        }
+        // One drawn vertex per (surface vertex, fan).
+        let mut drawn: HashMap<(u32, u32), u32> = HashMap::new();
+        let (mut source, mut normals) = (Vec::new(), Vec::new());
+        let triangles = self
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(t, tri)| {
+                std::array::from_fn(|k| {
+                    let root = find(&mut parent, (3 * t + k) as u32);
+                    *drawn.entry((tri[k], root)).or_insert_with(|| {
+                        let n = fan_normal[root as usize].normalize_or_zero().as_vec3();
+                        normals.push(if n == Vec3::ZERO {
+                            self.normals[tri[k] as usize]
+                        } else {
+                            n
+                        });
+                        source.push(tri[k]);
+                        (source.len() - 1) as u32
+                    })
+                })
+            })
+            .collect();
+        DrawMesh {
+            source,
+            normals,
+            triangles,
+        }
+    }
+}
+
 /// Where a pick ray met the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
@@ -330,6 +481,117 @@ impl LineSet {
     }
 }
 
+/// Tangent glyphs (a cross field's two arms, the principal directions) at
+/// sites on the surface, drawn at screen density: at most one glyph per
+/// square cell of the screen, so they stay legible at any zoom.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GlyphSet {
+    pub centres: Vec<Vec3>,
+    /// `per_site` arms per site (unit directions), site after site.
+    pub arms: Vec<Vec3>,
+    /// One colour per arm.
+    pub colors: Vec<[u8; 4]>,
+    pub per_site: usize,
+}
+
+impl GlyphSet {
+    /// From centred segments (six floats each), `per_site` consecutive
+    /// ones making one glyph; one colour for all or one per segment.
+    pub fn from_segments(
+        segments: &[f32],
+        rgba: &[u8],
+        per_site: usize,
+    ) -> Result<GlyphSet, SceneError> {
+        let lines = LineSet::from_segments(segments, rgba)?;
+        let per_site = per_site.max(1);
+        if lines.segments.len() % per_site != 0 {
+            return Err(SceneError::Length {
+                what: "glyph segments",
+                len: lines.segments.len(),
+                multiple: per_site,
+            });
+        }
+        let centres = lines
+            .segments
+            .chunks_exact(per_site)
+            .map(|g| (g[0][0] + g[0][1]) * 0.5)
+            .collect();
+        let arms = lines
+            .segments
+            .iter()
+            .map(|[a, b]| (*b - *a).normalize_or_zero())
+            .collect();
+        Ok(GlyphSet {
+            centres,
+            arms,
+            colors: lines.colors,
+            per_site,
+        })
+    }
+
+    /// The glyphs seen through `view_proj` from `eye` on a `width` ×
+    /// `height` pixel target: per cell of `spacing` pixels the site nearest
+    /// the cell's centre that is in view and faces the eye (the first two
+    /// arms' cross product; glyphs of one arm always do), each arm scaled
+    /// to 0.4 `spacing` pixels either side (`fov_y` gives pixels per world
+    /// unit at a site's view depth). Returns the segments and how many glyphs.
+    pub fn thin(
+        &self,
+        view_proj: glam::Mat4,
+        eye: Vec3,
+        fov_y: f32,
+        (width, height): (f32, f32),
+        spacing: f32,
+    ) -> (LineSet, usize) {
+        use std::collections::HashMap;
+        let spacing = spacing.max(1.0);
+        // Per cell: site, squared distance to the cell centre, view depth.
+        let mut best: HashMap<(i32, i32), (usize, f32, f32)> = HashMap::new();
+        for (i, &c) in self.centres.iter().enumerate() {
+            if self.per_site >= 2 {
+                let n = self.arms[i * self.per_site].cross(self.arms[i * self.per_site + 1]);
+                if n.dot(eye - c) <= 0.0 {
+                    continue;
+                }
+            }
+            let clip = view_proj * c.extend(1.0);
+            if clip.w <= 1e-6 {
+                continue;
+            }
+            let ndc = clip.truncate() / clip.w;
+            if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 || !(0.0..=1.0).contains(&ndc.z) {
+                continue;
+            }
+            let (x, y) = ((ndc.x + 1.0) * 0.5 * width, (1.0 - ndc.y) * 0.5 * height);
+            let cell = ((x / spacing).floor() as i32, (y / spacing).floor() as i32);
+            let (cx, cy) = (
+                (cell.0 as f32 + 0.5) * spacing,
+                (cell.1 as f32 + 0.5) * spacing,
+            );
+            let d = (x - cx).powi(2) + (y - cy).powi(2);
+            let slot = best.entry(cell).or_insert((i, d, clip.w));
+            if d < slot.1 {
+                *slot = (i, d, clip.w);
+            }
+        }
+        let mut kept: Vec<(usize, f32)> = best.into_values().map(|(i, _, w)| (i, w)).collect();
+        kept.sort_unstable_by_key(|k| k.0);
+        let world_per_px = 2.0 * (fov_y * 0.5).tan() / height.max(1.0);
+        let mut lines = LineSet::default();
+        for &(i, depth) in &kept {
+            let c = self.centres[i];
+            // Pixels per world unit go with the view depth (clip w).
+            let half = 0.4 * spacing * world_per_px * depth;
+            for k in i * self.per_site..(i + 1) * self.per_site {
+                let d = self.arms[k] * half;
+                lines.segments.push([c - d, c + d]);
+                lines.colors.push(self.colors[k]);
+            }
+        }
+        (lines, kept.len())
+    }
+}
+
 /// Round markers of one pixel size, one colour each.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PointSet {
@@ -428,5 +690,148 @@ mod tests {
         assert_eq!(l.segments.len(), 2);
         assert_eq!(l.segments[1], [Vec3::X, Vec3::new(1.0, 1.0, 0.0)]);
         assert_eq!(l.colors, vec![[9, 9, 9, 255]; 2]);
+    }
+
+    /// A closed cube of 12 triangles with 8 shared corners.
+    fn cube() -> Surface {
+        let mut p = Vec::new();
+        for i in 0..8 {
+            p.extend([(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]);
+        }
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let t: Vec<u32> = quads
+            .iter()
+            .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
+            .collect();
+        Surface::new(&p, &t, &[0.0; 24]).unwrap()
+    }
+
+    #[test]
+    fn creases_split_the_smooth_normals() {
+        let c = cube();
+        let d = c.split_at_creases(CREASE_DEGREES);
+        // Three faces meet at each corner: 24 drawn vertices, each with its face's axis normal.
+        assert_eq!(d.source.len(), 24);
+        for (t, tri) in d.triangles.iter().enumerate() {
+            let [a, b, e] = c.triangles[t].map(|v| c.positions[v as usize]);
+            let face = (b - a).cross(e - a).normalize();
+            for &v in tri {
+                assert!(
+                    (d.normals[v as usize] - face).length() < 1e-5,
+                    "{:?} vs {face:?}",
+                    d.normals[v as usize]
+                );
+            }
+        }
+        // 180°: nothing is sharp; one normal per corner, the diagonal of the cube.
+        let s = c.split_at_creases(180.0);
+        assert_eq!(s.source.len(), 8);
+        for (v, n) in s.normals.iter().enumerate() {
+            let out = (c.positions[s.source[v] as usize] - Vec3::splat(0.5)).normalize();
+            assert!(n.dot(out) > 0.99, "{n:?} vs {out:?}");
+        }
+        assert_eq!(d.expand(&[7u8; 8]).unwrap(), vec![7u8; 24]);
+    }
+
+    #[test]
+    fn a_flat_square_and_welded_copies_stay_one_fan() {
+        let d = square().split_at_creases(CREASE_DEGREES);
+        assert_eq!(d.source.len(), 4);
+        assert!(d.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+        // The same two triangles with their own corners (a result surface):
+        // the shared corners keep their own vertices but one normal.
+        let p = [
+            0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 0., 0., 1., 1., 0., 0., 1., 0.2,
+        ];
+        let s = Surface::new(&p, &[0, 1, 2, 3, 4, 5], &[0.0; 18]).unwrap();
+        let d = s.split_at_creases(CREASE_DEGREES);
+        assert_eq!(d.source, vec![0, 1, 2, 3, 4, 5]);
+        assert!(
+            (d.normals[0] - d.normals[3]).length() < 1e-6,
+            "welded corner 0/3 share a fan"
+        );
+        assert!(
+            (d.normals[2] - d.normals[4]).length() < 1e-6,
+            "welded corner 2/4 share a fan"
+        );
+        assert!((d.normals[1] - Vec3::Z).length() < 1e-6);
+    }
+
+    #[test]
+    fn glyphs_thin_to_one_per_screen_cell() {
+        // A 200 × 200 grid of crosses on the plane z = 0, seen from +z.
+        let mut seg = Vec::new();
+        for i in 0..200 {
+            for j in 0..200 {
+                let c = Vec3::new(i as f32 / 100.0 - 1.0, j as f32 / 100.0 - 1.0, 0.0);
+                for d in [Vec3::X, Vec3::Y] {
+                    seg.extend((c - d * 0.001).to_array());
+                    seg.extend((c + d * 0.001).to_array());
+                }
+            }
+        }
+        let g = GlyphSet::from_segments(&seg, &[1, 2, 3, 255], 2).unwrap();
+        assert_eq!(g.centres.len(), 40000);
+        let mut cam = super::super::camera::OrbitCamera::default();
+        cam.aspect = 1.0;
+        cam.fit(Vec3::ZERO, 1.0);
+        cam.yaw = 0.0;
+        cam.pitch = 0.0;
+        let count = |cam: &super::super::camera::OrbitCamera, spacing: f32| {
+            g.thin(
+                cam.view_proj(),
+                cam.eye(),
+                cam.fov_y,
+                (400.0, 400.0),
+                spacing,
+            )
+            .1
+        };
+        let near = {
+            let mut c = cam.clone();
+            c.distance *= 0.5;
+            c
+        };
+        let far = {
+            let mut c = cam.clone();
+            c.distance *= 2.0;
+            c
+        };
+        // The plane covers the view up close: one glyph per 20-pixel cell.
+        assert_eq!(count(&near, 20.0), 400);
+        // Farther, the same cells over a smaller picture; doubling the spacing quarters them.
+        let (a, b) = (count(&cam, 20.0), count(&cam, 40.0));
+        assert!((3.0..5.0).contains(&(a as f32 / b as f32)), "{a} vs {b}");
+        assert!(count(&far, 20.0) < a);
+        // Seen from behind (−z), every glyph faces away.
+        let mut back = cam.clone();
+        back.yaw = std::f32::consts::PI;
+        assert_eq!(count(&back, 20.0), 0);
+        // Arms span 0.4 spacing either side on screen.
+        let (lines, n) = g.thin(
+            near.view_proj(),
+            near.eye(),
+            near.fov_y,
+            (400.0, 400.0),
+            20.0,
+        );
+        assert_eq!(lines.segments.len(), 2 * n);
+        let [p, q] = lines.segments[0];
+        let px = |v: Vec3| {
+            let c = near.view_proj() * v.extend(1.0);
+            c.truncate().truncate() / c.w * 200.0
+        };
+        assert!(
+            ((px(q) - px(p)).length() - 16.0).abs() < 0.5,
+            "{}",
+            (px(q) - px(p)).length()
+        );
     }
 }

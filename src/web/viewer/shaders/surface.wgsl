@@ -1,4 +1,4 @@
-// The input surface: per-vertex normals and colours (plain or from a scalar
+// The input surface: per-vertex normals (split at creases) and colours (plain or from a scalar
 // field's colormap), lit by a headlight so every view is readable. With
 // flags.w = 1 (the parametrization layer) the per-vertex (u, v) of an
 // integer-grid map is drawn as a checkerboard of unit squares (one unit =
@@ -65,17 +65,14 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     if (dot(face, to_eye) < 0.0) {
         face = -face;
     }
-    // Smooth vertex normals, except across creases (CAD edges, features),
-    // where they would smear the shading: there the flat normal is used.
+    // Smooth vertex normals; the viewer split them at creases (scene.rs,
+    // split_at_creases), so a CAD edge keeps its step. Flat: the face's.
     var n = face;
     let len = length(in.normal);
-    if (len > 1e-12) {
-        var smooth_n = in.normal / len;
+    if (len > 1e-12 && globals.flags.y < 0.5) {
+        n = in.normal / len;
         if (!front) {
-            smooth_n = -smooth_n;
-        }
-        if (dot(smooth_n, face) > 0.85 && globals.flags.y < 0.5) {
-            n = smooth_n;
+            n = -n;
         }
     }
     // The integer grid: squares alternate light and dark by the parity of
