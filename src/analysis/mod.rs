@@ -104,9 +104,11 @@ pub struct SurfaceAnalysis {
     pub filtered_normals: Vec<DVec3>,
 }
 
+/// The sizing field, its directional channels and the cap applied to them.
+type CappedSizing = (Vec<f64>, Option<Vec<[f64; 2]>>, Option<Vec<f64>>);
+
 /// Applies the thin-part cap (`sizing.thin_part_edges` > 0) to the sizing
 /// field and its directional channels.
-type CappedSizing = (Vec<f64>, Option<Vec<[f64; 2]>>, Option<Vec<f64>>);
 fn cap_thin_parts(
     mesh: &TriMesh,
     normals: &[DVec3],
