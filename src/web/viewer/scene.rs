@@ -779,8 +779,10 @@ mod tests {
         }
         let g = GlyphSet::from_segments(&seg, &[1, 2, 3, 255], 2).unwrap();
         assert_eq!(g.centres.len(), 40000);
-        let mut cam = super::super::camera::OrbitCamera::default();
-        cam.aspect = 1.0;
+        let mut cam = super::super::camera::OrbitCamera {
+            aspect: 1.0,
+            ..Default::default()
+        };
         cam.fit(Vec3::ZERO, 1.0);
         cam.yaw = 0.0;
         cam.pitch = 0.0;
