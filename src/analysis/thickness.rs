@@ -18,12 +18,12 @@
 //! Where no ray leaves the solid (open sheets, inward-facing normals, holes)
 //! there is no cap, so the field is unchanged there.
 
-use std::cmp::Ordering;
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
-use crate::mesh::{TriMesh, VertexAdjacency, VertexFaces};
+use crate::mesh::{OrdF64, TriMesh, VertexAdjacency, VertexFaces};
 use crate::spatial::SurfaceIndex;
 
 /// The cap never goes below this multiple of the field's own length: at a
@@ -107,14 +107,14 @@ pub fn thin_part_cap(
         return None;
     }
     // Dijkstra from every capped vertex at once.
-    let mut heap: BinaryHeap<Entry> = cap
+    let mut heap: BinaryHeap<(Reverse<OrdF64>, usize)> = cap
         .iter()
         .enumerate()
         .filter(|(_, c)| c.is_finite())
-        .map(|(v, &c)| Entry(c, v))
+        .map(|(v, &c)| (Reverse(OrdF64(c)), v))
         .collect();
     let gradation = gradation.max(0.0);
-    while let Some(Entry(c, v)) = heap.pop() {
+    while let Some((Reverse(OrdF64(c)), v)) = heap.pop() {
         if c > cap[v] {
             continue;
         }
@@ -123,31 +123,11 @@ pub fn thin_part_cap(
             let next = c + gradation * mesh.positions[v].distance(mesh.positions[w]);
             if next < cap[w] {
                 cap[w] = next;
-                heap.push(Entry(next, w));
+                heap.push((Reverse(OrdF64(next)), w));
             }
         }
     }
     Some(cap)
-}
-
-/// Min-heap entry (smallest cap first).
-struct Entry(f64, usize);
-
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
-    }
 }
 
 #[cfg(test)]

@@ -53,18 +53,4 @@ pub use loops::{Anchor, DualLoop, LoopEngine, SelfCrossing};
 pub use strips::{Strip, StripAnalysis, StripParams, strip_analysis};
 pub use surface_graph::SurfaceGraph;
 
-/// An `f64` ordered by `total_cmp`, for the binary heaps of the layout's
-/// shortest-path searches.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct OrdF64(pub f64);
-impl Eq for OrdF64 {}
-impl PartialOrd for OrdF64 {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for OrdF64 {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
-}
+pub(crate) use crate::mesh::OrdF64;

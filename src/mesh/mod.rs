@@ -56,3 +56,19 @@ pub enum MeshError {
     #[error("half-edge structure broken: {0}")]
     Connectivity(String),
 }
+
+/// An `f64` ordered by `total_cmp`, for the binary heaps of the
+/// shortest-path searches (the layout's, the thin-part cap's).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct OrdF64(pub f64);
+impl Eq for OrdF64 {}
+impl PartialOrd for OrdF64 {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for OrdF64 {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}

@@ -692,20 +692,14 @@ mod tests {
         assert_eq!(l.colors, vec![[9, 9, 9, 255]; 2]);
     }
 
-    /// A closed cube of 12 triangles with 8 shared corners.
+    /// A closed cube of 12 triangles with 8 shared corners (the unit cube
+    /// of `mesh::generate`, each quad fanned from its first corner).
     fn cube() -> Surface {
-        let mut p = Vec::new();
-        for i in 0..8 {
-            p.extend([(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]);
-        }
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
+        let (positions, quads) = crate::mesh::generate::unit_cube_quads();
+        let p: Vec<f32> = positions
+            .iter()
+            .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+            .collect();
         let t: Vec<u32> = quads
             .iter()
             .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
