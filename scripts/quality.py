@@ -42,7 +42,7 @@ ROOT = compare.ROOT
 IM_EQUIVALENT = {
     "sizing": {"method": "uniform"},
     "alignment": {"mode": "none"},
-    "field": {"filtered_normals": False, "split_long_edges": True},
+    "field": {"filtered_normals": False, "split_long_edges": True, "scale_consistency": 0},
     "extraction": {
         "thesis_quad_score": False,
         "max_hole": 6,
@@ -83,10 +83,17 @@ ROWS = {
     "+edge rotations and diagonal collapses": {"extraction": {"post": {"rotate_edges_degrees": 75,
                                                                        "collapse_diagonals": True}}},
     "+3 smoothing steps": {"extraction": {"post": {"smoothing_iterations": 3}}},
+    # The lattice spacing made consistent with the cross field (healing
+    # length 5 target edges; src/field/scale_consistency.rs).
+    "+scale consistency": {"field": {"scale_consistency": 5}},
     "default": None,
     # Overlays on the defaults: Instant Meshes' own pure-quad route (extract
     # at a quarter of the count, one split), with the odd-face pairing off.
     "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
+    "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
+    "default, scale consistency 20 edges": ("default", {"field": {"scale_consistency": 20}}),
+    "default, scale consistency 2 edges": ("default", {"field": {"scale_consistency": 2}}),
+    "default + feature-vertex constraints": ("default", {"alignment": {"mode": "feature-vertices"}}),
     # Thin parts: the length capped at pi x shape diameter / edges around.
     "default + thin parts (3 edges)": ("default", {"sizing": {"thin_part_edges": 3}}),
     "default + thin parts (5 edges)": ("default", {"sizing": {"thin_part_edges": 5}}),
@@ -165,7 +172,8 @@ def run_tool(args, tool, src, stem, target):
 # and its coarsening follow the vertex order), so the reproduction and
 # acceptance ratios are also read off medians over the same re-orderings
 # for every tool.
-ORDER_ROWS = ("instant-meshes", "im-equivalent", "default", "default + thin parts (3 edges)",
+ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default",
+              "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)")
 
 

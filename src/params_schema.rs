@@ -130,6 +130,7 @@ pub fn schema() -> Vec<ParamDoc> {
         choice("field.scale_mode", &["average", "reference-point", "per-vertex"], "How neighbouring lattices of different spacing are compared (thesis §3.4)."),
         choice("field.level_sizing", &["per-level", "summation"], "Sizing on coarse levels: estimated again per level, or summed from the children."),
         flag("field.filtered_normals", "Solve the fields in the tangent planes of the filtered normals."),
+        num("field.scale_consistency", 0.0, 1000.0, "Healing length (target edges) over which the lattice spacing follows the cross field's turning, so the grid closes; 0 = off."),
         flag("field.split_long_edges", "Split input edges longer than half a target edge before the fields (Instant Meshes)."),
         int("field.seed", 0.0, 4294967295.0, "Seed of the random initialisation."),
         // alignment

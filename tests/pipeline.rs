@@ -32,7 +32,9 @@ fn cross_deviation(q: Vec3, n: Vec3, d: Vec3) -> f32 {
 
 #[test]
 fn fandisk_field_follows_feature_vertices_and_sharp_edges() {
-    let mut p = Pipeline::new(common::import("fandisk.obj"), Params::default());
+    let mut params = Params::default();
+    params.alignment.mode = quadrille::pipeline::AlignmentMode::FeatureVertices;
+    let mut p = Pipeline::new(common::import("fandisk.obj"), params);
     run(&mut p);
     let mesh = &p.input.mesh;
     let o = p.orientation.as_ref().unwrap();
@@ -304,4 +306,49 @@ fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
     run(&mut plain);
     assert!(plain.analysis.as_ref().unwrap().refined.is_none());
     assert_eq!(plain.position.as_ref().unwrap().o.len(), n);
+}
+
+/// The lattice spacing made consistent with the cross field
+/// (`field.scale_consistency`) lets the position field close up: on the
+/// rocker arm (uniform sizing, no alignment, so only the spacing differs)
+/// it leaves far fewer position singularities, and it keeps the vertex
+/// count the sizing field aims at (Σ area / s² unchanged).
+#[test]
+fn a_spacing_consistent_with_the_cross_field_removes_position_singularities() {
+    let mut params = Params::default();
+    params.sizing.method = quadrille::sizing::EdgeLengthMethod::Uniform;
+    params.alignment.mode = quadrille::pipeline::AlignmentMode::None;
+    params.extraction.vertex_count_correction = false;
+    params.extraction.restarts = 0;
+    let count = |params: &Params| {
+        let mut p = Pipeline::new(common::import("rocker-arm.obj"), params.clone());
+        run(&mut p);
+        let h = p.hierarchy.as_ref().unwrap();
+        let ps = p.position.as_ref().unwrap();
+        let areas = &h.hierarchy.levels[0].areas;
+        let density = |s: &[f32]| -> f64 {
+            s.iter()
+                .zip(areas)
+                .map(|(&s, &a)| a as f64 / (s as f64 * s as f64))
+                .sum()
+        };
+        (
+            ps.singularities.len(),
+            density(&ps.scale) / density(&h.scale[0]),
+        )
+    };
+    params.field.scale_consistency = 0.0;
+    let (plain, kept) = count(&params);
+    assert!(
+        (kept - 1.0).abs() < 1e-6,
+        "without: spacing changed ({kept})"
+    );
+    params.field.scale_consistency = 5.0;
+    let (consistent, kept) = count(&params);
+    println!("rocker-arm position singularities: {plain} → {consistent}");
+    assert!((kept - 1.0).abs() < 1e-3, "the vertex count moved: {kept}");
+    assert!(
+        (consistent as f64) < 0.7 * plain as f64,
+        "position singularities {plain} → {consistent}"
+    );
 }

@@ -493,7 +493,7 @@ mod tests {
         let mut page = crate::pipeline::Params::default();
         assert_eq!(
             Params::from_pipeline(&page).alignment,
-            Alignment::FeatureVertices,
+            Alignment::None,
             "the page's default mode"
         );
         page.alignment.mode = AlignmentMode::SmoothRegions;

@@ -1171,7 +1171,7 @@ test('the parametrization layer follows the alignment mode and is kept across ch
   await page.check('#layer-parametrization');
   await page.waitForFunction(() => window.quadrille.lastParam, null, { timeout: 120000 });
   const first = await page.evaluate(() => ({ p: window.quadrille.lastParam, jobs: window.quadrille.paramJobs }));
-  assert(first.p.alignment === 'feature-vertices', `the page's default mode: ${first.p.alignment}`);
+  assert(first.p.alignment === 'none', `the page's default mode: ${first.p.alignment}`);
   // A position-field parameter: the map does not read it.
   await setParamInput(page, 'field.position_iterations', 7);
   await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.position_iterations === 7, null, { timeout: 60000 });
@@ -1182,7 +1182,7 @@ test('the parametrization layer follows the alignment mode and is kept across ch
   await setParamInput(page, 'alignment.mode', 'smooth-regions');
   await page.waitForFunction(() => window.quadrille.lastParam && window.quadrille.lastParam.alignment === 'smooth-regions', null, { timeout: 120000 });
   const second = await page.evaluate(() => ({ p: window.quadrille.lastParam, jobs: window.quadrille.paramJobs }));
-  console.log(`      [${env.backend}] fandisk map: feature vertices ${first.p.measures.cones} cones, misalignment ${first.p.measures.misalignment_degrees.toFixed(2)}°; smooth regions ${second.p.measures.cones} cones, ${second.p.measures.misalignment_degrees.toFixed(2)}°`);
+  console.log(`      [${env.backend}] fandisk map: no alignment ${first.p.measures.cones} cones, misalignment ${first.p.measures.misalignment_degrees.toFixed(2)}°; smooth regions ${second.p.measures.cones} cones, ${second.p.measures.misalignment_degrees.toFixed(2)}°`);
   assert(second.jobs === first.jobs + 1, `one new parametrization job: ${first.jobs} → ${second.jobs}`);
   assert(second.p.measures.misalignment_degrees !== first.p.measures.misalignment_degrees, 'a different map');
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
