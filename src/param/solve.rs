@@ -6,16 +6,18 @@
 //! it — the integer rounding's re-solves, the cross field's two relaxation
 //! matrices — only pay for the numeric factorization.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use std::sync::Arc;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Mat, Side};
+use faer::{Conj, Mat, Side};
 
 /// The lower triangle's sparsity pattern of a symmetric matrix with its
 /// symbolic Cholesky factorization.
 pub struct SpdPattern {
     n: usize,
-    pattern: Option<(SymbolicSparseColMat<usize>, SymbolicLlt<usize>)>,
+    pattern: Option<(SymbolicSparseColMat<usize>, Arc<SymbolicCholesky<usize>>)>,
 }
 
 /// Why [`SpdPattern::factor`] gave no factor.
@@ -35,14 +37,19 @@ impl SpdPattern {
     /// The pattern of the (summed, possibly repeated) triplets' lower
     /// triangle (`row ≥ col`) and its symbolic factorization.
     pub fn new(n: usize, triplets: &[(usize, usize, f64)]) -> Option<SpdPattern> {
-        if n == 0 {
-            return Some(SpdPattern { n, pattern: None });
-        }
-        let mut keys: Vec<u64> = triplets
+        let keys: Vec<u64> = triplets
             .iter()
             .filter(lower(n))
             .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
             .collect();
+        SpdPattern::from_keys(n, keys)
+    }
+
+    /// The pattern of the entries `(col << 32) | row` (lower triangle).
+    fn from_keys(n: usize, mut keys: Vec<u64>) -> Option<SpdPattern> {
+        if n == 0 {
+            return Some(SpdPattern { n, pattern: None });
+        }
         keys.sort_unstable();
         keys.dedup();
         let mut col_ptr = vec![0usize; n + 1];
@@ -54,19 +61,68 @@ impl SpdPattern {
         }
         let row_idx: Vec<usize> = keys.iter().map(|&k| (k & 0xffff_ffff) as usize).collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).ok()?;
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .ok()?;
         Some(SpdPattern {
             n,
-            pattern: Some((pattern, symbolic)),
+            pattern: Some((pattern, Arc::new(symbolic))),
         })
+    }
+
+    /// The union of this pattern and the triplets' lower triangle, with a
+    /// new symbolic factorization.
+    pub fn union(&self, triplets: &[(usize, usize, f64)]) -> Option<SpdPattern> {
+        let n = self.n;
+        let mut keys: Vec<u64> = triplets
+            .iter()
+            .filter(lower(n))
+            .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
+            .collect();
+        if let Some((p, _)) = &self.pattern {
+            let (col_ptr, row_idx) = (p.col_ptr(), p.row_idx());
+            for c in 0..n {
+                keys.extend(
+                    row_idx[col_ptr[c]..col_ptr[c + 1]]
+                        .iter()
+                        .map(|&r| ((c as u64) << 32) | r as u64),
+                );
+            }
+        }
+        SpdPattern::from_keys(n, keys)
+    }
+
+    /// Stored entries of the Cholesky factor L.
+    pub fn factor_entries(&self) -> usize {
+        self.pattern.as_ref().map_or(0, |(_, s)| s.len_val())
     }
 
     /// Numeric factorization of the matrix given by triplets (lower
     /// triangle read) whose entries lie in the pattern.
     pub fn factor(&self, triplets: &[(usize, usize, f64)]) -> Result<SpdFactor, FactorError> {
+        let mut out = SpdFactor {
+            n: self.n,
+            llt: None,
+        };
+        self.refactor(triplets, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`SpdPattern::factor`] into `out`, reusing its storage when it
+    /// holds a factor of this pattern's size.
+    pub fn refactor(
+        &self,
+        triplets: &[(usize, usize, f64)],
+        out: &mut SpdFactor,
+    ) -> Result<(), FactorError> {
         let n = self.n;
         let Some((pattern, symbolic)) = &self.pattern else {
-            return Ok(SpdFactor { n, llt: None });
+            *out = SpdFactor { n, llt: None };
+            return Ok(());
         };
         let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
         let mut values = vec![0.0; row_idx.len()];
@@ -78,19 +134,48 @@ impl SpdPattern {
             values[a + k] += v;
         }
         let a = SparseColMatRef::new(pattern.as_ref(), &values);
-        let llt = Llt::try_new_with_symbolic(symbolic.clone(), a, Side::Lower)
+        let mut l = match out.llt.take() {
+            Some((_, mut l)) if out.n == n => {
+                l.clear();
+                l
+            }
+            _ => Vec::new(),
+        };
+        l.resize(symbolic.len_val(), 0.0);
+        let par = faer::get_global_parallelism();
+        let mut buffer =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut l,
+                a,
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
             .map_err(|_| FactorError::NotPositiveDefinite)?;
-        Ok(SpdFactor { n, llt: Some(llt) })
+        *out = SpdFactor {
+            n,
+            llt: Some((symbolic.clone(), l)),
+        };
+        Ok(())
     }
 }
 
 /// A factorized SPD matrix, for several solves with one factorization.
 pub struct SpdFactor {
     n: usize,
-    llt: Option<Llt<usize, f64>>,
+    llt: Option<(Arc<SymbolicCholesky<usize>>, Vec<f64>)>,
 }
 
 impl SpdFactor {
+    /// No factor yet, of an n × n system (storage for [`SpdPattern::refactor`]).
+    pub fn empty(n: usize) -> SpdFactor {
+        SpdFactor { n, llt: None }
+    }
+
     /// Factorizes the matrix given by (summed, possibly repeated) triplets;
     /// only the lower triangle (`row ≥ col`) is read. None if it is not
     /// numerically positive definite.
@@ -98,9 +183,10 @@ impl SpdFactor {
         SpdPattern::new(n, triplets)?.factor(triplets).ok()
     }
 
-    /// Solves for several right-hand sides; None if the result is not finite.
+    /// Solves for several right-hand sides (one triangular pass for all of
+    /// them); None if the result is not finite.
     pub fn solve(&self, rhs: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
-        let Some(llt) = &self.llt else {
+        let Some((symbolic, values)) = &self.llt else {
             return Some(rhs.to_vec());
         };
         let mut b = Mat::<f64>::zeros(self.n, rhs.len());
@@ -109,7 +195,14 @@ impl SpdFactor {
                 b[(i, j)] = v;
             }
         }
-        llt.solve_in_place(b.as_mut());
+        let par = faer::get_global_parallelism();
+        let mut buffer = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(rhs.len(), par));
+        LltRef::new(symbolic, values).solve_in_place_with_conj(
+            Conj::No,
+            b.as_mut(),
+            par,
+            MemStack::new(&mut buffer),
+        );
         let out: Vec<Vec<f64>> = (0..rhs.len())
             .map(|j| (0..self.n).map(|i| b[(i, j)]).collect())
             .collect();
