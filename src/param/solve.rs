@@ -11,7 +11,25 @@ use std::sync::Arc;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, Mat, Side};
+use faer::{Conj, Mat, Side, c64};
+
+/// A matrix entry type of the solves: real (f64) or complex (c64, a
+/// Hermitian matrix, e.g. a connection Laplacian on complex face values).
+pub trait Scalar: faer::traits::ComplexField + Copy + Default + std::ops::AddAssign {
+    fn finite(self) -> bool;
+}
+
+impl Scalar for f64 {
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Scalar for c64 {
+    fn finite(self) -> bool {
+        self.re.is_finite() && self.im.is_finite()
+    }
+}
 
 /// The lower triangle's sparsity pattern of a symmetric matrix with its
 /// symbolic Cholesky factorization.
@@ -29,14 +47,14 @@ pub enum FactorError {
     NotPositiveDefinite,
 }
 
-fn lower(n: usize) -> impl Fn(&&(usize, usize, f64)) -> bool {
-    move |&&(r, c, v)| r >= c && r < n && v.is_finite()
+fn lower<T: Scalar>(n: usize) -> impl Fn(&&(usize, usize, T)) -> bool {
+    move |&&(r, c, v)| r >= c && r < n && v.finite()
 }
 
 impl SpdPattern {
     /// The pattern of the (summed, possibly repeated) triplets' lower
     /// triangle (`row ≥ col`) and its symbolic factorization.
-    pub fn new(n: usize, triplets: &[(usize, usize, f64)]) -> Option<SpdPattern> {
+    pub fn new<T: Scalar>(n: usize, triplets: &[(usize, usize, T)]) -> Option<SpdPattern> {
         let keys: Vec<u64> = triplets
             .iter()
             .filter(lower(n))
@@ -74,28 +92,6 @@ impl SpdPattern {
         })
     }
 
-    /// The union of this pattern and the triplets' lower triangle, with a
-    /// new symbolic factorization.
-    pub fn union(&self, triplets: &[(usize, usize, f64)]) -> Option<SpdPattern> {
-        let n = self.n;
-        let mut keys: Vec<u64> = triplets
-            .iter()
-            .filter(lower(n))
-            .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
-            .collect();
-        if let Some((p, _)) = &self.pattern {
-            let (col_ptr, row_idx) = (p.col_ptr(), p.row_idx());
-            for c in 0..n {
-                keys.extend(
-                    row_idx[col_ptr[c]..col_ptr[c + 1]]
-                        .iter()
-                        .map(|&r| ((c as u64) << 32) | r as u64),
-                );
-            }
-        }
-        SpdPattern::from_keys(n, keys)
-    }
-
     /// Stored entries of the Cholesky factor L.
     pub fn factor_entries(&self) -> usize {
         self.pattern.as_ref().map_or(0, |(_, s)| s.len_val())
@@ -103,7 +99,10 @@ impl SpdPattern {
 
     /// Numeric factorization of the matrix given by triplets (lower
     /// triangle read) whose entries lie in the pattern.
-    pub fn factor(&self, triplets: &[(usize, usize, f64)]) -> Result<SpdFactor, FactorError> {
+    pub fn factor<T: Scalar>(
+        &self,
+        triplets: &[(usize, usize, T)],
+    ) -> Result<SpdFactor<T>, FactorError> {
         let mut out = SpdFactor {
             n: self.n,
             llt: None,
@@ -114,10 +113,10 @@ impl SpdPattern {
 
     /// [`SpdPattern::factor`] into `out`, reusing its storage when it
     /// holds a factor of this pattern's size.
-    pub fn refactor(
+    pub fn refactor<T: Scalar>(
         &self,
-        triplets: &[(usize, usize, f64)],
-        out: &mut SpdFactor,
+        triplets: &[(usize, usize, T)],
+        out: &mut SpdFactor<T>,
     ) -> Result<(), FactorError> {
         let n = self.n;
         let Some((pattern, symbolic)) = &self.pattern else {
@@ -125,7 +124,7 @@ impl SpdPattern {
             return Ok(());
         };
         let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
-        let mut values = vec![0.0; row_idx.len()];
+        let mut values = vec![T::default(); row_idx.len()];
         for &(r, c, v) in triplets.iter().filter(lower(n)) {
             let (a, b) = (col_ptr[c], col_ptr[c + 1]);
             let k = row_idx[a..b]
@@ -141,12 +140,12 @@ impl SpdPattern {
             }
             _ => Vec::new(),
         };
-        l.resize(symbolic.len_val(), 0.0);
+        l.resize(symbolic.len_val(), T::default());
         let par = faer::get_global_parallelism();
         let mut buffer =
-            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<T>(par, Default::default()));
         symbolic
-            .factorize_numeric_llt::<f64>(
+            .factorize_numeric_llt::<T>(
                 &mut l,
                 a,
                 Side::Lower,
@@ -164,49 +163,50 @@ impl SpdPattern {
     }
 }
 
-/// A factorized SPD matrix, for several solves with one factorization.
-pub struct SpdFactor {
+/// A factorized SPD (Hermitian positive definite for c64) matrix, for
+/// several solves with one factorization.
+pub struct SpdFactor<T = f64> {
     n: usize,
-    llt: Option<(Arc<SymbolicCholesky<usize>>, Vec<f64>)>,
+    llt: Option<(Arc<SymbolicCholesky<usize>>, Vec<T>)>,
 }
 
-impl SpdFactor {
+impl<T: Scalar> SpdFactor<T> {
     /// No factor yet, of an n × n system (storage for [`SpdPattern::refactor`]).
-    pub fn empty(n: usize) -> SpdFactor {
+    pub fn empty(n: usize) -> SpdFactor<T> {
         SpdFactor { n, llt: None }
     }
 
     /// Factorizes the matrix given by (summed, possibly repeated) triplets;
     /// only the lower triangle (`row ≥ col`) is read. None if it is not
     /// numerically positive definite.
-    pub fn new(n: usize, triplets: &[(usize, usize, f64)]) -> Option<SpdFactor> {
+    pub fn new(n: usize, triplets: &[(usize, usize, T)]) -> Option<SpdFactor<T>> {
         SpdPattern::new(n, triplets)?.factor(triplets).ok()
     }
 
     /// Solves for several right-hand sides (one triangular pass for all of
     /// them); None if the result is not finite.
-    pub fn solve(&self, rhs: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+    pub fn solve(&self, rhs: &[Vec<T>]) -> Option<Vec<Vec<T>>> {
         let Some((symbolic, values)) = &self.llt else {
             return Some(rhs.to_vec());
         };
-        let mut b = Mat::<f64>::zeros(self.n, rhs.len());
+        let mut b = Mat::<T>::zeros(self.n, rhs.len());
         for (j, col) in rhs.iter().enumerate() {
             for (i, &v) in col.iter().enumerate().take(self.n) {
                 b[(i, j)] = v;
             }
         }
         let par = faer::get_global_parallelism();
-        let mut buffer = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(rhs.len(), par));
+        let mut buffer = MemBuffer::new(symbolic.solve_in_place_scratch::<T>(rhs.len(), par));
         LltRef::new(symbolic, values).solve_in_place_with_conj(
             Conj::No,
             b.as_mut(),
             par,
             MemStack::new(&mut buffer),
         );
-        let out: Vec<Vec<f64>> = (0..rhs.len())
+        let out: Vec<Vec<T>> = (0..rhs.len())
             .map(|j| (0..self.n).map(|i| b[(i, j)]).collect())
             .collect();
-        out.iter().flatten().all(|v| v.is_finite()).then_some(out)
+        out.iter().flatten().all(|v| v.finite()).then_some(out)
     }
 }
 
