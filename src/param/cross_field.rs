@@ -21,7 +21,11 @@
 //! the θ, followed by a few unit-length (MBO) diffusion steps that
 //! separate clustered zeros; (2) all p_ij are rounded at once to minimise each γ_ij; (3) θ is
 //! re-solved exactly for E_smooth with those p (a sparse Laplacian); (2)–(3)
-//! repeat (each step lowers E_smooth). Faces on the boundary are aligned
+//! repeat (each step lowers E_smooth). Soft alignment constraints (the
+//! smooth regions' a_min by default, see `Params::region_cross_weight`)
+//! add w·A(f)·|z_f − z_target|² to the relaxation and w·A(f)·(θ_f −
+//! θ_target − k_f·π/2)² to step (3), k_f rounded with the p in step (2):
+//! a finite instead of Campen §4.1's ∞ weight. Faces on the boundary are aligned
 //! with their boundary edge (MIQ's boundary alignment), so boundaries can
 //! become integer isolines.
 
@@ -55,6 +59,14 @@ pub struct CrossFieldInput<'a> {
     /// Per face: a direction the cross must contain (projected into the
     /// filtered plane), or None.
     pub constraints: &'a [Option<DVec3>],
+    /// Per face: a direction the cross should contain, a penalty
+    /// `soft_weight · A(f) · (θ_f − θ_target)²` (modulo quarter turns) next
+    /// to E_smooth instead of a fixed angle; faces with a hard constraint
+    /// ignore it (empty: none).
+    pub soft_constraints: &'a [Option<DVec3>],
+    /// The soft constraints' weight against E_smooth's unit edge weights
+    /// (areas normalised to mean 1).
+    pub soft_weight: f64,
 }
 
 /// A cone: an interior vertex with nonzero index.
@@ -216,6 +228,9 @@ struct Relaxation<'a> {
     kappa: &'a [[f64; 3]],
     /// Fixed θ per face.
     fixed: &'a [Option<f64>],
+    /// Soft target angle per face (None where fixed or unconstrained).
+    soft: &'a [Option<f64>],
+    soft_weight: f64,
     components: &'a [u32],
     /// Per face-edge: the relaxation's dual-edge weight |e| / |c_f − c_g|.
     weight: &'a [[f64; 3]],
@@ -287,6 +302,14 @@ fn relaxation_system(r: &Relaxation<'_>) -> Hermitian {
             }
         }
     }
+    for f in 0..nf {
+        if let (Some(t), true) = (r.soft[f], var[f] != usize::MAX) {
+            let w = r.soft_weight * r.mass[f];
+            let z = DVec2::from_angle(4.0 * t);
+            triplets.push((var[f], var[f], c64::new(w, 0.0)));
+            rhs[var[f]] += c64::new(z.x, z.y) * w;
+        }
+    }
     let mean_degree = degree.iter().sum::<f64>() / nf.max(1) as f64;
     let shift = 1e-8 * mean_degree.max(1.0);
     triplets.extend((0..n).map(|i| (i, i, c64::new(shift, 0.0))));
@@ -338,7 +361,7 @@ fn relaxed_angles(
     let n = sys.rhs.len();
     let mut constrained_component = vec![false; nf];
     for f in 0..nf {
-        if r.fixed[f].is_some() {
+        if r.fixed[f].is_some() || r.soft[f].is_some() {
             constrained_component[r.components[f] as usize] = true;
         }
     }
@@ -483,7 +506,7 @@ impl AngleSystem {
         let mut fixed: Vec<Option<f64>> = r.fixed.to_vec();
         let mut has_fixed = vec![false; nf];
         for f in 0..nf {
-            has_fixed[r.components[f] as usize] |= fixed[f].is_some();
+            has_fixed[r.components[f] as usize] |= fixed[f].is_some() || r.soft[f].is_some();
         }
         for f in 0..nf {
             let c = r.components[f] as usize;
@@ -501,7 +524,7 @@ impl AngleSystem {
             }
         }
         // The matrix does not depend on p: factorize it with p = 0.
-        let eq = equations(r, &fixed, &var, n, &vec![[0; 3]; nf]);
+        let eq = equations(r, &fixed, &var, n, &vec![[0; 3]; nf], &vec![0; nf]);
         let factor = SpdFactor::new(n, &eq.triplets)?;
         Some(AngleSystem {
             fixed,
@@ -522,8 +545,10 @@ impl AngleSystem {
         }
     }
 
-    fn solve(&self, r: &Relaxation<'_>, p: &[[i32; 3]]) -> Option<Vec<f64>> {
-        let eq = equations(r, &self.fixed, &self.var, self.n, p);
+    /// θ for the period jumps `p` and the soft constraints' quarter-turn
+    /// offsets `k` (θ_f → θ_target + k_f·π/2).
+    fn solve(&self, r: &Relaxation<'_>, p: &[[i32; 3]], k: &[i32]) -> Option<Vec<f64>> {
+        let eq = equations(r, &self.fixed, &self.var, self.n, p, k);
         let x = self.factor.solve(&[eq.rhs])?.pop()?;
         Some(
             (0..self.fixed.len())
@@ -534,15 +559,23 @@ impl AngleSystem {
 }
 
 /// The normal equations of θ_f − θ_g = −κ − (π/2) p over the dual edges,
-/// the fixed faces' angles moved to the right-hand side.
+/// the fixed faces' angles moved to the right-hand side, and of the soft
+/// constraints θ_f = θ_target + (π/2) k_f.
 fn equations(
     r: &Relaxation<'_>,
     fixed: &[Option<f64>],
     var: &[usize],
     n: usize,
     p: &[[i32; 3]],
+    k: &[i32],
 ) -> NormalEquations {
     let mut eq = NormalEquations::new(n);
+    for f in 0..fixed.len() {
+        if let (Some(t), None) = (r.soft[f], fixed[f]) {
+            let w = (r.soft_weight * r.mass[f]).sqrt();
+            eq.row(w, &[(var[f], 1.0)], t + FRAC_PI_2 * k[f] as f64);
+        }
+    }
     for f in 0..fixed.len() {
         for e in 0..3 {
             let Some((g, _)) = r.topology.across(f, e) else {
@@ -590,7 +623,7 @@ fn has_free_component(r: &Relaxation<'_>) -> bool {
     let nf = r.fixed.len();
     let mut constrained = vec![false; nf];
     for f in 0..nf {
-        constrained[r.components[f] as usize] |= r.fixed[f].is_some();
+        constrained[r.components[f] as usize] |= r.fixed[f].is_some() || r.soft[f].is_some();
     }
     (0..nf).any(|f| r.components[f] as usize == f && !constrained[f])
 }
@@ -602,12 +635,21 @@ fn round_and_resolve(
     mut theta: Vec<f64>,
 ) -> Option<(Vec<f64>, Vec<[i32; 3]>)> {
     let mut p = round_period_jumps(r.topology, r.kappa, &theta);
+    let mut k = round_soft_offsets(r, &theta);
     for _ in 0..ROUNDS {
-        theta = system.solve(r, &p)?;
+        theta = system.solve(r, &p, &k)?;
         p = round_period_jumps(r.topology, r.kappa, &theta);
+        k = round_soft_offsets(r, &theta);
     }
-    theta = system.solve(r, &p)?;
+    theta = system.solve(r, &p, &k)?;
     Some((theta, p))
+}
+
+/// Per face: the quarter turns k nearest θ_f − θ_target (soft constraints).
+fn round_soft_offsets(r: &Relaxation<'_>, theta: &[f64]) -> Vec<i32> {
+    (0..theta.len())
+        .map(|f| r.soft[f].map_or(0, |t| ((theta[f] - t) / FRAC_PI_2).round() as i32))
+        .collect()
 }
 
 /// Computes the cross field; None when a sparse factorization fails.
@@ -616,11 +658,17 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     let normals = input.normals.to_vec();
     let reference = reference_directions(input.mesh, &normals);
     let kappa = transition_angles(input, &reference);
-    let fixed: Vec<Option<f64>> = (0..nf)
+    let angle = |c: &[Option<DVec3>], f: usize| {
+        let d = c.get(f).copied().flatten()?;
+        let d = d.reject_from_normalized(normals[f]);
+        (d.length() > 1e-12).then(|| angle_from(reference[f], normals[f], d))
+    };
+    let fixed: Vec<Option<f64>> = (0..nf).map(|f| angle(input.constraints, f)).collect();
+    let soft_weight = input.soft_weight.max(0.0);
+    let soft: Vec<Option<f64>> = (0..nf)
         .map(|f| {
-            let d = input.constraints.get(f).copied().flatten()?;
-            let d = d.reject_from_normalized(normals[f]);
-            (d.length() > 1e-12).then(|| angle_from(reference[f], normals[f], d))
+            let t = angle(input.soft_constraints, f);
+            t.filter(|_| fixed[f].is_none() && soft_weight > 0.0)
         })
         .collect();
     let components = face_components(input.topology);
@@ -629,6 +677,8 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
         topology: input.topology,
         kappa: &kappa,
         fixed: &fixed,
+        soft: &soft,
+        soft_weight,
         components: &components,
         weight: &weight,
         mass: &mass,
