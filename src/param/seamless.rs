@@ -480,7 +480,7 @@ fn energy_rows(
 /// place with an identity row, so the later systems' entries mostly lie in
 /// the first pattern and reuse its symbolic factorization (a rounded
 /// expression of several free variables can add entries; then the pattern
-/// is analysed anew and kept). The energy rows reduced to free variables
+/// is analysed anew, with the first one's ordering, and kept). The energy rows reduced to free variables
 /// are kept too: a re-solve reduces again only the rows that use a
 /// variable eliminated since the last one.
 #[derive(Default)]
@@ -524,8 +524,12 @@ impl Resolver {
                 Err(FactorError::OutsidePattern) => {}
             }
         }
-        let p =
-            SpdPattern::new(self.base.len(), triplets).ok_or(FactorError::NotPositiveDefinite)?;
+        // A later pattern keeps the first one's fill-reducing ordering.
+        let p = match &self.pattern {
+            Some(old) => old.reordered(triplets),
+            None => SpdPattern::new(self.base.len(), triplets),
+        }
+        .ok_or(FactorError::NotPositiveDefinite)?;
         self.analyses += 1;
         let result = p.refactor(triplets, &mut out);
         self.pattern = Some(p);

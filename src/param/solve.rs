@@ -9,7 +9,10 @@
 use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, Mat, Side, c64};
 
@@ -60,11 +63,30 @@ impl SpdPattern {
             .filter(lower(n))
             .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
             .collect();
-        SpdPattern::from_keys(n, keys)
+        SpdPattern::from_keys(n, keys, None)
     }
 
-    /// The pattern of the entries `(col << 32) | row` (lower triangle).
-    fn from_keys(n: usize, mut keys: Vec<u64>) -> Option<SpdPattern> {
+    /// The pattern of the triplets' lower triangle with this pattern's
+    /// fill-reducing ordering (no new ordering: for a pattern that differs
+    /// from this one in a few entries, e.g. the integer rounding's).
+    pub fn reordered<T: Scalar>(&self, triplets: &[(usize, usize, T)]) -> Option<SpdPattern> {
+        let n = self.n;
+        let keys: Vec<u64> = triplets
+            .iter()
+            .filter(lower(n))
+            .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
+            .collect();
+        let perm = self.pattern.as_ref().and_then(|(_, s)| s.perm());
+        SpdPattern::from_keys(n, keys, perm)
+    }
+
+    /// The pattern of the entries `(col << 32) | row` (lower triangle),
+    /// ordered by `perm` or else AMD.
+    fn from_keys(
+        n: usize,
+        mut keys: Vec<u64>,
+        perm: Option<PermRef<'_, usize>>,
+    ) -> Option<SpdPattern> {
         if n == 0 {
             return Some(SpdPattern { n, pattern: None });
         }
@@ -79,10 +101,11 @@ impl SpdPattern {
         }
         let row_idx: Vec<usize> = keys.iter().map(|&k| (k & 0xffff_ffff) as usize).collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let ordering = perm.map_or(SymmetricOrdering::Amd, SymmetricOrdering::Custom);
         let symbolic = factorize_symbolic_cholesky(
             pattern.as_ref(),
             Side::Lower,
-            Default::default(),
+            ordering,
             Default::default(),
         )
         .ok()?;
