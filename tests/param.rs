@@ -437,6 +437,8 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
         fans: &prepared.fans,
         normals: &prepared.normals,
         constraints: &helical,
+        soft_constraints: &[],
+        soft_weight: 0.0,
     })
     .expect("a cross field");
     let principal_field = param::cross_field_of(&mesh, &prepared, &params).expect("a cross field");

@@ -535,6 +535,7 @@ fn param(args: ParamArgs) -> Result<(), String> {
             "e_smooth": result.field.energy,
             "e_orient": result.map.energy,
             "rounding_steps": result.map.rounding_steps,
+            "symbolic_analyses": result.map.symbolic_analyses,
             "integer_conflicts": result.map.conflicts,
             "cyclic_loops": quadrille::param::cyclic_loops(&result.prepared, &params).len(),
             "closed_loops": result.map.closed_loops,

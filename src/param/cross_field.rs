@@ -21,7 +21,11 @@
 //! the θ, followed by a few unit-length (MBO) diffusion steps that
 //! separate clustered zeros; (2) all p_ij are rounded at once to minimise each γ_ij; (3) θ is
 //! re-solved exactly for E_smooth with those p (a sparse Laplacian); (2)–(3)
-//! repeat (each step lowers E_smooth). Faces on the boundary are aligned
+//! repeat (each step lowers E_smooth). Soft alignment constraints (the
+//! smooth regions' a_min by default, see `Params::region_cross_weight`)
+//! add w·A(f)·|z_f − z_target|² to the relaxation and w·A(f)·(θ_f −
+//! θ_target − k_f·π/2)² to step (3), k_f rounded with the p in step (2):
+//! a finite instead of Campen §4.1's ∞ weight. Faces on the boundary are aligned
 //! with their boundary edge (MIQ's boundary alignment), so boundaries can
 //! become integer isolines.
 
@@ -30,6 +34,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use faer::c64;
 use glam::{DVec2, DVec3};
 
 use super::solve::{NormalEquations, SpdFactor, SpdPattern};
@@ -54,6 +59,14 @@ pub struct CrossFieldInput<'a> {
     /// Per face: a direction the cross must contain (projected into the
     /// filtered plane), or None.
     pub constraints: &'a [Option<DVec3>],
+    /// Per face: a direction the cross should contain, a penalty
+    /// `soft_weight · A(f) · (θ_f − θ_target)²` (modulo quarter turns) next
+    /// to E_smooth instead of a fixed angle; faces with a hard constraint
+    /// ignore it (empty: none).
+    pub soft_constraints: &'a [Option<DVec3>],
+    /// The soft constraints' weight against E_smooth's unit edge weights
+    /// (areas normalised to mean 1).
+    pub soft_weight: f64,
 }
 
 /// A cone: an interior vertex with nonzero index.
@@ -215,6 +228,9 @@ struct Relaxation<'a> {
     kappa: &'a [[f64; 3]],
     /// Fixed θ per face.
     fixed: &'a [Option<f64>],
+    /// Soft target angle per face (None where fixed or unconstrained).
+    soft: &'a [Option<f64>],
+    soft_weight: f64,
     components: &'a [u32],
     /// Per face-edge: the relaxation's dual-edge weight |e| / |c_f − c_g|.
     weight: &'a [[f64; 3]],
@@ -222,20 +238,31 @@ struct Relaxation<'a> {
     mass: &'a [f64],
 }
 
-/// The relaxation's normal equations over the free faces' z (two
-/// variables per face; `var[f]` is `usize::MAX` for fixed faces).
-fn relaxation_system(r: &Relaxation<'_>) -> (NormalEquations, Vec<usize>, usize) {
+/// The relaxation's Hermitian system over the free faces' z (one complex
+/// unknown per face, `var[f]` is `usize::MAX` for fixed faces): the
+/// connection Laplacian of Σ w_ij |r_ij z_i − z_j|² with r_ij = e^{4iκ_ij}
+/// (Knöppel et al. 2013), the fixed faces' terms on the right-hand side.
+/// Lower-triangle triplets, right-hand side, `var`, unknowns.
+type Hermitian = (Vec<(usize, usize, c64)>, Vec<c64>, Vec<usize>, usize);
+
+fn relaxation_system(r: &Relaxation<'_>) -> Hermitian {
     let nf = r.fixed.len();
     let mut var = vec![usize::MAX; nf];
     let mut n = 0;
     for f in 0..nf {
         if r.fixed[f].is_none() {
             var[f] = n;
-            n += 2;
+            n += 1;
         }
     }
-    let z_fixed = |f: usize| r.fixed[f].map(|t| DVec2::from_angle(4.0 * t));
-    let mut eq = NormalEquations::new(n);
+    let z_fixed = |f: usize| {
+        r.fixed[f].map(|t| {
+            let z = DVec2::from_angle(4.0 * t);
+            c64::new(z.x, z.y)
+        })
+    };
+    let mut triplets = Vec::new();
+    let mut rhs = vec![c64::new(0.0, 0.0); n];
     let mut degree = vec![0.0f64; nf];
     for f in 0..nf {
         for e in 0..3 {
@@ -248,114 +275,150 @@ fn relaxation_system(r: &Relaxation<'_>) -> (NormalEquations, Vec<usize>, usize)
             degree[f] += 1.0;
             degree[g] += 1.0;
             let rot = DVec2::from_angle(4.0 * r.kappa[f][e]);
-            let w = r.weight[f][e].sqrt();
-            // Rows: R z_f − z_g = 0, component-wise.
-            let rows = [
-                ([rot.x, -rot.y], [-1.0, 0.0]),
-                ([rot.y, rot.x], [0.0, -1.0]),
-            ];
-            for (cf, cg) in rows {
-                let mut entries = Vec::with_capacity(4);
-                let mut b = 0.0;
-                for (face, c) in [(f, cf), (g, cg)] {
-                    match z_fixed(face) {
-                        Some(z) => b -= c[0] * z.x + c[1] * z.y,
-                        None => {
-                            entries.push((var[face], c[0]));
-                            entries.push((var[face] + 1, c[1]));
-                        }
+            let rot = c64::new(rot.x, rot.y);
+            let w = r.weight[f][e];
+            match (z_fixed(f), z_fixed(g)) {
+                (None, None) => {
+                    let (i, j) = (var[f], var[g]);
+                    triplets.push((i, i, c64::new(w, 0.0)));
+                    triplets.push((j, j, c64::new(w, 0.0)));
+                    // (Az)_g ∋ −w r z_f, (Az)_f ∋ −w r̄ z_g.
+                    let off = -rot * w;
+                    if j > i {
+                        triplets.push((j, i, off));
+                    } else {
+                        triplets.push((i, j, off.conj()));
                     }
                 }
-                eq.row(w, &entries, b);
+                (None, Some(zg)) => {
+                    triplets.push((var[f], var[f], c64::new(w, 0.0)));
+                    rhs[var[f]] += rot.conj() * zg * w;
+                }
+                (Some(zf), None) => {
+                    triplets.push((var[g], var[g], c64::new(w, 0.0)));
+                    rhs[var[g]] += rot * zf * w;
+                }
+                (Some(_), Some(_)) => {}
             }
+        }
+    }
+    for f in 0..nf {
+        if let (Some(t), true) = (r.soft[f], var[f] != usize::MAX) {
+            let w = r.soft_weight * r.mass[f];
+            let z = DVec2::from_angle(4.0 * t);
+            triplets.push((var[f], var[f], c64::new(w, 0.0)));
+            rhs[var[f]] += c64::new(z.x, z.y) * w;
         }
     }
     let mean_degree = degree.iter().sum::<f64>() / nf.max(1) as f64;
     let shift = 1e-8 * mean_degree.max(1.0);
-    eq.triplets.extend((0..n).map(|i| (i, i, shift)));
-    (eq, var, n)
+    triplets.extend((0..n).map(|i| (i, i, c64::new(shift, 0.0))));
+    (triplets, rhs, var, n)
 }
 
-/// The relaxation's system, factorized once for both starts: the
+/// The relaxation's system, factorized once for all starts: the
 /// smoothness matrix L (inverse iteration) and L + λM (the unit-length
 /// steps).
 struct RelaxedSystem {
-    eq: NormalEquations,
+    rhs: Vec<c64>,
     var: Vec<usize>,
-    n: usize,
-    factor: SpdFactor,
-    unit_factor: SpdFactor,
+    factor: SpdFactor<c64>,
+    unit_factor: SpdFactor<c64>,
 }
 
 impl RelaxedSystem {
     fn new(r: &Relaxation<'_>) -> Option<RelaxedSystem> {
-        let (eq, var, n) = relaxation_system(r);
-        let mut triplets = eq.triplets.clone();
+        let (triplets, rhs, var, n) = relaxation_system(r);
+        let mut unit = triplets.clone();
         for (f, &v) in var.iter().enumerate() {
             if v != usize::MAX {
-                triplets.push((v, v, UNIT_LAMBDA * r.mass[f]));
-                triplets.push((v + 1, v + 1, UNIT_LAMBDA * r.mass[f]));
+                unit.push((v, v, c64::new(UNIT_LAMBDA * r.mass[f], 0.0)));
             }
         }
         // One pattern (L has the full diagonal), one symbolic analysis.
-        let pattern = SpdPattern::new(n, &triplets)?;
-        let factor = pattern.factor(&eq.triplets).ok()?;
-        let unit_factor = pattern.factor(&triplets).ok()?;
+        let pattern = SpdPattern::new(n, &unit)?;
+        let factor = pattern.factor(&triplets).ok()?;
+        let unit_factor = pattern.factor(&unit).ok()?;
         Some(RelaxedSystem {
-            eq,
+            rhs,
             var,
-            n,
             factor,
             unit_factor,
         })
     }
 }
 
-/// Step (1): the smoothest field in the 4th-power representation.
-fn relaxed_angles(r: &Relaxation<'_>, sys: &RelaxedSystem, random_start: bool) -> Option<Vec<f64>> {
+/// Step (1): the smoothest field in the 4th-power representation, from
+/// each start (`true`: pseudo-random z, `false`: z = 1 in the reference
+/// frames); the starts run together, one triangular pass per step.
+fn relaxed_angles(
+    r: &Relaxation<'_>,
+    sys: &RelaxedSystem,
+    starts: &[bool],
+) -> Option<Vec<Vec<f64>>> {
     let nf = r.fixed.len();
-    let (eq, var, n) = (&sys.eq, &sys.var, sys.n);
+    let var = &sys.var;
+    let n = sys.rhs.len();
     let mut constrained_component = vec![false; nf];
     for f in 0..nf {
-        if r.fixed[f].is_some() {
+        if r.fixed[f].is_some() || r.soft[f].is_some() {
             constrained_component[r.components[f] as usize] = true;
         }
     }
     // Inverse iteration for components without constraints, normalised
-    // per component after every solve; the start is a fixed pseudo-random
-    // z per face, so that symmetric meshes do not pick a symmetric (and
-    // clustered) element of a degenerate lowest eigenspace.
-    let mut rng = rand_pcg::Pcg32::new(0x853c_49e6_748f_ea9b, 0xda3e_39cb_94b9_5bdb);
-    let mut x: Vec<f64> = (0..n)
-        .map(|_| rand_core::RngCore::next_u32(&mut rng) as f64 / u32::MAX as f64 - 0.5)
+    // per component after every solve; the random start is a fixed
+    // pseudo-random z per face, so that symmetric meshes do not pick a
+    // symmetric (and clustered) element of a degenerate lowest eigenspace.
+    let mut xs: Vec<Vec<c64>> = starts
+        .iter()
+        .map(|&random| {
+            let mut rng = rand_pcg::Pcg32::new(0x853c_49e6_748f_ea9b, 0xda3e_39cb_94b9_5bdb);
+            let mut next = || rand_core::RngCore::next_u32(&mut rng) as f64 / u32::MAX as f64 - 0.5;
+            (0..n)
+                .map(|_| {
+                    if random {
+                        let re = next();
+                        c64::new(re, next())
+                    } else {
+                        c64::new(1.0, 0.0)
+                    }
+                })
+                .collect()
+        })
         .collect();
-    if !random_start {
-        for (i, v) in x.iter_mut().enumerate() {
-            *v = if i % 2 == 0 { 1.0 } else { 0.0 };
-        }
-    }
     let iterations = if constrained_component.iter().all(|&c| c) {
         1
     } else {
         INVERSE_ITERATIONS
     };
     for _ in 0..iterations {
-        let mut b = eq.rhs.clone();
-        for f in 0..nf {
-            if var[f] != usize::MAX && !constrained_component[r.components[f] as usize] {
-                b[var[f]] += r.mass[f] * x[var[f]];
-                b[var[f] + 1] += r.mass[f] * x[var[f] + 1];
-            }
+        let b: Vec<Vec<c64>> = xs
+            .iter()
+            .map(|x| {
+                let mut b = sys.rhs.clone();
+                for f in 0..nf {
+                    if var[f] != usize::MAX && !constrained_component[r.components[f] as usize] {
+                        b[var[f]] += x[var[f]] * r.mass[f];
+                    }
+                }
+                b
+            })
+            .collect();
+        xs = sys.factor.solve(&b)?;
+        for x in &mut xs {
+            normalise_free_components(x, var, r.components, &constrained_component);
         }
-        x = sys.factor.solve(&[b])?.pop()?;
-        normalise_free_components(&mut x, var, r.components, &constrained_component);
     }
-    unit_length_iterations(sys, r.mass, &mut x)?;
+    unit_length_iterations(sys, r.mass, &mut xs)?;
     Some(
-        (0..nf)
-            .map(|f| match r.fixed[f] {
-                Some(t) => t,
-                None => x[var[f] + 1].atan2(x[var[f]]) / 4.0,
+        xs.iter()
+            .map(|x| {
+                (0..nf)
+                    .map(|f| match r.fixed[f] {
+                        Some(t) => t,
+                        None => x[var[f]].im.atan2(x[var[f]].re) / 4.0,
+                    })
+                    .collect()
             })
             .collect(),
     )
@@ -365,28 +428,33 @@ fn relaxed_angles(r: &Relaxation<'_>, sys: &RelaxedSystem, random_start: bool) -
 /// degenerate eigenspaces, e.g. the round sphere's): a few steps of
 /// z ← (L + λM)⁻¹(λM·z/|z| + b), diffusion with re-normalisation per face
 /// (the MBO scheme of Viertel & Osting 2019 for cross fields).
-fn unit_length_iterations(sys: &RelaxedSystem, mass: &[f64], x: &mut Vec<f64>) -> Option<()> {
-    if x.is_empty() {
+fn unit_length_iterations(sys: &RelaxedSystem, mass: &[f64], xs: &mut Vec<Vec<c64>>) -> Option<()> {
+    if sys.rhs.is_empty() {
         return Some(());
     }
     for _ in 0..UNIT_STEPS {
-        let mut b = sys.eq.rhs.clone();
-        for (f, &v) in sys.var.iter().enumerate() {
-            if v != usize::MAX {
-                let z = DVec2::new(x[v], x[v + 1])
-                    .try_normalize()
-                    .unwrap_or(DVec2::X);
-                b[v] += UNIT_LAMBDA * mass[f] * z.x;
-                b[v + 1] += UNIT_LAMBDA * mass[f] * z.y;
-            }
-        }
-        *x = sys.unit_factor.solve(&[b])?.pop()?;
+        let b: Vec<Vec<c64>> = xs
+            .iter()
+            .map(|x| {
+                let mut b = sys.rhs.clone();
+                for (f, &v) in sys.var.iter().enumerate() {
+                    if v != usize::MAX {
+                        let z = DVec2::new(x[v].re, x[v].im)
+                            .try_normalize()
+                            .unwrap_or(DVec2::X);
+                        b[v] += c64::new(z.x, z.y) * (UNIT_LAMBDA * mass[f]);
+                    }
+                }
+                b
+            })
+            .collect();
+        *xs = sys.unit_factor.solve(&b)?;
     }
     Some(())
 }
 
 fn normalise_free_components(
-    x: &mut [f64],
+    x: &mut [c64],
     var: &[usize],
     components: &[u32],
     constrained: &[bool],
@@ -394,15 +462,13 @@ fn normalise_free_components(
     let mut norm = vec![0.0f64; components.len()];
     for (f, &v) in var.iter().enumerate() {
         if v != usize::MAX && !constrained[components[f] as usize] {
-            norm[components[f] as usize] += x[v] * x[v] + x[v + 1] * x[v + 1];
+            norm[components[f] as usize] += x[v].re * x[v].re + x[v].im * x[v].im;
         }
     }
     for (f, &v) in var.iter().enumerate() {
         let c = components[f] as usize;
         if v != usize::MAX && !constrained[c] && norm[c] > 0.0 {
-            let s = norm[c].sqrt().recip();
-            x[v] *= s;
-            x[v + 1] *= s;
+            x[v] *= norm[c].sqrt().recip();
         }
     }
 }
@@ -440,7 +506,7 @@ impl AngleSystem {
         let mut fixed: Vec<Option<f64>> = r.fixed.to_vec();
         let mut has_fixed = vec![false; nf];
         for f in 0..nf {
-            has_fixed[r.components[f] as usize] |= fixed[f].is_some();
+            has_fixed[r.components[f] as usize] |= fixed[f].is_some() || r.soft[f].is_some();
         }
         for f in 0..nf {
             let c = r.components[f] as usize;
@@ -458,7 +524,7 @@ impl AngleSystem {
             }
         }
         // The matrix does not depend on p: factorize it with p = 0.
-        let eq = equations(r, &fixed, &var, n, &vec![[0; 3]; nf]);
+        let eq = equations(r, &fixed, &var, n, &vec![[0; 3]; nf], &vec![0; nf]);
         let factor = SpdFactor::new(n, &eq.triplets)?;
         Some(AngleSystem {
             fixed,
@@ -468,8 +534,21 @@ impl AngleSystem {
         })
     }
 
-    fn solve(&self, r: &Relaxation<'_>, p: &[[i32; 3]]) -> Option<Vec<f64>> {
-        let eq = equations(r, &self.fixed, &self.var, self.n, p);
+    /// The gauge angles (of components without constraints) from `theta`:
+    /// the matrix depends only on which faces are fixed, not on their
+    /// angles.
+    fn gauge(&mut self, r: &Relaxation<'_>, theta: &[f64]) {
+        for f in 0..theta.len() {
+            if r.fixed[f].is_none() && self.fixed[f].is_some() {
+                self.fixed[f] = Some(theta[f]);
+            }
+        }
+    }
+
+    /// θ for the period jumps `p` and the soft constraints' quarter-turn
+    /// offsets `k` (θ_f → θ_target + k_f·π/2).
+    fn solve(&self, r: &Relaxation<'_>, p: &[[i32; 3]], k: &[i32]) -> Option<Vec<f64>> {
+        let eq = equations(r, &self.fixed, &self.var, self.n, p, k);
         let x = self.factor.solve(&[eq.rhs])?.pop()?;
         Some(
             (0..self.fixed.len())
@@ -480,15 +559,23 @@ impl AngleSystem {
 }
 
 /// The normal equations of θ_f − θ_g = −κ − (π/2) p over the dual edges,
-/// the fixed faces' angles moved to the right-hand side.
+/// the fixed faces' angles moved to the right-hand side, and of the soft
+/// constraints θ_f = θ_target + (π/2) k_f.
 fn equations(
     r: &Relaxation<'_>,
     fixed: &[Option<f64>],
     var: &[usize],
     n: usize,
     p: &[[i32; 3]],
+    k: &[i32],
 ) -> NormalEquations {
     let mut eq = NormalEquations::new(n);
+    for f in 0..fixed.len() {
+        if let (Some(t), None) = (r.soft[f], fixed[f]) {
+            let w = (r.soft_weight * r.mass[f]).sqrt();
+            eq.row(w, &[(var[f], 1.0)], t + FRAC_PI_2 * k[f] as f64);
+        }
+    }
     for f in 0..fixed.len() {
         for e in 0..3 {
             let Some((g, _)) = r.topology.across(f, e) else {
@@ -536,21 +623,33 @@ fn has_free_component(r: &Relaxation<'_>) -> bool {
     let nf = r.fixed.len();
     let mut constrained = vec![false; nf];
     for f in 0..nf {
-        constrained[r.components[f] as usize] |= r.fixed[f].is_some();
+        constrained[r.components[f] as usize] |= r.fixed[f].is_some() || r.soft[f].is_some();
     }
     (0..nf).any(|f| r.components[f] as usize == f && !constrained[f])
 }
 
 /// Steps (2)–(3), repeated.
-fn round_and_resolve(r: &Relaxation<'_>, mut theta: Vec<f64>) -> Option<(Vec<f64>, Vec<[i32; 3]>)> {
-    let system = AngleSystem::new(r, &theta)?;
+fn round_and_resolve(
+    r: &Relaxation<'_>,
+    system: &AngleSystem,
+    mut theta: Vec<f64>,
+) -> Option<(Vec<f64>, Vec<[i32; 3]>)> {
     let mut p = round_period_jumps(r.topology, r.kappa, &theta);
+    let mut k = round_soft_offsets(r, &theta);
     for _ in 0..ROUNDS {
-        theta = system.solve(r, &p)?;
+        theta = system.solve(r, &p, &k)?;
         p = round_period_jumps(r.topology, r.kappa, &theta);
+        k = round_soft_offsets(r, &theta);
     }
-    theta = system.solve(r, &p)?;
+    theta = system.solve(r, &p, &k)?;
     Some((theta, p))
+}
+
+/// Per face: the quarter turns k nearest θ_f − θ_target (soft constraints).
+fn round_soft_offsets(r: &Relaxation<'_>, theta: &[f64]) -> Vec<i32> {
+    (0..theta.len())
+        .map(|f| r.soft[f].map_or(0, |t| ((theta[f] - t) / FRAC_PI_2).round() as i32))
+        .collect()
 }
 
 /// Computes the cross field; None when a sparse factorization fails.
@@ -559,11 +658,17 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     let normals = input.normals.to_vec();
     let reference = reference_directions(input.mesh, &normals);
     let kappa = transition_angles(input, &reference);
-    let fixed: Vec<Option<f64>> = (0..nf)
+    let angle = |c: &[Option<DVec3>], f: usize| {
+        let d = c.get(f).copied().flatten()?;
+        let d = d.reject_from_normalized(normals[f]);
+        (d.length() > 1e-12).then(|| angle_from(reference[f], normals[f], d))
+    };
+    let fixed: Vec<Option<f64>> = (0..nf).map(|f| angle(input.constraints, f)).collect();
+    let soft_weight = input.soft_weight.max(0.0);
+    let soft: Vec<Option<f64>> = (0..nf)
         .map(|f| {
-            let d = input.constraints.get(f).copied().flatten()?;
-            let d = d.reject_from_normalized(normals[f]);
-            (d.length() > 1e-12).then(|| angle_from(reference[f], normals[f], d))
+            let t = angle(input.soft_constraints, f);
+            t.filter(|_| fixed[f].is_none() && soft_weight > 0.0)
         })
         .collect();
     let components = face_components(input.topology);
@@ -572,6 +677,8 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
         topology: input.topology,
         kappa: &kappa,
         fixed: &fixed,
+        soft: &soft,
+        soft_weight,
         components: &components,
         weight: &weight,
         mass: &mass,
@@ -579,15 +686,20 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     // Two starts of the relaxation where it matters (unconstrained
     // components): z = 1 in the reference frames, and pseudo-random z;
     // the lower E_smooth after rounding wins.
-    let starts: &[bool] = if has_free_component(&r) {
-        &[false, true]
-    } else {
-        &[false]
-    };
+    let free = has_free_component(&r);
+    let starts: &[bool] = if free { &[false, true] } else { &[false] };
     let system = RelaxedSystem::new(&r)?;
     let mut best: Option<(f64, Vec<f64>, Vec<[i32; 3]>)> = None;
-    for &random in starts {
-        let (theta, p) = round_and_resolve(&r, relaxed_angles(&r, &system, random)?)?;
+    let mut angles: Option<AngleSystem> = None;
+    for theta in relaxed_angles(&r, &system, starts)? {
+        let angles = match &mut angles {
+            Some(a) => {
+                a.gauge(&r, &theta);
+                a
+            }
+            None => angles.insert(AngleSystem::new(&r, &theta)?),
+        };
+        let (theta, p) = round_and_resolve(&r, angles, theta)?;
         let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
         if best.as_ref().is_none_or(|b| energy < b.0) {
             best = Some((energy, theta, p));

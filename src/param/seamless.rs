@@ -480,7 +480,9 @@ fn energy_rows(
 /// place with an identity row, so the later systems' entries mostly lie in
 /// the first pattern and reuse its symbolic factorization (a rounded
 /// expression of several free variables can add entries; then the pattern
-/// is analysed anew and kept).
+/// is analysed anew, with the first one's ordering, and kept). The energy rows reduced to free variables
+/// are kept too: a re-solve reduces again only the rows that use a
+/// variable eliminated since the last one.
 #[derive(Default)]
 struct Resolver {
     /// Per variable: its index in the first solve's system (`usize::MAX`
@@ -489,25 +491,92 @@ struct Resolver {
     /// Variables free at the first solve.
     base: Vec<usize>,
     pattern: Option<SpdPattern>,
+    /// The last numeric factorization (its storage is reused).
+    factor: Option<SpdFactor>,
+    /// Per energy row: its reduction to free variables, compact indices
+    /// (the base ones), and the right-hand side.
+    reduced: Vec<(Vec<(usize, f64)>, f64)>,
+    /// Per base variable: the rows whose reduction uses it (may hold
+    /// stale entries).
+    users: Vec<Vec<u32>>,
+    /// Per base variable: free at the last solve.
+    free: Vec<bool>,
     /// Symbolic analyses done (for the benchmark's report).
     analyses: usize,
 }
 
 impl Resolver {
     /// Factorizes `triplets` with the kept pattern, or with a new one.
-    fn factor(&mut self, triplets: &[(usize, usize, f64)]) -> Option<SpdFactor> {
+    fn factor(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), FactorError> {
+        let mut out = self
+            .factor
+            .take()
+            .unwrap_or_else(|| SpdFactor::empty(self.base.len()));
         if let Some(p) = &self.pattern {
-            match p.factor(triplets) {
-                Ok(f) => return Some(f),
-                Err(FactorError::NotPositiveDefinite) => return None,
+            match p.refactor(triplets, &mut out) {
+                Ok(()) => {
+                    self.factor = Some(out);
+                    return Ok(());
+                }
+                Err(FactorError::NotPositiveDefinite) => {
+                    return Err(FactorError::NotPositiveDefinite);
+                }
                 Err(FactorError::OutsidePattern) => {}
             }
         }
-        let p = SpdPattern::new(self.base.len(), triplets)?;
+        // A later pattern keeps the first one's fill-reducing ordering.
+        let p = match &self.pattern {
+            Some(old) => old.reordered(triplets),
+            None => SpdPattern::new(self.base.len(), triplets),
+        }
+        .ok_or(FactorError::NotPositiveDefinite)?;
         self.analyses += 1;
-        let f = p.factor(triplets).ok();
+        let result = p.refactor(triplets, &mut out);
         self.pattern = Some(p);
-        f
+        self.factor = Some(out);
+        result
+    }
+
+    /// Brings the reduced rows up to date with the eliminator: all of
+    /// them at the first solve, then those using a variable eliminated
+    /// since the last solve.
+    fn reduce_rows(&mut self, el: &Eliminator, rows: &[(Vec<(usize, f64)>, f64)]) {
+        let reduce = |index: &[usize], (terms, target): &(Vec<(usize, f64)>, f64)| {
+            let e = el.reduce(terms, 0.0);
+            let compact: Vec<(usize, f64)> = e.terms.iter().map(|&(j, c)| (index[j], c)).collect();
+            (compact, target - e.constant)
+        };
+        if self.reduced.len() != rows.len() {
+            self.reduced = rows.iter().map(|r| reduce(&self.index, r)).collect();
+            self.users = vec![Vec::new(); self.base.len()];
+            for (r, (terms, _)) in self.reduced.iter().enumerate() {
+                for &(k, _) in terms {
+                    self.users[k].push(r as u32);
+                }
+            }
+            self.free = vec![true; self.base.len()];
+            return;
+        }
+        let mut stale: Vec<u32> = Vec::new();
+        for (k, &i) in self.base.iter().enumerate() {
+            if self.free[k] && !el.is_free(i) {
+                self.free[k] = false;
+                stale.append(&mut self.users[k]);
+            }
+        }
+        stale.sort_unstable();
+        stale.dedup();
+        for r in stale {
+            let r = r as usize;
+            let (old, _) = std::mem::take(&mut self.reduced[r]);
+            let new = reduce(&self.index, &rows[r]);
+            for &(k, _) in &new.0 {
+                if !old.iter().any(|t| t.0 == k) {
+                    self.users[k].push(r as u32);
+                }
+            }
+            self.reduced[r] = new;
+        }
     }
 }
 
@@ -519,22 +588,23 @@ fn solve(
 ) -> Option<(Vec<f64>, f64)> {
     let n = el.len();
     if rs.index.len() != n {
+        *rs = Resolver {
+            analyses: rs.analyses,
+            ..Resolver::default()
+        };
         rs.index = vec![usize::MAX; n];
-        rs.base.clear();
         for (i, slot) in rs.index.iter_mut().enumerate() {
             if el.is_free(i) {
                 *slot = rs.base.len();
                 rs.base.push(i);
             }
         }
-        rs.pattern = None;
     }
+    rs.reduce_rows(el, rows);
     let m = rs.base.len();
     let mut eq = NormalEquations::new(m);
-    for (terms, target) in rows {
-        let e = el.reduce(terms, 0.0);
-        let compact: Vec<(usize, f64)> = e.terms.iter().map(|&(j, c)| (rs.index[j], c)).collect();
-        eq.row(1.0, &compact, target - e.constant);
+    for (compact, b) in &rs.reduced {
+        eq.row(1.0, compact, *b);
     }
     // Identity rows for the variables eliminated since the first solve
     // (their value is taken from the eliminator).
@@ -544,11 +614,31 @@ fn solve(
             eq.rhs[k] = 0.0;
         }
     }
-    let y = [0.0, 1e-10, 1e-7].iter().find_map(|&eps| {
-        let mut t = eq.triplets.clone();
-        t.extend((0..m).map(|i| (i, i, eps)));
-        rs.factor(&t)?.solve(std::slice::from_ref(&eq.rhs))?.pop()
-    })?;
+    // A diagonal shift only when the system is singular (or the solution
+    // not finite).
+    let mut y = None;
+    for eps in [0.0, 1e-10, 1e-7] {
+        let shifted;
+        let t = if eps == 0.0 {
+            &eq.triplets
+        } else {
+            let mut t = eq.triplets.clone();
+            t.extend((0..m).map(|i| (i, i, eps)));
+            shifted = t;
+            &shifted
+        };
+        if rs.factor(t).is_ok() {
+            y = rs
+                .factor
+                .as_ref()
+                .and_then(|f| f.solve(std::slice::from_ref(&eq.rhs)))
+                .and_then(|mut v| v.pop());
+            if y.is_some() {
+                break;
+            }
+        }
+    }
+    let y = y?;
     let mut full = vec![0.0; n];
     for (k, &i) in rs.base.iter().enumerate() {
         if el.is_free(i) {

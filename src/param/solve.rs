@@ -6,16 +6,39 @@
 //! it — the integer rounding's re-solves, the cross field's two relaxation
 //! matrices — only pay for the numeric factorization.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use std::sync::Arc;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Mat, Side};
+use faer::{Conj, Mat, Side, c64};
+
+/// A matrix entry type of the solves: real (f64) or complex (c64, a
+/// Hermitian matrix, e.g. a connection Laplacian on complex face values).
+pub trait Scalar: faer::traits::ComplexField + Copy + Default + std::ops::AddAssign {
+    fn finite(self) -> bool;
+}
+
+impl Scalar for f64 {
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Scalar for c64 {
+    fn finite(self) -> bool {
+        self.re.is_finite() && self.im.is_finite()
+    }
+}
 
 /// The lower triangle's sparsity pattern of a symmetric matrix with its
 /// symbolic Cholesky factorization.
 pub struct SpdPattern {
     n: usize,
-    pattern: Option<(SymbolicSparseColMat<usize>, SymbolicLlt<usize>)>,
+    pattern: Option<(SymbolicSparseColMat<usize>, Arc<SymbolicCholesky<usize>>)>,
 }
 
 /// Why [`SpdPattern::factor`] gave no factor.
@@ -27,22 +50,46 @@ pub enum FactorError {
     NotPositiveDefinite,
 }
 
-fn lower(n: usize) -> impl Fn(&&(usize, usize, f64)) -> bool {
-    move |&&(r, c, v)| r >= c && r < n && v.is_finite()
+fn lower<T: Scalar>(n: usize) -> impl Fn(&&(usize, usize, T)) -> bool {
+    move |&&(r, c, v)| r >= c && r < n && v.finite()
 }
 
 impl SpdPattern {
     /// The pattern of the (summed, possibly repeated) triplets' lower
     /// triangle (`row ≥ col`) and its symbolic factorization.
-    pub fn new(n: usize, triplets: &[(usize, usize, f64)]) -> Option<SpdPattern> {
-        if n == 0 {
-            return Some(SpdPattern { n, pattern: None });
-        }
-        let mut keys: Vec<u64> = triplets
+    pub fn new<T: Scalar>(n: usize, triplets: &[(usize, usize, T)]) -> Option<SpdPattern> {
+        let keys: Vec<u64> = triplets
             .iter()
             .filter(lower(n))
             .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
             .collect();
+        SpdPattern::from_keys(n, keys, None)
+    }
+
+    /// The pattern of the triplets' lower triangle with this pattern's
+    /// fill-reducing ordering (no new ordering: for a pattern that differs
+    /// from this one in a few entries, e.g. the integer rounding's).
+    pub fn reordered<T: Scalar>(&self, triplets: &[(usize, usize, T)]) -> Option<SpdPattern> {
+        let n = self.n;
+        let keys: Vec<u64> = triplets
+            .iter()
+            .filter(lower(n))
+            .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
+            .collect();
+        let perm = self.pattern.as_ref().and_then(|(_, s)| s.perm());
+        SpdPattern::from_keys(n, keys, perm)
+    }
+
+    /// The pattern of the entries `(col << 32) | row` (lower triangle),
+    /// ordered by `perm` or else AMD.
+    fn from_keys(
+        n: usize,
+        mut keys: Vec<u64>,
+        perm: Option<PermRef<'_, usize>>,
+    ) -> Option<SpdPattern> {
+        if n == 0 {
+            return Some(SpdPattern { n, pattern: None });
+        }
         keys.sort_unstable();
         keys.dedup();
         let mut col_ptr = vec![0usize; n + 1];
@@ -54,22 +101,53 @@ impl SpdPattern {
         }
         let row_idx: Vec<usize> = keys.iter().map(|&k| (k & 0xffff_ffff) as usize).collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).ok()?;
+        let ordering = perm.map_or(SymmetricOrdering::Amd, SymmetricOrdering::Custom);
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Lower,
+            ordering,
+            Default::default(),
+        )
+        .ok()?;
         Some(SpdPattern {
             n,
-            pattern: Some((pattern, symbolic)),
+            pattern: Some((pattern, Arc::new(symbolic))),
         })
+    }
+
+    /// Stored entries of the Cholesky factor L.
+    pub fn factor_entries(&self) -> usize {
+        self.pattern.as_ref().map_or(0, |(_, s)| s.len_val())
     }
 
     /// Numeric factorization of the matrix given by triplets (lower
     /// triangle read) whose entries lie in the pattern.
-    pub fn factor(&self, triplets: &[(usize, usize, f64)]) -> Result<SpdFactor, FactorError> {
+    pub fn factor<T: Scalar>(
+        &self,
+        triplets: &[(usize, usize, T)],
+    ) -> Result<SpdFactor<T>, FactorError> {
+        let mut out = SpdFactor {
+            n: self.n,
+            llt: None,
+        };
+        self.refactor(triplets, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`SpdPattern::factor`] into `out`, reusing its storage when it
+    /// holds a factor of this pattern's size.
+    pub fn refactor<T: Scalar>(
+        &self,
+        triplets: &[(usize, usize, T)],
+        out: &mut SpdFactor<T>,
+    ) -> Result<(), FactorError> {
         let n = self.n;
         let Some((pattern, symbolic)) = &self.pattern else {
-            return Ok(SpdFactor { n, llt: None });
+            *out = SpdFactor { n, llt: None };
+            return Ok(());
         };
         let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
-        let mut values = vec![0.0; row_idx.len()];
+        let mut values = vec![T::default(); row_idx.len()];
         for &(r, c, v) in triplets.iter().filter(lower(n)) {
             let (a, b) = (col_ptr[c], col_ptr[c + 1]);
             let k = row_idx[a..b]
@@ -78,42 +156,80 @@ impl SpdPattern {
             values[a + k] += v;
         }
         let a = SparseColMatRef::new(pattern.as_ref(), &values);
-        let llt = Llt::try_new_with_symbolic(symbolic.clone(), a, Side::Lower)
+        let mut l = match out.llt.take() {
+            Some((_, mut l)) if out.n == n => {
+                l.clear();
+                l
+            }
+            _ => Vec::new(),
+        };
+        l.resize(symbolic.len_val(), T::default());
+        let par = faer::get_global_parallelism();
+        let mut buffer =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<T>(par, Default::default()));
+        symbolic
+            .factorize_numeric_llt::<T>(
+                &mut l,
+                a,
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
             .map_err(|_| FactorError::NotPositiveDefinite)?;
-        Ok(SpdFactor { n, llt: Some(llt) })
+        *out = SpdFactor {
+            n,
+            llt: Some((symbolic.clone(), l)),
+        };
+        Ok(())
     }
 }
 
-/// A factorized SPD matrix, for several solves with one factorization.
-pub struct SpdFactor {
+/// A factorized SPD (Hermitian positive definite for c64) matrix, for
+/// several solves with one factorization.
+pub struct SpdFactor<T = f64> {
     n: usize,
-    llt: Option<Llt<usize, f64>>,
+    llt: Option<(Arc<SymbolicCholesky<usize>>, Vec<T>)>,
 }
 
-impl SpdFactor {
+impl<T: Scalar> SpdFactor<T> {
+    /// No factor yet, of an n × n system (storage for [`SpdPattern::refactor`]).
+    pub fn empty(n: usize) -> SpdFactor<T> {
+        SpdFactor { n, llt: None }
+    }
+
     /// Factorizes the matrix given by (summed, possibly repeated) triplets;
     /// only the lower triangle (`row ≥ col`) is read. None if it is not
     /// numerically positive definite.
-    pub fn new(n: usize, triplets: &[(usize, usize, f64)]) -> Option<SpdFactor> {
+    pub fn new(n: usize, triplets: &[(usize, usize, T)]) -> Option<SpdFactor<T>> {
         SpdPattern::new(n, triplets)?.factor(triplets).ok()
     }
 
-    /// Solves for several right-hand sides; None if the result is not finite.
-    pub fn solve(&self, rhs: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
-        let Some(llt) = &self.llt else {
+    /// Solves for several right-hand sides (one triangular pass for all of
+    /// them); None if the result is not finite.
+    pub fn solve(&self, rhs: &[Vec<T>]) -> Option<Vec<Vec<T>>> {
+        let Some((symbolic, values)) = &self.llt else {
             return Some(rhs.to_vec());
         };
-        let mut b = Mat::<f64>::zeros(self.n, rhs.len());
+        let mut b = Mat::<T>::zeros(self.n, rhs.len());
         for (j, col) in rhs.iter().enumerate() {
             for (i, &v) in col.iter().enumerate().take(self.n) {
                 b[(i, j)] = v;
             }
         }
-        llt.solve_in_place(b.as_mut());
-        let out: Vec<Vec<f64>> = (0..rhs.len())
+        let par = faer::get_global_parallelism();
+        let mut buffer = MemBuffer::new(symbolic.solve_in_place_scratch::<T>(rhs.len(), par));
+        LltRef::new(symbolic, values).solve_in_place_with_conj(
+            Conj::No,
+            b.as_mut(),
+            par,
+            MemStack::new(&mut buffer),
+        );
+        let out: Vec<Vec<T>> = (0..rhs.len())
             .map(|j| (0..self.n).map(|i| b[(i, j)]).collect())
             .collect();
-        out.iter().flatten().all(|v| v.is_finite()).then_some(out)
+        out.iter().flatten().all(|v| v.finite()).then_some(out)
     }
 }
 
