@@ -558,7 +558,7 @@ function onStage(job, result) {
   }
   for (const [name, l] of Object.entries(result.lines || {})) {
     // Field glyphs are drawn at screen density (the glyph spacing control).
-    if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2);
+    if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2, l.triangles || new Uint32Array());
     else viewer.set_lines(name, l.segments, l.colors);
     addLayer(name, 'lines', l.segments.length / 6);
   }

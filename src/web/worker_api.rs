@@ -31,7 +31,7 @@
 //!
 //! Result messages (all arrays in local coordinates, see `mesh_arrays`):
 //! `{ stage, ms, report?, mesh?, scalars?: { name: { values, min, max, colormap } },
-//!    lines?: { name: { segments, colors } }, points?: { name: { positions, colors } }, counts? }`
+//!    lines?: { name: { segments, colors, triangles? } }, points?: { name: { positions, colors } }, counts? }`
 
 use glam::{DVec3, Vec3};
 use js_sys::{Float32Array, Function, Object, Reflect, Uint8Array, Uint32Array};
@@ -205,6 +205,24 @@ impl StageResult {
         let entry = Object::new();
         set(&entry, "segments", Float32Array::from(segments))?;
         set(&entry, "colors", Uint8Array::from(colors))?;
+        set(&self.group("lines")?, name, entry)
+    }
+
+    /// A field's glyph layer: a line layer with the field mesh's triangles
+    /// (`triangles`, site index triples), over which the viewer places
+    /// glyphs between the vertices when zoomed in.
+    fn glyphs(
+        &self,
+        name: &str,
+        segments: &[f32],
+        colors: &[u8],
+        mesh: &TriMesh,
+    ) -> Result<(), JsError> {
+        let triangles: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        let entry = Object::new();
+        set(&entry, "segments", Float32Array::from(segments))?;
+        set(&entry, "colors", Uint8Array::from(colors))?;
+        set(&entry, "triangles", Uint32Array::from(&triangles[..]))?;
         set(&self.group("lines")?, name, entry)
     }
 
@@ -464,7 +482,7 @@ fn stage_result(
                 colors.extend_from_slice(&D1_COLOR);
                 colors.extend_from_slice(&D2_COLOR);
             }
-            r.lines("principal directions", &segments, &colors)?;
+            r.glyphs("principal directions", &segments, &colors, mesh)?;
             let features = s.features.indices();
             let positions: Vec<f32> = features
                 .iter()
@@ -491,7 +509,9 @@ fn stage_result(
                 centred(&mut segments, level.positions[v], q, h);
                 centred(&mut segments, level.positions[v], n.cross(q), h);
             }
-            r.lines("cross field", &segments, &CROSS_COLOR)?;
+            // Level 0 is the field mesh, vertex for vertex.
+            debug_assert_eq!(level.positions.len(), mesh.vertex_count());
+            r.glyphs("cross field", &segments, &CROSS_COLOR, mesh)?;
             singularity_points(&r, "orientation singularities", &o.singularities)?;
             if let Some(regions) = &o.smooth_regions {
                 set(&r.obj, "surface", smooth_region_surface(mesh, regions)?)?;

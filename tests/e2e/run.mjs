@@ -1351,6 +1351,45 @@ test('field glyphs keep their screen spacing when zooming, and the spacing contr
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('field glyphs keep their spacing zoomed far into a coarse mesh (sites on the faces)', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  await surfaceOnly(page);
+  await page.check('#layer-cross-field');
+  await page.evaluate(() => window.quadrille.setCamera([0.4, 0.2]));
+  const base = await page.evaluate(() => window.quadrille.camera()[2]);
+  const clip = await page.locator('#canvas').boundingBox();
+  const dpr = await page.evaluate(() => window.devicePixelRatio);
+  // One glyph per cell of the spacing: 10 000 / spacing² per 10k covered drawing-buffer pixels.
+  const spacing = Number(await page.inputValue('#glyph-spacing')) * dpr;
+  const ideal = 1e4 / spacing ** 2;
+  const density = async (file, layer = 'cross field') => {
+    await settle(page);
+    const count = await page.evaluate((l) => window.quadrille.glyphCount(l), layer);
+    const covered = inkFraction(await page.screenshot({ path: join(artifacts, `${file}-${env.backend}.png`), clip }));
+    return { count, covered, per10k: 1e4 * count / (covered * clip.width * clip.height * dpr ** 2) };
+  };
+  const mid = await density('glyphs-spot-mid');
+  // The wheel zooms toward the surface point under the cursor, to an eighth of the distance:
+  // the mesh's vertices then lie several glyph spacings apart on screen.
+  await page.mouse.move(clip.x + clip.width * 0.5, clip.y + clip.height * 0.5);
+  for (let k = 0; k < 7; k++) await page.mouse.wheel(0, -200);
+  const zoomed = await page.evaluate(() => window.quadrille.camera()[2]);
+  const near = await density('glyphs-spot-near');
+  const sites = await page.evaluate(() => window.quadrille.lastRun.counts.vertices);
+  console.log(`      [${env.backend}] spot (${sites} sites) cross-field glyphs per 10k covered px (one per cell: ${ideal.toFixed(1)}): mid ${mid.count} → ${mid.per10k.toFixed(1)}, near (distance ×${(zoomed / base).toFixed(2)}) ${near.count} → ${near.per10k.toFixed(1)}`);
+  assert(zoomed < 0.2 * base, `the wheel zoomed in: distance ${zoomed} of ${base}`);
+  assert(near.covered > 0.5, `zoomed in, the surface fills the view: ${(100 * near.covered).toFixed(1)} %`);
+  for (const [name, d] of [['mid', mid], ['near', near]]) {
+    assert(d.per10k > 0.6 * ideal && d.per10k < 1.6 * ideal, `${name}: ${d.per10k.toFixed(1)} glyphs per 10k px, one per cell would be ${ideal.toFixed(1)}`);
+  }
+  await page.uncheck('#layer-cross-field');
+  await page.check('#layer-principal-directions');
+  const principal = await density('glyphs-spot-principal', 'principal directions');
+  assert(principal.per10k > 0.6 * ideal && principal.per10k < 1.6 * ideal, `principal directions near: ${principal.per10k.toFixed(1)} glyphs per 10k px`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('parameters cross to the worker as objects: the run echoes them, nulls included; a wrong type is a clear error', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
