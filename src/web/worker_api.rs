@@ -157,7 +157,40 @@ fn params_from_js(value: JsValue) -> Result<Params, JsError> {
     if value.is_undefined() || value.is_null() {
         return Ok(Params::default());
     }
+    if let Some((path, x)) = first_non_finite(&value, "") {
+        let x = match x {
+            x if x.is_nan() => "NaN",
+            x if x > 0.0 => "Infinity",
+            _ => "-Infinity",
+        };
+        return Err(js_err(format!(
+            "parameters: {path} is {x}, not a finite number"
+        )));
+    }
     serde_wasm_bindgen::from_value(value).map_err(|e| js_err(format!("parameters: {e}")))
+}
+
+/// The path and value of the first number in `value` that is not finite:
+/// a JS object can carry NaN and ±Infinity (JSON text cannot), and no
+/// parameter takes them (an infinite weight is `null`).
+fn first_non_finite(value: &JsValue, path: &str) -> Option<(String, f64)> {
+    if let Some(x) = value.as_f64() {
+        return (!x.is_finite()).then(|| (path.to_string(), x));
+    }
+    if !value.is_object() {
+        return None;
+    }
+    let entries = Object::entries(value.unchecked_ref::<Object>());
+    entries.iter().find_map(|entry| {
+        let pair: js_sys::Array = entry.unchecked_into();
+        let key = pair.get(0).as_string().unwrap_or_default();
+        let inner = if path.is_empty() {
+            key
+        } else {
+            format!("{path}.{key}")
+        };
+        first_non_finite(&pair.get(1), &inner)
+    })
 }
 
 fn js_err(e: impl std::fmt::Display) -> JsError {

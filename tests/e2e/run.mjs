@@ -1310,7 +1310,11 @@ test('one control switches the view between the input and the result, and back',
 
 test('field glyphs keep their screen spacing when zooming, and the spacing control sets it', async (env) => {
   const { page, errors } = await open(env);
+  // Thinned to the screen, the bunny's 34 834 crosses are legible: the layer is shown when the
+  // orientation stage brings it, as on small meshes (the finished quad mesh then takes its place).
+  await page.waitForFunction(() => document.querySelector('#layer-cross-field')?.checked, null, { timeout: 60000, polling: 'raf' });
   await waitForRun(page, 'stanford-bunny.obj');
+  assert(!(await page.isChecked('#layer-cross-field')), 'the finished result hides the cross field');
   await surfaceOnly(page);
   await page.check('#layer-cross-field');
   await page.evaluate(() => window.quadrille.setCamera([0, 0]));
@@ -1413,7 +1417,14 @@ test('parameters cross to the worker as objects: the run echoes them, nulls incl
   const message = await page.evaluate(() => window.quadrille.lastError);
   assert(message.includes('invalid type') && message.includes('many'), `the error says what is wrong: ${message}`);
   assert((await page.textContent('#status')).includes('parameters'), 'the error is on the page');
+  // NaN reaches the worker only as a JS value: JSON text would have made it null
+  // ("invalid type: null, expected f32"), which names neither the field nor NaN.
   await page.evaluate(() => window.quadrille.setParam('field.position_iterations', 7));
+  await page.evaluate(() => window.quadrille.setParam('alignment.position_weight', NaN));
+  await page.waitForFunction(() => window.quadrille.lastError && window.quadrille.lastError.includes('position_weight'), null, { timeout: 30000 });
+  const nan = await page.evaluate(() => window.quadrille.lastError);
+  assert(nan.includes('parameters: alignment.position_weight is NaN, not a finite number'), `the worker saw NaN itself: ${nan}`);
+  await page.evaluate(() => window.quadrille.setParam('alignment.position_weight', 5));
   await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.position_iterations === 7 && window.quadrille.lastRun.complete, null, { timeout: 60000 });
   const counts = await page.evaluate(() => window.quadrille.lastRun.counts);
   assert(counts.quad_mesh_faces > 0 && counts.vertices === 2930, `the run goes on: ${JSON.stringify(counts)}`);
