@@ -1192,9 +1192,16 @@ test('the parametrization stage shows its progress, Cancel stops it and the page
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
   await page.check('#layer-parametrization');
-  await page.waitForFunction(() => document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden);
-  assert(await page.isVisible('#progress-parametrization'), 'a progress bar for the stage');
-  await page.click('#cancel');
+  // Cancel is pressed in the same frame that shows the stage running: on spot the stage can end
+  // sooner than a separate click would arrive.
+  const bar = await page.waitForFunction(() => {
+    const running = document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden;
+    if (!running) return false;
+    const shown = document.getElementById('progress-parametrization')?.checkVisibility() ?? false;
+    document.getElementById('cancel').click();
+    return { shown };
+  }, null, { polling: 'raf' });
+  assert((await bar.jsonValue()).shown, 'a progress bar for the stage');
   await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
   assert(!(await page.isChecked('#layer-parametrization')), 'the layer is off again after a cancel');
   assert(await page.evaluate(() => window.quadrille.lastParam == null), 'no map was kept');
