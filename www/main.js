@@ -194,7 +194,7 @@ const BASE_LAYERS = [
 ];
 const STYLES = {
   'principal directions': { key: 'd', color: '#c0392b', color2: '#1f5fbf', hidden: true, glyph: true },
-  'cross field': { key: 'x', color: '#33415c', dense: true, glyph: true },
+  'cross field': { key: 'x', color: '#33415c', glyph: true },
   'extracted mesh': { key: 'm', color: '#111111', hidden: true },
   'quad mesh': { key: 'q', color: '#111111' },
   'non-quad faces': { key: 'n', color: '#f28e2b', color2: '#8e44ad', size: 5 },
@@ -211,16 +211,18 @@ const STYLES = {
   'parametrization cones': { key: 'j', color: '#1f6fdd', color2: '#d8342c', size: 10 },
 };
 const PARAM_LAYER = 'parametrization';
-// Meshes with more segments than this open with the layer hidden.
+// Meshes with more polygon edges than this open with the edges hidden: they
+// are drawn one line per edge, a solid mass at first sight. (The field
+// glyphs are thinned to the screen, so they open shown on any mesh.)
 const DENSE = 30000;
 let LAYERS = BASE_LAYERS.map((l) => ({ ...l }));
 const available = new Set();
 let scalars = {}; // name → { values, min, max, colormap }
 let scalarName = null;
 
-function addLayer(name, kind, count) {
+function addLayer(name, kind) {
   const style = STYLES[name] || { color: '#555555' };
-  const visible = !style.hidden && !(style.dense && count > DENSE);
+  const visible = !style.hidden;
   LAYERS = LAYERS.filter((l) => l.name !== name);
   LAYERS.push({ name, label: name[0].toUpperCase() + name.slice(1), kind, ...style, visible });
   available.add(name);
@@ -558,13 +560,13 @@ function onStage(job, result) {
   }
   for (const [name, l] of Object.entries(result.lines || {})) {
     // Field glyphs are drawn at screen density (the glyph spacing control).
-    if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2);
+    if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2, l.triangles || new Uint32Array());
     else viewer.set_lines(name, l.segments, l.colors);
-    addLayer(name, 'lines', l.segments.length / 6);
+    addLayer(name, 'lines');
   }
   for (const [name, p] of Object.entries(result.points || {})) {
     viewer.set_points(name, p.positions, p.colors, (STYLES[name]?.size || 6) * dpr());
-    addLayer(name, 'points', p.positions.length / 3);
+    addLayer(name, 'points');
   }
   if (result.metrics) showMetrics(result.metrics, null);
   if (result.param) {

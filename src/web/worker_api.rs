@@ -31,7 +31,7 @@
 //!
 //! Result messages (all arrays in local coordinates, see `mesh_arrays`):
 //! `{ stage, ms, report?, mesh?, scalars?: { name: { values, min, max, colormap } },
-//!    lines?: { name: { segments, colors } }, points?: { name: { positions, colors } }, counts? }`
+//!    lines?: { name: { segments, colors, triangles? } }, points?: { name: { positions, colors } }, counts? }`
 
 use glam::{DVec3, Vec3};
 use js_sys::{Float32Array, Function, Object, Reflect, Uint8Array, Uint32Array};
@@ -157,7 +157,40 @@ fn params_from_js(value: JsValue) -> Result<Params, JsError> {
     if value.is_undefined() || value.is_null() {
         return Ok(Params::default());
     }
+    if let Some((path, x)) = first_non_finite(&value, "") {
+        let x = match x {
+            x if x.is_nan() => "NaN",
+            x if x > 0.0 => "Infinity",
+            _ => "-Infinity",
+        };
+        return Err(js_err(format!(
+            "parameters: {path} is {x}, not a finite number"
+        )));
+    }
     serde_wasm_bindgen::from_value(value).map_err(|e| js_err(format!("parameters: {e}")))
+}
+
+/// The path and value of the first number in `value` that is not finite:
+/// a JS object can carry NaN and ±Infinity (JSON text cannot), and no
+/// parameter takes them (an infinite weight is `null`).
+fn first_non_finite(value: &JsValue, path: &str) -> Option<(String, f64)> {
+    if let Some(x) = value.as_f64() {
+        return (!x.is_finite()).then(|| (path.to_string(), x));
+    }
+    if !value.is_object() {
+        return None;
+    }
+    let entries = Object::entries(value.unchecked_ref::<Object>());
+    entries.iter().find_map(|entry| {
+        let pair: js_sys::Array = entry.unchecked_into();
+        let key = pair.get(0).as_string().unwrap_or_default();
+        let inner = if path.is_empty() {
+            key
+        } else {
+            format!("{path}.{key}")
+        };
+        first_non_finite(&pair.get(1), &inner)
+    })
 }
 
 fn js_err(e: impl std::fmt::Display) -> JsError {
@@ -205,6 +238,24 @@ impl StageResult {
         let entry = Object::new();
         set(&entry, "segments", Float32Array::from(segments))?;
         set(&entry, "colors", Uint8Array::from(colors))?;
+        set(&self.group("lines")?, name, entry)
+    }
+
+    /// A field's glyph layer: a line layer with the field mesh's triangles
+    /// (`triangles`, site index triples), over which the viewer places
+    /// glyphs between the vertices when zoomed in.
+    fn glyphs(
+        &self,
+        name: &str,
+        segments: &[f32],
+        colors: &[u8],
+        mesh: &TriMesh,
+    ) -> Result<(), JsError> {
+        let triangles: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        let entry = Object::new();
+        set(&entry, "segments", Float32Array::from(segments))?;
+        set(&entry, "colors", Uint8Array::from(colors))?;
+        set(&entry, "triangles", Uint32Array::from(&triangles[..]))?;
         set(&self.group("lines")?, name, entry)
     }
 
@@ -464,7 +515,7 @@ fn stage_result(
                 colors.extend_from_slice(&D1_COLOR);
                 colors.extend_from_slice(&D2_COLOR);
             }
-            r.lines("principal directions", &segments, &colors)?;
+            r.glyphs("principal directions", &segments, &colors, mesh)?;
             let features = s.features.indices();
             let positions: Vec<f32> = features
                 .iter()
@@ -491,7 +542,9 @@ fn stage_result(
                 centred(&mut segments, level.positions[v], q, h);
                 centred(&mut segments, level.positions[v], n.cross(q), h);
             }
-            r.lines("cross field", &segments, &CROSS_COLOR)?;
+            // Level 0 is the field mesh, vertex for vertex.
+            debug_assert_eq!(level.positions.len(), mesh.vertex_count());
+            r.glyphs("cross field", &segments, &CROSS_COLOR, mesh)?;
             singularity_points(&r, "orientation singularities", &o.singularities)?;
             if let Some(regions) = &o.smooth_regions {
                 set(&r.obj, "surface", smooth_region_surface(mesh, regions)?)?;

@@ -1192,9 +1192,16 @@ test('the parametrization stage shows its progress, Cancel stops it and the page
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
   await page.check('#layer-parametrization');
-  await page.waitForFunction(() => document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden);
-  assert(await page.isVisible('#progress-parametrization'), 'a progress bar for the stage');
-  await page.click('#cancel');
+  // Cancel is pressed in the same frame that shows the stage running: on spot the stage can end
+  // sooner than a separate click would arrive.
+  const bar = await page.waitForFunction(() => {
+    const running = document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden;
+    if (!running) return false;
+    const shown = document.getElementById('progress-parametrization')?.checkVisibility() ?? false;
+    document.getElementById('cancel').click();
+    return { shown };
+  }, null, { polling: 'raf' });
+  assert((await bar.jsonValue()).shown, 'a progress bar for the stage');
   await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
   assert(!(await page.isChecked('#layer-parametrization')), 'the layer is off again after a cancel');
   assert(await page.evaluate(() => window.quadrille.lastParam == null), 'no map was kept');
@@ -1310,7 +1317,11 @@ test('one control switches the view between the input and the result, and back',
 
 test('field glyphs keep their screen spacing when zooming, and the spacing control sets it', async (env) => {
   const { page, errors } = await open(env);
+  // Thinned to the screen, the bunny's 34 834 crosses are legible: the layer is shown when the
+  // orientation stage brings it, as on small meshes (the finished quad mesh then takes its place).
+  await page.waitForFunction(() => document.querySelector('#layer-cross-field')?.checked, null, { timeout: 60000, polling: 'raf' });
   await waitForRun(page, 'stanford-bunny.obj');
+  assert(!(await page.isChecked('#layer-cross-field')), 'the finished result hides the cross field');
   await surfaceOnly(page);
   await page.check('#layer-cross-field');
   await page.evaluate(() => window.quadrille.setCamera([0, 0]));
@@ -1351,6 +1362,45 @@ test('field glyphs keep their screen spacing when zooming, and the spacing contr
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('field glyphs keep their spacing zoomed far into a coarse mesh (sites on the faces)', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  await surfaceOnly(page);
+  await page.check('#layer-cross-field');
+  await page.evaluate(() => window.quadrille.setCamera([0.4, 0.2]));
+  const base = await page.evaluate(() => window.quadrille.camera()[2]);
+  const clip = await page.locator('#canvas').boundingBox();
+  const dpr = await page.evaluate(() => window.devicePixelRatio);
+  // One glyph per cell of the spacing: 10 000 / spacing² per 10k covered drawing-buffer pixels.
+  const spacing = Number(await page.inputValue('#glyph-spacing')) * dpr;
+  const ideal = 1e4 / spacing ** 2;
+  const density = async (file, layer = 'cross field') => {
+    await settle(page);
+    const count = await page.evaluate((l) => window.quadrille.glyphCount(l), layer);
+    const covered = inkFraction(await page.screenshot({ path: join(artifacts, `${file}-${env.backend}.png`), clip }));
+    return { count, covered, per10k: 1e4 * count / (covered * clip.width * clip.height * dpr ** 2) };
+  };
+  const mid = await density('glyphs-spot-mid');
+  // The wheel zooms toward the surface point under the cursor, to an eighth of the distance:
+  // the mesh's vertices then lie several glyph spacings apart on screen.
+  await page.mouse.move(clip.x + clip.width * 0.5, clip.y + clip.height * 0.5);
+  for (let k = 0; k < 7; k++) await page.mouse.wheel(0, -200);
+  const zoomed = await page.evaluate(() => window.quadrille.camera()[2]);
+  const near = await density('glyphs-spot-near');
+  const sites = await page.evaluate(() => window.quadrille.lastRun.counts.vertices);
+  console.log(`      [${env.backend}] spot (${sites} sites) cross-field glyphs per 10k covered px (one per cell: ${ideal.toFixed(1)}): mid ${mid.count} → ${mid.per10k.toFixed(1)}, near (distance ×${(zoomed / base).toFixed(2)}) ${near.count} → ${near.per10k.toFixed(1)}`);
+  assert(zoomed < 0.2 * base, `the wheel zoomed in: distance ${zoomed} of ${base}`);
+  assert(near.covered > 0.5, `zoomed in, the surface fills the view: ${(100 * near.covered).toFixed(1)} %`);
+  for (const [name, d] of [['mid', mid], ['near', near]]) {
+    assert(d.per10k > 0.6 * ideal && d.per10k < 1.6 * ideal, `${name}: ${d.per10k.toFixed(1)} glyphs per 10k px, one per cell would be ${ideal.toFixed(1)}`);
+  }
+  await page.uncheck('#layer-cross-field');
+  await page.check('#layer-principal-directions');
+  const principal = await density('glyphs-spot-principal', 'principal directions');
+  assert(principal.per10k > 0.6 * ideal && principal.per10k < 1.6 * ideal, `principal directions near: ${principal.per10k.toFixed(1)} glyphs per 10k px`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('parameters cross to the worker as objects: the run echoes them, nulls included; a wrong type is a clear error', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
@@ -1374,7 +1424,14 @@ test('parameters cross to the worker as objects: the run echoes them, nulls incl
   const message = await page.evaluate(() => window.quadrille.lastError);
   assert(message.includes('invalid type') && message.includes('many'), `the error says what is wrong: ${message}`);
   assert((await page.textContent('#status')).includes('parameters'), 'the error is on the page');
+  // NaN reaches the worker only as a JS value: JSON text would have made it null
+  // ("invalid type: null, expected f32"), which names neither the field nor NaN.
   await page.evaluate(() => window.quadrille.setParam('field.position_iterations', 7));
+  await page.evaluate(() => window.quadrille.setParam('alignment.position_weight', NaN));
+  await page.waitForFunction(() => window.quadrille.lastError && window.quadrille.lastError.includes('position_weight'), null, { timeout: 30000 });
+  const nan = await page.evaluate(() => window.quadrille.lastError);
+  assert(nan.includes('parameters: alignment.position_weight is NaN, not a finite number'), `the worker saw NaN itself: ${nan}`);
+  await page.evaluate(() => window.quadrille.setParam('alignment.position_weight', 5));
   await page.waitForFunction(() => window.quadrille.lastRun.parameters.field.position_iterations === 7 && window.quadrille.lastRun.complete, null, { timeout: 60000 });
   const counts = await page.evaluate(() => window.quadrille.lastRun.counts);
   assert(counts.quad_mesh_faces > 0 && counts.vertices === 2930, `the run goes on: ${JSON.stringify(counts)}`);

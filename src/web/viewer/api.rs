@@ -255,17 +255,22 @@ impl Viewer {
 
     /// A glyph layer: centred segments (six floats each), `per_site`
     /// consecutive ones per glyph (a cross field's two arms), one RGBA
-    /// colour for all or one per segment. Drawn at screen density, at most
-    /// one glyph per cell of the glyph spacing, each about that size on
-    /// screen, re-sampled when the view changes. An empty array removes it.
+    /// colour for all or one per segment, and the field mesh's triangles
+    /// over the glyphs (three site indices each; may be empty). Drawn at
+    /// screen density, at most one glyph per cell of the glyph spacing,
+    /// each about that size on screen, re-sampled when the view changes;
+    /// triangles too big on screen for the spacing get glyphs inside them
+    /// too. An empty array removes it.
     pub fn set_glyphs(
         &mut self,
         name: &str,
         segments: &[f32],
         rgba: &[u8],
         per_site: u32,
+        triangles: &[u32],
     ) -> Result<(), JsError> {
-        let glyphs = GlyphSet::from_segments(segments, rgba, per_site as usize).map_err(js)?;
+        let glyphs =
+            GlyphSet::from_segments(segments, rgba, per_site as usize, triangles).map_err(js)?;
         self.glyphs.insert(name.to_string(), (glyphs, 0));
         self.glyph_view = None;
         Ok(())

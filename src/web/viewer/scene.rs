@@ -484,6 +484,12 @@ impl LineSet {
 /// Tangent glyphs (a cross field's two arms, the principal directions) at
 /// sites on the surface, drawn at screen density: at most one glyph per
 /// square cell of the screen, so they stay legible at any zoom.
+///
+/// The sites are the field mesh's vertices and, where one of its triangles
+/// is too big on screen for the spacing, points of a barycentric lattice on
+/// it with the field interpolated from the corners (see
+/// [`GlyphSet::face_glyph`]). A lattice has 2^k subdivisions, so its points
+/// stay where they are on the surface while zooming in only adds more.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct GlyphSet {
     pub centres: Vec<Vec3>,
@@ -492,15 +498,31 @@ pub struct GlyphSet {
     /// One colour per arm.
     pub colors: Vec<[u8; 4]>,
     pub per_site: usize,
+    /// The field mesh's triangles over the sites (may be empty: then the
+    /// vertices are the only sites).
+    pub faces: Vec<[u32; 3]>,
+}
+
+/// The most subdivisions of a triangle's edges: a triangle more than
+/// `MAX_LATTICE / 2` glyph spacings across on screen gets sparser glyphs.
+pub const MAX_LATTICE: u32 = 256;
+
+/// A glyph's site: a vertex, or a barycentric point of a face.
+#[derive(Debug, Clone, Copy)]
+enum Site {
+    Vertex(usize),
+    Face(usize, [f32; 3]),
 }
 
 impl GlyphSet {
     /// From centred segments (six floats each), `per_site` consecutive
-    /// ones making one glyph; one colour for all or one per segment.
+    /// ones making one glyph; one colour for all or one per segment; the
+    /// field mesh's triangles as site index triples (or none).
     pub fn from_segments(
         segments: &[f32],
         rgba: &[u8],
         per_site: usize,
+        triangles: &[u32],
     ) -> Result<GlyphSet, SceneError> {
         let lines = LineSet::from_segments(segments, rgba)?;
         let per_site = per_site.max(1);
@@ -511,11 +533,19 @@ impl GlyphSet {
                 multiple: per_site,
             });
         }
-        let centres = lines
+        let centres: Vec<Vec3> = lines
             .segments
             .chunks_exact(per_site)
             .map(|g| (g[0][0] + g[0][1]) * 0.5)
             .collect();
+        if triangles.len() % 3 != 0 {
+            return Err(SceneError::Length {
+                what: "glyph triangles",
+                len: triangles.len(),
+                multiple: 3,
+            });
+        }
+        check_indices("glyph triangles", triangles, centres.len())?;
         let arms = lines
             .segments
             .iter()
@@ -526,15 +556,75 @@ impl GlyphSet {
             arms,
             colors: lines.colors,
             per_site,
+            faces: triangles
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect(),
         })
+    }
+
+    /// A site's side of the surface: its first two arms' cross product
+    /// (`None` for glyphs of one arm, which are seen from both sides).
+    fn normal(&self, site: usize) -> Option<Vec3> {
+        let k = site * self.per_site;
+        (self.per_site >= 2).then(|| self.arms[k].cross(self.arms[k + 1]))
+    }
+
+    /// The glyph at barycentric point `l` of face `f`: its position and
+    /// arms with their colours. Each arm of the corner with the largest
+    /// weight is matched, up to sign, to the most parallel arm of the same
+    /// colour at every corner (so a cross field's arms may trade places
+    /// from corner to corner while d1 stays d1), the matched arms are
+    /// blended with the weights and put back into the tangent plane of the
+    /// blended normal.
+    fn face_glyph(&self, f: usize, l: [f32; 3]) -> (Vec3, Vec<(Vec3, [u8; 4])>) {
+        let corners = self.faces[f].map(|v| v as usize);
+        let centre = (0..3).map(|j| self.centres[corners[j]] * l[j]).sum();
+        let r = (0..3).fold(0, |r, j| if l[j] > l[r] { j } else { r });
+        let normal = (self.per_site >= 2).then(|| {
+            (0..3)
+                .filter_map(|j| self.normal(corners[j]).map(|n| n * l[j]))
+                .sum::<Vec3>()
+                .normalize_or_zero()
+        });
+        let arms = (0..self.per_site)
+            .map(|k| {
+                let reference = self.arms[corners[r] * self.per_site + k];
+                let colour = self.colors[corners[r] * self.per_site + k];
+                let mut sum = Vec3::ZERO;
+                for j in 0..3 {
+                    let own = corners[j] * self.per_site..(corners[j] + 1) * self.per_site;
+                    let matched = own
+                        .filter(|&m| self.colors[m] == colour)
+                        .map(|m| self.arms[m])
+                        .max_by(|a, b| a.dot(reference).abs().total_cmp(&b.dot(reference).abs()))
+                        .unwrap_or(reference);
+                    let sign = if matched.dot(reference) < 0.0 {
+                        -1.0
+                    } else {
+                        1.0
+                    };
+                    sum += matched * (sign * l[j]);
+                }
+                if let Some(n) = normal {
+                    sum -= n * n.dot(sum);
+                }
+                let arm = sum.normalize_or_zero();
+                (if arm == Vec3::ZERO { reference } else { arm }, colour)
+            })
+            .collect();
+        (centre, arms)
     }
 
     /// The glyphs seen through `view_proj` from `eye` on a `width` ×
     /// `height` pixel target: per cell of `spacing` pixels the site nearest
     /// the cell's centre that is in view and faces the eye (the first two
-    /// arms' cross product; glyphs of one arm always do), each arm scaled
-    /// to 0.4 `spacing` pixels either side (`fov_y` gives pixels per world
-    /// unit at a site's view depth). Returns the segments and how many glyphs.
+    /// arms' cross product, blended on faces; glyphs of one arm always do),
+    /// each arm scaled to 0.4 `spacing` pixels either side (`fov_y` gives
+    /// pixels per world unit at a site's view depth). A face gets lattice
+    /// sites when its longest edge on screen is more than half the spacing,
+    /// at most half a spacing apart. Returns the segments and how many
+    /// glyphs.
     pub fn thin(
         &self,
         view_proj: glam::Mat4,
@@ -545,47 +635,120 @@ impl GlyphSet {
     ) -> (LineSet, usize) {
         use std::collections::HashMap;
         let spacing = spacing.max(1.0);
+        let clips: Vec<glam::Vec4> = self
+            .centres
+            .iter()
+            .map(|c| view_proj * c.extend(1.0))
+            .collect();
+        // Pixel position of a clip-space point in front of the eye.
+        let pixel = |clip: glam::Vec4| {
+            (clip.w > 1e-6).then(|| {
+                let ndc = clip.truncate() / clip.w;
+                (
+                    glam::Vec2::new((ndc.x + 1.0) * 0.5 * width, (1.0 - ndc.y) * 0.5 * height),
+                    ndc.z,
+                )
+            })
+        };
         // Per cell: site, squared distance to the cell centre, view depth.
-        let mut best: HashMap<(i32, i32), (usize, f32, f32)> = HashMap::new();
-        for (i, &c) in self.centres.iter().enumerate() {
-            if self.per_site >= 2 {
-                let n = self.arms[i * self.per_site].cross(self.arms[i * self.per_site + 1]);
-                if n.dot(eye - c) <= 0.0 {
-                    continue;
-                }
+        let mut best: HashMap<(i32, i32), (Site, f32, f32)> = HashMap::new();
+        let mut offer = |site: Site, clip: glam::Vec4| {
+            let Some((p, z)) = pixel(clip) else { return };
+            if !(0.0..width).contains(&p.x)
+                || !(0.0..height).contains(&p.y)
+                || !(0.0..=1.0).contains(&z)
+            {
+                return;
             }
-            let clip = view_proj * c.extend(1.0);
-            if clip.w <= 1e-6 {
-                continue;
-            }
-            let ndc = clip.truncate() / clip.w;
-            if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 || !(0.0..=1.0).contains(&ndc.z) {
-                continue;
-            }
-            let (x, y) = ((ndc.x + 1.0) * 0.5 * width, (1.0 - ndc.y) * 0.5 * height);
-            let cell = ((x / spacing).floor() as i32, (y / spacing).floor() as i32);
-            let (cx, cy) = (
-                (cell.0 as f32 + 0.5) * spacing,
-                (cell.1 as f32 + 0.5) * spacing,
+            let cell = (
+                (p.x / spacing).floor() as i32,
+                (p.y / spacing).floor() as i32,
             );
-            let d = (x - cx).powi(2) + (y - cy).powi(2);
-            let slot = best.entry(cell).or_insert((i, d, clip.w));
+            let centre = (glam::Vec2::new(cell.0 as f32, cell.1 as f32) + 0.5) * spacing;
+            let d = p.distance_squared(centre);
+            let slot = best.entry(cell).or_insert((site, d, clip.w));
             if d < slot.1 {
-                *slot = (i, d, clip.w);
+                *slot = (site, d, clip.w);
+            }
+        };
+        let faces_eye = |n: Option<Vec3>, at: Vec3| n.is_none_or(|n| n.dot(eye - at) > 0.0);
+        for (i, &c) in self.centres.iter().enumerate() {
+            if faces_eye(self.normal(i), c) {
+                offer(Site::Vertex(i), clips[i]);
             }
         }
-        let mut kept: Vec<(usize, f32)> = best.into_values().map(|(i, _, w)| (i, w)).collect();
-        kept.sort_unstable_by_key(|k| k.0);
+        let (w, h) = (width, height);
+        for (f, face) in self.faces.iter().enumerate() {
+            let v = face.map(|v| v as usize);
+            let Some(px) = v
+                .iter()
+                .map(|&v| pixel(clips[v]).map(|p| p.0))
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            let (lo, hi) = (px[0].min(px[1]).min(px[2]), px[0].max(px[1]).max(px[2]));
+            if hi.x < 0.0 || hi.y < 0.0 || lo.x >= w || lo.y >= h {
+                continue;
+            }
+            if v.iter()
+                .all(|&v| !faces_eye(self.normal(v), self.centres[v]))
+            {
+                continue;
+            }
+            let longest = px[0]
+                .distance(px[1])
+                .max(px[1].distance(px[2]))
+                .max(px[2].distance(px[0]));
+            let n = (2.0 * longest / spacing).ceil().min(MAX_LATTICE as f32) as u32;
+            if n < 2 {
+                continue;
+            }
+            let n = n.next_power_of_two().min(MAX_LATTICE);
+            let normals = v.map(|v| self.normal(v));
+            for i in 0..=n {
+                for j in 0..=n - i {
+                    let k = n - i - j;
+                    if i == n || j == n || k == n {
+                        continue; // a vertex
+                    }
+                    let l = [i as f32, j as f32, k as f32].map(|x| x / n as f32);
+                    let at: Vec3 = (0..3).map(|m| self.centres[v[m]] * l[m]).sum();
+                    let normal = normals[0].map(|_| {
+                        (0..3)
+                            .filter_map(|m| normals[m].map(|n| n * l[m]))
+                            .sum::<Vec3>()
+                    });
+                    if faces_eye(normal, at) {
+                        let clip = (0..3).map(|m| clips[v[m]] * l[m]).sum();
+                        offer(Site::Face(f, l), clip);
+                    }
+                }
+            }
+        }
+        let mut kept: Vec<(Site, f32)> = best.into_values().map(|(s, _, w)| (s, w)).collect();
+        kept.sort_unstable_by_key(|k| match k.0 {
+            Site::Vertex(i) => (0, i, [0; 3]),
+            Site::Face(f, l) => (1, f, l.map(f32::to_bits)),
+        });
         let world_per_px = 2.0 * (fov_y * 0.5).tan() / height.max(1.0);
         let mut lines = LineSet::default();
-        for &(i, depth) in &kept {
-            let c = self.centres[i];
+        for &(site, depth) in &kept {
             // Pixels per world unit go with the view depth (clip w).
             let half = 0.4 * spacing * world_per_px * depth;
-            for k in i * self.per_site..(i + 1) * self.per_site {
-                let d = self.arms[k] * half;
+            let (c, arms) = match site {
+                Site::Vertex(i) => (
+                    self.centres[i],
+                    (i * self.per_site..(i + 1) * self.per_site)
+                        .map(|k| (self.arms[k], self.colors[k]))
+                        .collect(),
+                ),
+                Site::Face(f, l) => self.face_glyph(f, l),
+            };
+            for (arm, colour) in arms {
+                let d = arm * half;
                 lines.segments.push([c - d, c + d]);
-                lines.colors.push(self.colors[k]);
+                lines.colors.push(colour);
             }
         }
         (lines, kept.len())
@@ -771,7 +934,7 @@ mod tests {
                 }
             }
         }
-        let g = GlyphSet::from_segments(&seg, &[1, 2, 3, 255], 2).unwrap();
+        let g = GlyphSet::from_segments(&seg, &[1, 2, 3, 255], 2, &[]).unwrap();
         assert_eq!(g.centres.len(), 40000);
         let mut cam = super::super::camera::OrbitCamera {
             aspect: 1.0,
@@ -829,5 +992,131 @@ mod tests {
             "{}",
             (px(q) - px(p)).length()
         );
+    }
+
+    #[test]
+    fn big_faces_get_glyphs_between_their_vertices() {
+        // One square of two triangles, z = 0, with a cross at each corner;
+        // the corners list the same cross with their arms in another order
+        // or sign, as a 4-symmetric field may.
+        let corners = [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ];
+        let crosses = [
+            [Vec3::X, Vec3::Y],
+            [Vec3::Y, -Vec3::X],
+            [-Vec3::X, -Vec3::Y],
+            [-Vec3::Y, Vec3::X],
+        ];
+        let mut seg = Vec::new();
+        for (c, arms) in corners.iter().zip(crosses) {
+            for d in arms {
+                seg.extend((*c - d * 0.01).to_array());
+                seg.extend((*c + d * 0.01).to_array());
+            }
+        }
+        let triangles = [0, 1, 2, 0, 2, 3];
+        let g = GlyphSet::from_segments(&seg, &[9, 9, 9, 255], 2, &triangles).unwrap();
+        let vertices_only = GlyphSet::from_segments(&seg, &[9, 9, 9, 255], 2, &[]).unwrap();
+        let mut cam = super::super::camera::OrbitCamera {
+            aspect: 1.0,
+            ..Default::default()
+        };
+        cam.fit(Vec3::ZERO, 1.0);
+        cam.yaw = 0.0;
+        cam.pitch = 0.0;
+        cam.distance *= 0.5;
+        let thin =
+            |g: &GlyphSet| g.thin(cam.view_proj(), cam.eye(), cam.fov_y, (400.0, 400.0), 20.0);
+        // The square fills the view: one glyph in each of the 400 cells,
+        // where its four vertices (all off screen) give none.
+        assert_eq!(thin(&vertices_only).1, 0);
+        let (lines, n) = thin(&g);
+        assert_eq!(n, 400);
+        // Every interpolated glyph is the same axis-aligned cross.
+        for pair in lines.segments.chunks_exact(2) {
+            let a = (pair[0][1] - pair[0][0]).normalize();
+            let b = (pair[1][1] - pair[1][0]).normalize();
+            assert!(a.x.abs().max(a.y.abs()) > 0.999 && a.z.abs() < 1e-4, "{a}");
+            assert!(a.dot(b).abs() < 1e-3, "{a} {b}");
+        }
+        // Glyph centres sit near their cells' centres (lattice half a
+        // spacing apart at most).
+        let px = |v: Vec3| {
+            let c = cam.view_proj() * v.extend(1.0);
+            let ndc = c.truncate() / c.w;
+            glam::Vec2::new((ndc.x + 1.0) * 200.0, (1.0 - ndc.y) * 200.0)
+        };
+        for pair in lines.segments.chunks_exact(2) {
+            let p = px((pair[0][0] + pair[0][1]) * 0.5);
+            let cell = (p / 20.0).floor() * 20.0 + glam::Vec2::splat(10.0);
+            assert!(p.distance(cell) < 10.0, "{p} in the cell at {cell}");
+        }
+        // Seen from behind, nothing faces the eye.
+        let mut back = cam.clone();
+        back.yaw = std::f32::consts::PI;
+        assert_eq!(
+            g.thin(
+                back.view_proj(),
+                back.eye(),
+                back.fov_y,
+                (400.0, 400.0),
+                20.0
+            )
+            .1,
+            0
+        );
+        // Far away the square is small: its vertices are the only sites.
+        let mut far = cam.clone();
+        far.distance *= 40.0;
+        let (_, n) = g.thin(far.view_proj(), far.eye(), far.fov_y, (400.0, 400.0), 20.0);
+        assert!(n <= 4, "{n}");
+    }
+
+    #[test]
+    fn principal_directions_keep_their_colours_between_vertices() {
+        // d1 (red) along x, d2 (blue) along y at three corners, but listed
+        // d2 first at one of them: matching by colour keeps d1 red.
+        let corners = [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let red = [200, 0, 0, 255];
+        let blue = [0, 0, 200, 255];
+        let mut seg = Vec::new();
+        let mut rgba = Vec::new();
+        for (i, c) in corners.iter().enumerate() {
+            let arms = if i == 1 {
+                [(Vec3::Y, blue), (-Vec3::X, red)]
+            } else {
+                [(Vec3::X, red), (Vec3::Y, blue)]
+            };
+            for (d, colour) in arms {
+                seg.extend((*c - d * 0.01).to_array());
+                seg.extend((*c + d * 0.01).to_array());
+                rgba.extend(colour);
+            }
+        }
+        let g = GlyphSet::from_segments(&seg, &rgba, 2, &[0, 1, 2]).unwrap();
+        let (glyph, arms) = g.face_glyph(0, [0.2, 0.6, 0.2]);
+        assert!((glyph - Vec3::new(0.4, -0.6, 0.0)).length() < 1e-6);
+        // The largest weight is corner 1's, d2 first there.
+        assert_eq!(arms[0].1, blue);
+        assert!(arms[0].0.y.abs() > 0.999, "{}", arms[0].0);
+        assert_eq!(arms[1].1, red);
+        assert!(arms[1].0.x.abs() > 0.999, "{}", arms[1].0);
+        // Bad triangles are errors, not panics.
+        assert!(matches!(
+            GlyphSet::from_segments(&seg, &rgba, 2, &[0, 1, 3]),
+            Err(SceneError::Index { .. })
+        ));
+        assert!(matches!(
+            GlyphSet::from_segments(&seg, &rgba, 2, &[0, 1]),
+            Err(SceneError::Length { .. })
+        ));
     }
 }
