@@ -91,8 +91,8 @@ ROWS = {
     # at a quarter of the count, one split), with the odd-face pairing off.
     "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
-    "default, scale consistency 20 edges": ("default", {"field": {"scale_consistency": 20}}),
-    "default, scale consistency 2 edges": ("default", {"field": {"scale_consistency": 2}}),
+    "default with scale consistency 20 edges": ("default", {"field": {"scale_consistency": 20}}),
+    "default with scale consistency 2 edges": ("default", {"field": {"scale_consistency": 2}}),
     "default + feature-vertex constraints": ("default", {"alignment": {"mode": "feature-vertices"}}),
     # Thin parts: the length capped at pi x shape diameter / edges around.
     "default + thin parts (3 edges)": ("default", {"sizing": {"thin_part_edges": 3}}),
