@@ -75,6 +75,9 @@ pub struct Snapshot {
 #[derive(Debug, Clone)]
 struct Hover {
     position: DVec3,
+    /// The g vertex the proposals go through, while they are current
+    /// (`None` once the covered strips changed under them).
+    vertex: Option<usize>,
     proposals: Vec<DualLoop>,
     all: bool,
     index: usize,
@@ -192,9 +195,17 @@ impl LayoutDesign {
     /// nothing.
     pub fn hover(&mut self, position: DVec3) -> Option<&DualLoop> {
         if self.state.anchors.is_empty() {
+            // The pointer still over the same vertex: the same loops (and
+            // the wheel's place among them), nothing searched again.
+            let vertex = self.engine.nearest_vertex(position);
+            if let Some(h) = self.hover.as_mut().filter(|h| vertex.is_some() && h.vertex == vertex) {
+                h.position = position;
+                return self.proposal();
+            }
             let proposals: Vec<DualLoop> = self.engine.best_loop(position).into_iter().collect();
             self.hover = Some(Hover {
                 position,
+                vertex,
                 proposals,
                 all: false,
                 index: 0,
@@ -396,6 +407,10 @@ impl LayoutDesign {
             return false;
         }
         self.engine.set_covered(covered);
+        // The proposal stays on screen; the next hover searches again.
+        if let Some(h) = self.hover.as_mut() {
+            h.vertex = None;
+        }
         true
     }
 

@@ -40,6 +40,7 @@ pub mod loops;
 pub mod parametrization;
 pub mod primal;
 pub mod proxy;
+pub mod radix_heap;
 pub mod regions;
 pub mod strip_field;
 pub mod strips;
