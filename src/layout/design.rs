@@ -195,11 +195,13 @@ impl LayoutDesign {
     /// nothing.
     pub fn hover(&mut self, position: DVec3) -> Option<&DualLoop> {
         if self.state.anchors.is_empty() {
-            // The pointer still over the same vertex: the same loops (and
-            // the wheel's place among them), nothing searched again.
+            // The pointer still over the same vertex: the same loops, nothing
+            // searched again (a move shows the best one again, as a new
+            // search would).
             let vertex = self.engine.nearest_vertex(position);
             if let Some(h) = self.hover.as_mut().filter(|h| vertex.is_some() && h.vertex == vertex) {
                 h.position = position;
+                h.index = 0;
                 return self.proposal();
             }
             let proposals: Vec<DualLoop> = self.engine.best_loop(position).into_iter().collect();

@@ -674,6 +674,46 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('design mode: a click while the analysis runs answers without it; an Enter during an action commits that action\u2019s loop', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  const hits = await surfaceGrid(page);
+  const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
+  // The commit's analysis now runs in its worker: click at once.
+  const p = byX[Math.floor(byX.length * 0.6)];
+  const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
+  const runningAtClick = await page.evaluate((n) => window.quadrille.design.analyses === n, analyses);
+  await page.mouse.click(p.x, p.y);
+  await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
+  const click = await page.evaluate((n) => ({ ms: window.quadrille.design.actionLatencies.addAnchor.at(-1), stillRunning: window.quadrille.design.analyses === n,
+    anchors: window.quadrille.design.state.anchors.length / 3 }), analyses);
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, DESIGN_WAIT);
+  const analysisMs = await page.evaluate(() => window.quadrille.design.analysisMs);
+  console.log(`      [${env.backend}] torus: click during the analysis answered (drawn) in ${click.ms.toFixed(1)} ms; the analysis ${click.stillRunning ? 'was still running then' : 'had finished by then'} (it took ${analysisMs.toFixed(0)} ms)`);
+  assert(runningAtClick, 'the click was made while the analysis ran');
+  assert(click.anchors === 1, `the click placed an anchor: ${click.anchors}`);
+  // A second click and Enter at once: the Enter waits for the click's
+  // answer, then commits the loop through both anchors.
+  const q = byX[Math.floor(byX.length * 0.8)];
+  const before = await page.evaluate(() => ({ loops: window.quadrille.design.state.loops.length, queued: window.quadrille.design.queuedEnters,
+    dropped: window.quadrille.design.droppedEnters, commits: (window.quadrille.design.actionLatencies.commit || []).length }));
+  await page.mouse.click(q.x, q.y);
+  await page.keyboard.press('Enter');
+  await page.waitForFunction((b) => window.quadrille.design.state.loops.length > b, before.loops, DESIGN_WAIT);
+  await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.commit || []).length > n, before.commits, DESIGN_WAIT);
+  const after = await page.evaluate(() => { const d = window.quadrille.design; return { loops: d.state.loops.map((l) => [...l.points]), anchors: d.state.anchors.length,
+    queued: d.queuedEnters, dropped: d.droppedEnters, shown: d.queuedEnterProposal ? [...d.queuedEnterProposal] : null, ms: d.actionLatencies.commit.at(-1) }; });
+  console.log(`      [${env.backend}] torus: Enter pressed during the second click's answer committed ${after.ms.toFixed(0)} ms after the press`);
+  assert(after.queued === before.queued + 1 && after.dropped === before.dropped, `the Enter was queued, not dropped: ${JSON.stringify({ before, queued: after.queued, dropped: after.dropped })}`);
+  assert(after.loops.length === before.loops + 1 && after.anchors === 0, `one strip committed: ${after.loops.length}`);
+  assert(after.shown && after.shown.length >= 9 && JSON.stringify(after.loops.at(-1)) === JSON.stringify(after.shown),
+    'the committed strip is the loop through both anchors, drawn before the commit');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('design mode: with the mirror plane detected, a committed strip gets its mirror image', async (env) => {
   const { page, errors } = await open(env, 'sample=torus');
   await waitForRun(page, 'torus.obj');
