@@ -42,6 +42,12 @@
 //!   first and last arcs). g-edges with both ends on the boundary (along it,
 //!   or chords across a part narrower than k rings) never end a curve, so a
 //!   part with no interior vertex has no dual curve.
+//! - The hover searches (the labelled ranking and the bidirectional loop)
+//!   pop from a radix heap ([`super::radix_heap`]) keyed by the distance's
+//!   bits, not a binary heap: the same order up to ties between equal
+//!   distances, about half the time. The hover query settles the distances
+//!   from ∂ to the cheapest dual curve first and runs the closed-loop search
+//!   once, bounded by it.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
 //!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
 //!   same "direction class" and dropped; proposals above 6 × the best cost

@@ -17,6 +17,8 @@
 //   cd tests/e2e && node bench_design.mjs [sample …]   (default: torus stanford-bunny)
 //   BENCH_TRIALS=n  edit trials per sample (default 6) · BENCH_HOVERS=n hover points (default 40)
 //   BENCH_BACKEND=webgl2|webgpu (default webgl2)
+//   BENCH_ACTION_TIMEOUT=s  an action still unanswered after s seconds (default 30) counts as a
+//   timeout (∞ in the percentiles); the layout worker is then restarted and the next trial begins.
 // Writes target/bench/design.json.
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -28,6 +30,7 @@ const samples = process.argv.slice(2).length ? process.argv.slice(2) : ['torus',
 const trials = Number(process.env.BENCH_TRIALS || 6);
 const hovers = Number(process.env.BENCH_HOVERS || 40);
 const backend = process.env.BENCH_BACKEND || 'webgl2';
+const actionTimeout = 1000 * Number(process.env.BENCH_ACTION_TIMEOUT || 30);
 
 const sorted = (xs) => [...xs].sort((a, b) => a - b);
 // Nearest-rank percentile.
@@ -40,24 +43,43 @@ const stats = (page) => page.evaluate(() => {
     loops: d.state ? d.state.loops.length : 0, proposal: d.proposal ? d.proposal.length : 0 };
 });
 
-// Waits until every action sent has been answered and drawn.
-async function idle(page) {
-  await page.waitForFunction(() => window.quadrille.design.actionsSent === window.quadrille.design.actionsAnswered, null, DESIGN_WAIT);
+// Waits until every action sent has been answered and drawn; false after
+// `timeout` ms.
+async function idle(page, timeout = DESIGN_WAIT.timeout) {
+  try {
+    await page.waitForFunction(() => window.quadrille.design.actionsSent === window.quadrille.design.actionsAnswered, null, { timeout });
+  } catch (error) {
+    if (error.name === 'TimeoutError') return false;
+    throw error;
+  }
   await settle(page);
+  return true;
 }
 
-// Runs `input` and returns the page-side latencies it added, per action.
+// An action did not answer in time: a fresh layout worker (the old one is
+// still searching), as the page's restart button gives.
+async function restart(page) {
+  await page.evaluate(() => window.quadrille.crashLayoutWorker());
+  await page.waitForFunction(() => !document.getElementById('design-crash').hidden, null, DESIGN_WAIT);
+  await page.click('#design-restart');
+  await page.waitForFunction(() => window.quadrille.design.ready && !window.quadrille.design.crashed && window.quadrille.design.state, null, { timeout: 300000 });
+  await idle(page);
+}
+
+// Runs `input` and returns the page-side latencies it added, per action
+// (`timedOut` when the last did not answer within the action timeout).
 async function measure(page, input) {
   await idle(page);
   const before = (await stats(page)).latencies;
   await input();
-  await idle(page);
+  const answered = await idle(page, actionTimeout);
   const after = (await stats(page)).latencies;
-  const out = {};
+  const out = { timedOut: !answered };
   for (const [name, xs] of Object.entries(after)) {
     const added = xs.slice((before[name] || []).length);
     if (added.length) out[name] = added;
   }
+  if (!answered) await restart(page);
   return out;
 }
 
@@ -79,6 +101,14 @@ async function benchSample(env, sample) {
   if (hits.length < 2 * hovers) throw new Error(`${sample}: only ${hits.length} surface points on screen`);
   const at = (f) => hits[Math.floor(f * (hits.length - 1))];
   const runs = { hover: [], 'click (1st anchor)': [], 'click (2nd anchor)': [], drag: [], grab: [], Enter: [], undo: [] };
+  const timeouts = Object.fromEntries(Object.keys(runs).map((k) => [k, 0]));
+  let restarts = 0;
+  // Adds a measurement's latencies to `name`; a timeout adds ∞.
+  const record = (name, m, actions) => {
+    for (const a of actions) runs[name].push(...(m[a] || []));
+    if (m.timedOut) { runs[name].push(Infinity); timeouts[name]++; restarts++; }
+    return !m.timedOut;
+  };
   const worker = { hover: [] };
   // Hover: distinct points spread over the surface on screen.
   await idle(page);
@@ -95,9 +125,9 @@ async function benchSample(env, sample) {
     await idle(page);
     await page.mouse.move(a.x, a.y);
     let m = await measure(page, () => page.mouse.click(a.x, a.y));
-    runs['click (1st anchor)'].push(...(m.addAnchor || []));
+    if (!record('click (1st anchor)', m, ['addAnchor'])) continue;
     m = await measure(page, () => page.mouse.click(b.x, b.y));
-    runs['click (2nd anchor)'].push(...(m.addAnchor || []));
+    const second = record('click (2nd anchor)', m, ['addAnchor']);
     // Grab: press on the loop through both anchors (away from them) and drag.
     const s = await page.evaluate(() => ({ loop: [...window.quadrille.design.proposal], anchors: [...window.quadrille.design.state.anchors] }));
     const fine = await surfaceGrid(page, 8);
@@ -107,7 +137,7 @@ async function benchSample(env, sample) {
       const nearAnchor = [0, 3].some((i) => d2(h.p, s.anchors.slice(i, i + 3)) < 0.05 ** 2);
       return best < 0.006 ** 2 && !nearAnchor;
     });
-    if (onLoop.length) {
+    if (second && onLoop.length) {
       const g = onLoop[Math.floor(onLoop.length / 2)];
       m = await measure(page, async () => {
         await page.mouse.move(g.x, g.y);
@@ -115,7 +145,7 @@ async function benchSample(env, sample) {
         for (let i = 1; i <= 5; i++) await page.mouse.move(g.x + 4 * i, g.y - 4 * i);
         await page.mouse.up();
       });
-      runs.grab.push(...(m.insertAnchorOnLoop || []), ...(m.moveGrabbedAnchor || []));
+      record('grab', m, ['insertAnchorOnLoop', 'moveGrabbedAnchor']);
     }
     // Drag from the surface: a third, directional anchor.
     await page.keyboard.press('Escape');
@@ -126,17 +156,17 @@ async function benchSample(env, sample) {
       for (let i = 1; i <= 6; i++) await page.mouse.move(c.x + 6 * i, c.y + 3 * i);
       await page.mouse.up();
     });
-    runs.drag.push(...(m.addAnchor || []), ...(m.setLastAnchorDirection || []));
+    if (!record('drag', m, ['addAnchor', 'setLastAnchorDirection'])) continue;
     // Enter on the hovered loop, then undo it.
     await page.keyboard.press('Escape');
     await idle(page);
     await hoverAt(page, b);
     const before = (await stats(page)).loops;
     m = await measure(page, () => page.keyboard.press('Enter'));
-    runs.Enter.push(...(m.commit || []));
+    if (!record('Enter', m, ['commit'])) continue;
     if ((await stats(page)).loops !== before + 1) throw new Error(`${sample}: Enter committed nothing`);
     m = await measure(page, () => page.keyboard.press('Control+z'));
-    runs.undo.push(...(m.undo || []));
+    record('undo', m, ['undo']);
   }
   const w = (await stats(page)).workerMs;
   worker['click (1st anchor)'] = worker['click (2nd anchor)'] = w.addAnchor || [];
@@ -144,10 +174,12 @@ async function benchSample(env, sample) {
   worker.grab = [...(w.insertAnchorOnLoop || []), ...(w.moveGrabbedAnchor || [])];
   worker.Enter = w.commit || [];
   worker.undo = w.undo || [];
-  if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
+  // The forced restarts report the crash they cause; anything else is an error.
+  const unexpected = errors.filter((e) => !(restarts && /crash|panic|unreachable|RuntimeError/i.test(e)));
+  if (unexpected.length) throw new Error(`${sample}: console errors: ${unexpected.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, actions: {} };
-  for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), workerMedian: pct(worker[name] || [], 0.5) };
+  const result = { sample, ...info, restarts, actions: {} };
+  for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
 }
 
@@ -159,11 +191,11 @@ try {
     for (const sample of samples) {
       const r = await benchSample({ context, url, backend, query: CONFIGS[backend].query }, sample);
       results.push(r);
-      const f = (x) => (Number.isFinite(x) ? x.toFixed(1) : '—');
+      const f = (x) => (Number.isFinite(x) ? x.toFixed(1) : x === Infinity ? `> ${actionTimeout / 1e3} s` : '—');
       console.log(`${sample} (${r.inputFaces} faces${r.proxy ? `, designed on a ${r.faces}-face proxy` : ''}; mode ready ${(r.readyAfterMs / 1e3).toFixed(1)} s after T), ${backend}:`);
-      console.log('| action | n | median ms | p95 ms | max ms | worker median ms |');
+      console.log('| action | n (timeouts) | median ms | p95 ms | max ms | worker median ms |');
       console.log('|---|---|---|---|---|---|');
-      for (const [name, a] of Object.entries(r.actions)) console.log(`| ${name} | ${a.n} | ${f(a.median)} | ${f(a.p95)} | ${f(a.max)} | ${f(a.workerMedian)} |`);
+      for (const [name, a] of Object.entries(r.actions)) console.log(`| ${name} | ${a.n} (${a.timeouts}) | ${f(a.median)} | ${f(a.p95)} | ${f(a.max)} | ${f(a.workerMedian)} |`);
     }
   } finally {
     await context.close();
@@ -172,4 +204,5 @@ try {
   server.kill();
 }
 mkdirSync(join(root, 'target/bench'), { recursive: true });
-writeFileSync(join(root, 'target/bench/design.json'), JSON.stringify({ backend, trials, hovers, results }, null, 2));
+writeFileSync(join(root, 'target/bench/design.json'), JSON.stringify({ backend, trials, hovers, actionTimeoutMs: actionTimeout, results },
+  (k, v) => (v === Infinity ? 'timeout' : v), 2));
