@@ -51,7 +51,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             engine.graph.memory_bytes() as f64 / 1e6,
             engine.memory_bytes() as f64 / 1e6
         );
-        let repeats: usize = std::env::var("BENCH_REPEATS").ok().and_then(|r| r.parse().ok()).unwrap_or(3).max(1);
+        let repeats: usize = std::env::var("BENCH_REPEATS")
+            .ok()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(3)
+            .max(1);
         let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
         let mut times = Vec::new();
         let mut costs = Vec::new();

@@ -199,7 +199,11 @@ impl LayoutDesign {
             // searched again (a move shows the best one again, as a new
             // search would).
             let vertex = self.engine.nearest_vertex(position);
-            if let Some(h) = self.hover.as_mut().filter(|h| vertex.is_some() && h.vertex == vertex) {
+            if let Some(h) = self
+                .hover
+                .as_mut()
+                .filter(|h| vertex.is_some() && h.vertex == vertex)
+            {
                 h.position = position;
                 h.index = 0;
                 return self.proposal();

@@ -100,7 +100,11 @@ mod tests {
         let mut reference = BinaryHeap::new();
         let mut last = 0.0f32;
         for round in 0..20_000 {
-            let pushes = if round < 10 { 5 } else { (rng.next_u32() % 3) as usize };
+            let pushes = if round < 10 {
+                5
+            } else {
+                (rng.next_u32() % 3) as usize
+            };
             for _ in 0..pushes {
                 let d = last + (rng.next_u32() % 1000) as f32 * 1e-3;
                 let v = rng.next_u32();
