@@ -619,6 +619,36 @@ mod tests {
         DVec3::new(ring * u.cos(), ring * u.sin(), 0.7 * v.sin())
     }
 
+    /// A second hover over the same vertex shows the same best loop without
+    /// a search (and the best again after the wheel); a hover at another
+    /// vertex, or after the covered strips changed, searches.
+    #[test]
+    fn hover_over_the_same_vertex_reuses_its_loops() {
+        let mut d = torus_design();
+        let p = on_torus(0.3, 0.0);
+        let first = d.hover(p).cloned().expect("a loop");
+        d.browse(1);
+        let settled = d.engine.settled_nodes();
+        // A point a little off the vertex: the same nearest vertex.
+        let v = d.engine.nearest_vertex(p).unwrap();
+        let nearby = on_torus(0.3 + 1e-3, 1e-3);
+        assert_eq!(d.engine.nearest_vertex(nearby), Some(v));
+        assert_eq!(d.hover(nearby), Some(&first), "the best loop again");
+        assert_eq!(d.engine.settled_nodes(), settled, "nothing searched");
+        // Another vertex: a search.
+        let other = on_torus(1.3, 0.5);
+        assert_ne!(d.engine.nearest_vertex(other), Some(v));
+        d.hover(other).expect("a loop");
+        assert!(d.engine.settled_nodes() > settled);
+        // Back, after new covered directions: searched again.
+        d.hover(p);
+        let rev = d.revision();
+        assert!(d.apply_covered(rev, &[]));
+        let settled = d.engine.settled_nodes();
+        assert_eq!(d.hover(p), Some(&first));
+        assert!(d.engine.settled_nodes() > settled, "searched after the covered strips changed");
+    }
+
     #[test]
     fn hover_then_commit_adds_a_strip_and_undo_redo_round_trip() {
         let mut d = torus_design();
