@@ -646,7 +646,10 @@ mod tests {
         assert!(d.apply_covered(rev, &[]));
         let settled = d.engine.settled_nodes();
         assert_eq!(d.hover(p), Some(&first));
-        assert!(d.engine.settled_nodes() > settled, "searched after the covered strips changed");
+        assert!(
+            d.engine.settled_nodes() > settled,
+            "searched after the covered strips changed"
+        );
     }
 
     #[test]

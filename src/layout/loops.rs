@@ -45,7 +45,7 @@
 //! - The hover searches (the labelled ranking and the bidirectional loop)
 //!   pop from a radix heap ([`super::radix_heap`]) keyed by the distance's
 //!   bits, not a binary heap: the same order up to ties between equal
-//!   distances, about half the time. The hover query settles the distances
+//!   distances. The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
