@@ -9,7 +9,7 @@ TOOLS := $(CURDIR)/.tools
 # Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
 WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
-.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench quality
+.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench bench-design quality
 
 run: web
 	cargo run --release --example serve -- www $(PORT)
@@ -76,6 +76,16 @@ browser-test: web browser-tools
 bench: web browser-tools
 	cargo build --release --bin quadrille --example subdivide --example serve
 	QUADRILLE_MESHES="$(MESHES)" python3 scripts/bench.py $(BENCH_ARGS)
+
+## The design mode's responsiveness (not part of `make test`): hover,
+## click, drag, grab, Enter and undo timed in headless Chromium the way a
+## user triggers them, on the torus sample and the bunny (median, 95th
+## percentile, max). Prints markdown tables (docs/RESULTS.md has them) and
+## writes target/bench/design.json. BENCH_TRIALS / BENCH_HOVERS set the
+## repetitions (see tests/e2e/bench_design.mjs).
+bench-design: web browser-tools
+	cargo build --release --example serve
+	cd tests/e2e && node bench_design.mjs
 
 ## The ablation table (not part of `make test`): Instant Meshes, QuadriFlow,
 ## Quadrille in an Instant-Meshes-equivalent configuration, that plus each

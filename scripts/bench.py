@@ -433,8 +433,17 @@ def main():
         die(f"{RESULTS_JSON} does not exist: run without --render-only first")
     browser_s, compare = load(BROWSER_JSON), load(COMPARE_JSON)
     os.makedirs(os.path.dirname(RESULTS_MD), exist_ok=True)
+    # The design-mode sections come from their own benchmarks
+    # (examples/bench_anchors.rs, `make bench-design`): kept as they are.
+    kept = ""
+    if os.path.exists(RESULTS_MD):
+        with open(RESULTS_MD) as f:
+            old = f.read()
+        at = old.find("\n## Design mode")
+        if at >= 0:
+            kept = old[at:]
     with open(RESULTS_MD, "w") as f:
-        f.write(render(results, browser_s, compare))
+        f.write(render(results, browser_s, compare).rstrip("\n") + "\n" + kept)
     update_readme((headline(results, browser_s, compare) + "\n\n").lstrip() + "Full tables, machine and date: [docs/RESULTS.md](docs/RESULTS.md).")
     print(f"bench: wrote {os.path.relpath(RESULTS_MD, ROOT)} and the README's results block", file=sys.stderr)
 

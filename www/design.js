@@ -70,6 +70,12 @@ export function createDesignMode(ctx) {
     active: false, ready: false, crashed: false, state: null, analysis: null, proxy: false,
     faces: 0, inputFaces: 0, buildMs: null, hoverLatencies: [], hoverWorkerMs: [], hoverReplies: 0,
     analyses: 0, lastDrawn: 0, exportCount: 0, actionMs: {},
+    // Per action: event → its state drawn (ms, measured on the page).
+    actionLatencies: {},
+    // Enter while an action was in flight: queued, or dropped (a second
+    // press while one waits).
+    queuedEnters: 0, droppedEnters: 0, queuedEnterProposal: null,
+    actionsSent: 0, actionsAnswered: 0,
   };
   let worker = null;
   let inputName = null;
@@ -77,7 +83,9 @@ export function createDesignMode(ctx) {
   let hoverBusy = false;
   let hoverNext = null; // { point, t }
   let actionBusy = false;
-  let dragNext = null; // latest drag update: { name, args, t }
+  let dragNext = null; // latest drag update: { name, args, t, serial }
+  let actionSerial = 0; // serial of the newest action (posted or waiting in dragNext)
+  let enterAfter = null; // Enter pressed during an action: { after: serial, t }
   let proposal = new Float32Array(0);
   let gesture = null; // the current left-button gesture
   let nextRequest = 1;
@@ -110,7 +118,8 @@ export function createDesignMode(ctx) {
     if (worker) worker.terminate();
     worker = null;
     hoverBusy = actionBusy = false;
-    hoverNext = dragNext = null;
+    hoverNext = dragNext = enterAfter = null;
+    stats.actionsAnswered = stats.actionsSent; // nothing is in flight any more
     for (const { reject } of pending.values()) reject(new Error('the design mode was closed'));
     pending.clear();
   }
@@ -154,13 +163,28 @@ export function createDesignMode(ctx) {
         if (hoverNext) { const h = hoverNext; hoverNext = null; sendHover(h.point, h.t); }
         break;
       }
-      case 'state':
+      case 'state': {
         actionBusy = false;
+        stats.actionsAnswered++;
         (stats.actionMs[m.action] ??= []).push(m.ms);
         onState(m.state, m.t);
+        const t = m.t;
+        ctx.afterNextFrame(() => (stats.actionLatencies[m.action] ??= []).push(performance.now() - t));
         if (m.action === 'commit' && m.value === 0 && !m.state.error) { ctx.setStatus('nothing to commit: hover over the surface first'); stats.statusShown = true; }
-        if (dragNext) { const d = dragNext; dragNext = null; action(d.name, d.args, d.t); }
+        // A drag update queued before a waiting Enter goes first; the Enter
+        // then commits the loop of the newest action before it, now drawn.
+        if (dragNext && (!enterAfter || dragNext.serial <= enterAfter.after)) {
+          const d = dragNext;
+          dragNext = null;
+          send(d);
+        } else if (enterAfter && m.serial >= enterAfter.after) {
+          const e = enterAfter;
+          enterAfter = null;
+          stats.queuedEnterProposal = proposal;
+          action('commit', [], e.t);
+        }
         break;
+      }
       case 'analysis':
         onAnalysis(m.analysis, m.ms);
         break;
@@ -185,11 +209,19 @@ export function createDesignMode(ctx) {
   }
 
   // Actions; drag updates (direction, grabbed anchor) keep one in flight, the latest wins.
+  // Each action gets a serial (echoed in its state) so that an Enter
+  // pressed meanwhile commits right after the action it followed.
   function action(name, args, t = performance.now(), { latest = false } = {}) {
     if (!stats.ready) return;
-    if (latest && actionBusy) { dragNext = { name, args, t }; return; }
+    const serial = ++actionSerial;
+    if (latest && actionBusy) { dragNext = { name, args, t, serial }; return; }
+    send({ name, args, t, serial });
+  }
+
+  function send({ name, args, t, serial }) {
     actionBusy = true;
-    post({ type: 'action', name, args, t });
+    stats.actionsSent++;
+    post({ type: 'action', name, args, t, serial });
   }
 
   function layerRgba(c, n) {
@@ -463,10 +495,16 @@ export function createDesignMode(ctx) {
     if ((e.ctrlKey || e.metaKey) && key === 'z') { action(e.shiftKey ? 'redo' : 'undo', []); return true; }
     if ((e.ctrlKey || e.metaKey) && key === 'y') { action('redo', []); return true; }
     if (e.ctrlKey || e.metaKey || e.altKey) return false;
-    // Enter commits the loop on screen: while an action is still being
-    // answered its loop is not drawn yet, so the press is dropped (never
-    // queued to commit a loop nobody saw).
-    if (key === 'enter') { if (actionBusy) stats.droppedEnters = (stats.droppedEnters || 0) + 1; else action('commit', []); return true; }
+    // Enter commits the loop on screen. While an action is still being
+    // answered, the press waits (by serial) for that action's answer, then
+    // commits the loop it draws; a second press while one waits is dropped
+    // (it would commit a loop nobody saw).
+    if (key === 'enter') {
+      if (!actionBusy) action('commit', []);
+      else if (enterAfter) stats.droppedEnters++;
+      else { enterAfter = { after: actionSerial, t: performance.now() }; stats.queuedEnters++; }
+      return true;
+    }
     if (key === 'escape') { action('clearAnchors', []); return true; }
     return false;
   }

@@ -5,7 +5,7 @@
 //
 // Messages in:   { type: 'init', bytes: ArrayBuffer, name }
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
-//                { type: 'action', name, args: [...], t }        addAnchor, setLastAnchorDirection,
+//                { type: 'action', name, args: [...], t, serial } addAnchor, setLastAnchorDirection,
 //                  insertAnchorOnLoop, moveGrabbedAnchor, clearAnchors, commit, deleteStrip, undo, redo,
 //                  browse, moveLayoutVertex, setMirror
 //                { type: 'export', id, format }                 'obj' | 'json' | 'grid-obj'
@@ -15,7 +15,7 @@
 // Messages out:  { type: 'progress', text }
 //                { type: 'ready', faces, inputFaces, proxy, buildMs, surface }
 //                { type: 'hover', proposal: Float32Array, ms, t }
-//                { type: 'state', action, value, state, ms, t }  right after each action
+//                { type: 'state', action, value, state, ms, t, serial }  right after each action
 //                { type: 'analysis', analysis, ms }             afterwards, when the strips changed
 //                { type: 'reply', id, value?, error? }
 //                { type: 'error', message, fatal }              fatal: the worker must be replaced
@@ -115,7 +115,7 @@ self.onmessage = async (event) => {
       const started = performance.now();
       const value = designer[m.name](...(m.args || []));
       const state = designer.state();
-      self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t }, transferables(state));
+      self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t, serial: m.serial }, transferables(state));
       queueAnalysis();
     } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
       try {

@@ -75,6 +75,9 @@ pub struct Snapshot {
 #[derive(Debug, Clone)]
 struct Hover {
     position: DVec3,
+    /// The g vertex the proposals go through, while they are current
+    /// (`None` once the covered strips changed under them).
+    vertex: Option<usize>,
     proposals: Vec<DualLoop>,
     all: bool,
     index: usize,
@@ -192,9 +195,23 @@ impl LayoutDesign {
     /// nothing.
     pub fn hover(&mut self, position: DVec3) -> Option<&DualLoop> {
         if self.state.anchors.is_empty() {
+            // The pointer still over the same vertex: the same loops, nothing
+            // searched again (a move shows the best one again, as a new
+            // search would).
+            let vertex = self.engine.nearest_vertex(position);
+            if let Some(h) = self
+                .hover
+                .as_mut()
+                .filter(|h| vertex.is_some() && h.vertex == vertex)
+            {
+                h.position = position;
+                h.index = 0;
+                return self.proposal();
+            }
             let proposals: Vec<DualLoop> = self.engine.best_loop(position).into_iter().collect();
             self.hover = Some(Hover {
                 position,
+                vertex,
                 proposals,
                 all: false,
                 index: 0,
@@ -396,6 +413,10 @@ impl LayoutDesign {
             return false;
         }
         self.engine.set_covered(covered);
+        // The proposal stays on screen; the next hover searches again.
+        if let Some(h) = self.hover.as_mut() {
+            h.vertex = None;
+        }
         true
     }
 
@@ -596,6 +617,39 @@ mod tests {
     fn on_torus(u: f64, v: f64) -> DVec3 {
         let ring = 2.0 + 0.7 * v.cos();
         DVec3::new(ring * u.cos(), ring * u.sin(), 0.7 * v.sin())
+    }
+
+    /// A second hover over the same vertex shows the same best loop without
+    /// a search (and the best again after the wheel); a hover at another
+    /// vertex, or after the covered strips changed, searches.
+    #[test]
+    fn hover_over_the_same_vertex_reuses_its_loops() {
+        let mut d = torus_design();
+        let p = on_torus(0.3, 0.0);
+        let first = d.hover(p).cloned().expect("a loop");
+        d.browse(1);
+        let settled = d.engine.settled_nodes();
+        // A point a little off the vertex: the same nearest vertex.
+        let v = d.engine.nearest_vertex(p).unwrap();
+        let nearby = on_torus(0.3 + 1e-3, 1e-3);
+        assert_eq!(d.engine.nearest_vertex(nearby), Some(v));
+        assert_eq!(d.hover(nearby), Some(&first), "the best loop again");
+        assert_eq!(d.engine.settled_nodes(), settled, "nothing searched");
+        // Another vertex: a search.
+        let other = on_torus(1.3, 0.5);
+        assert_ne!(d.engine.nearest_vertex(other), Some(v));
+        d.hover(other).expect("a loop");
+        assert!(d.engine.settled_nodes() > settled);
+        // Back, after new covered directions: searched again.
+        d.hover(p);
+        let rev = d.revision();
+        assert!(d.apply_covered(rev, &[]));
+        let settled = d.engine.settled_nodes();
+        assert_eq!(d.hover(p), Some(&first));
+        assert!(
+            d.engine.settled_nodes() > settled,
+            "searched after the covered strips changed"
+        );
     }
 
     #[test]

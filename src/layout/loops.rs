@@ -42,6 +42,12 @@
 //!   first and last arcs). g-edges with both ends on the boundary (along it,
 //!   or chords across a part narrower than k rings) never end a curve, so a
 //!   part with no interior vertex has no dual curve.
+//! - The hover searches (the labelled ranking and the bidirectional loop)
+//!   pop from a radix heap ([`super::radix_heap`]) keyed by the distance's
+//!   bits, not a binary heap: the same order up to ties between equal
+//!   distances. The hover query settles the distances
+//!   from ∂ to the cheapest dual curve first and runs the closed-loop search
+//!   once, bounded by it.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
 //!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
 //!   same "direction class" and dropped; proposals above 6 × the best cost
@@ -58,6 +64,7 @@ use std::collections::BinaryHeap;
 use glam::{DVec3, Vec3};
 
 use super::elastica::{ElasticaGraph, ElasticaParams};
+use super::radix_heap::RadixHeap;
 use super::surface_graph::SurfaceGraph;
 use crate::mesh::TriMesh;
 use crate::spatial::SurfaceIndex;
@@ -179,7 +186,11 @@ impl Slot {
 struct Workspace {
     slot: Vec<Slot>,
     generation: u32,
+    /// The queue of the test-only reference searches (A* keys).
+    #[cfg(test)]
     heap: BinaryHeap<Reverse<u64>>,
+    /// The queue of the hover searches (monotone keys: distance bits).
+    radix: RadixHeap,
     /// Per out-edge of the goal vertex: best closing cost and the closing
     /// predecessor.
     #[cfg(test)]
@@ -1011,32 +1022,46 @@ impl LoopEngine {
     ///
     /// With a boundary, the distances from ∂ are settled only as far as the
     /// answer needs: a radius r doubles (from a little above the previous
-    /// answer's cost, at least [`BOUNDARY_RADIUS`]) until a dual curve or a
-    /// loop cheaper than r exists. Exact: a dual curve of
-    /// cost c < r has both halves < r, hence settled, and a loop found below
-    /// r beats every dual curve not found (all ≥ r).
+    /// answer's cost, at least [`BOUNDARY_RADIUS`]) until a dual curve
+    /// cheaper than r exists; then one closed-loop search, bounded by that
+    /// curve, decides. The closed-loop search (the expensive part: it
+    /// settles the ball of half its bound around `v`) runs once per query,
+    /// not once per radius; only when r has doubled twice without a dual
+    /// curve is it also run at r, so that a cheap closed loop far from the
+    /// boundary does not settle the whole field. Exact: a dual curve of cost
+    /// c < r has both halves < r, hence settled, and a loop found below r
+    /// beats every dual curve not found (all ≥ r).
     fn best_through(&mut self, v: usize, bound: f32) -> Option<(f32, Kind)> {
         if !self.has_boundary {
             return self.best_loop_through(v, bound);
         }
-        let mut r = self.hover_radius.min(bound);
-        loop {
-            let mut best: Option<(f32, Kind)> = None;
+        let start = self.hover_radius.min(bound);
+        let mut r = start;
+        // The bound of a closed-loop search that found nothing.
+        let mut no_closed_below = f32::NEG_INFINITY;
+        let best = loop {
+            let mut dual: Option<(f32, Kind)> = None;
             let mut limit = r;
             for b in self.out_sources(v) {
                 if let Some((c, k)) = self.open_curve(b, limit) {
                     limit = c;
-                    best = Some((c, k));
+                    dual = Some((c, k));
                 }
             }
-            if let Some(closed) = self.best_loop_through(v, limit) {
-                best = Some(closed);
+            if dual.is_some() || r >= bound {
+                let limit = dual.as_ref().map_or(bound, |(c, _)| *c);
+                let closed = if limit <= no_closed_below {
+                    None
+                } else {
+                    self.best_loop_through(v, limit)
+                };
+                break closed.or(dual);
             }
-            if best.is_some() || r >= bound {
-                if let Some((c, _)) = &best {
-                    self.hover_radius = (1.25 * c).max(BOUNDARY_RADIUS);
+            if r >= 4.0 * start {
+                if let Some(closed) = self.best_loop_through(v, r) {
+                    break Some(closed);
                 }
-                return best;
+                no_closed_below = r;
             }
             let complete = self
                 .boundary_field
@@ -1047,7 +1072,11 @@ impl LoopEngine {
             } else {
                 (2.0 * r).min(bound)
             };
+        };
+        if let Some((c, _)) = &best {
+            self.hover_radius = (1.25 * c).max(BOUNDARY_RADIUS);
         }
+        best
     }
 
     /// The best closed loop through `v` cheaper than `limit`.
@@ -1102,7 +1131,7 @@ impl LoopEngine {
         }
         let now = ws.next_generation();
         let (reached, settled) = (2 * now, 2 * now + 1);
-        ws.heap.clear();
+        ws.radix.clear();
         for s in row.clone() {
             if disabled[s] {
                 continue;
@@ -1111,7 +1140,7 @@ impl LoopEngine {
             ws.slot[s].parent = NONE;
             ws.slot[s].label = s as u32;
             ws.slot[s].state = ws.slot[s].state.max(reached);
-            ws.heap.push(Reverse(key(0.0, s as u32)));
+            ws.radix.push(0.0f32.to_bits(), s as u32);
         }
         let (start, len) = (row.start, row.len());
         ws.close.clear();
@@ -1129,16 +1158,16 @@ impl LoopEngine {
         let mut found = None;
         let (slot, heap, effort, close, label_best) = (
             &mut ws.slot,
-            &mut ws.heap,
+            &mut ws.radix,
             &mut ws.effort,
             &ws.close,
             &mut ws.label_best,
         );
-        while let Some(Reverse(k)) = heap.pop() {
-            if 2.0 * f32::from_bits((k >> 32) as u32) >= best {
+        while let Some((k, node)) = heap.pop() {
+            if 2.0 * f32::from_bits(k) >= best {
                 break;
             }
-            let x = (k & 0xffff_ffff) as usize;
+            let x = node as usize;
             if slot[x].state == settled {
                 continue;
             }
@@ -1174,7 +1203,7 @@ impl LoopEngine {
                     slot[y].dist = nd;
                     slot[y].parent = x as u32;
                     slot[y].label = lx;
-                    heap.push(Reverse(key(nd, y as u32)));
+                    heap.push(nd.to_bits(), y as u32);
                 }
             });
         }
@@ -1202,11 +1231,11 @@ impl LoopEngine {
         let ws = &mut self.ws;
         let now = ws.next_generation();
         let (reached, settled) = (2 * now, 2 * now + 1);
-        ws.heap.clear();
+        ws.radix.clear();
         ws.slot[b].dist = 0.0;
         ws.slot[b].parent = NONE;
         ws.slot[b].state = ws.slot[b].state.max(reached);
-        ws.heap.push(Reverse(key(0.0, b as u32)));
+        ws.radix.push(0.0f32.to_bits(), b as u32);
         for e in g.out_edges(v) {
             let x = g.reverse[e];
             if x == NONE || disabled[e] || !graph.is_arc(x as usize, b) {
@@ -1216,17 +1245,17 @@ impl LoopEngine {
             ws.slot[e].dist_b = w;
             ws.slot[e].parent_b = NONE;
             ws.slot[e].state_b = reached;
-            ws.heap.push(Reverse(key(w, e as u32 | B)));
+            ws.radix.push(w.to_bits(), e as u32 | B);
         }
         let mut best = bound;
         // (settled node, relaxed node, colour of both is B).
         let mut meet: Option<(u32, u32, bool)> = None;
-        let (slot, heap, effort) = (&mut ws.slot, &mut ws.heap, &mut ws.effort);
-        while let Some(Reverse(k)) = heap.pop() {
-            if 2.0 * f32::from_bits((k >> 32) as u32) >= best {
+        let (slot, heap, effort) = (&mut ws.slot, &mut ws.radix, &mut ws.effort);
+        while let Some((k, node)) = heap.pop() {
+            if 2.0 * f32::from_bits(k) >= best {
                 break;
             }
-            let raw = (k & 0xffff_ffff) as u32;
+            let raw = node;
             // Colour A grows from b, colour B from the edges closing into b.
             let (x, in_b) = ((raw & !B) as usize, raw & B != 0);
             let (d, state) = slot[x].colour(in_b);
@@ -1257,7 +1286,7 @@ impl LoopEngine {
                 let (yd, y_state) = slot[y].colour(in_b);
                 if 2.0 * nd < best && (y_state < reached || nd < yd) {
                     slot[y].set_colour(in_b, nd, x as u32, y_state.max(reached));
-                    heap.push(Reverse(key(nd, y as u32 | if in_b { B } else { 0 })));
+                    heap.push(nd.to_bits(), y as u32 | if in_b { B } else { 0 });
                 }
             });
         }

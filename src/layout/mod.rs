@@ -9,7 +9,8 @@
 //!   (§5.6, §5.7);
 //! - [`loops`]: constrained dual loops through anchors via shortest paths and
 //!   a metagraph (§5.4), dual curves ending on the boundary (§5.7), ranked
-//!   alternatives for one anchor, and disabling covered nodes (§6.2).
+//!   alternatives for one anchor, and disabling covered nodes (§6.2);
+//! - [`radix_heap`]: the monotone priority queue of its hover searches.
 //!
 //! From loops to strips, regions and the layout (§4.2, §5.8, §6, §7):
 //! - [`embed`]: a loop as the sequence of mesh edges it crosses;
@@ -40,6 +41,7 @@ pub mod loops;
 pub mod parametrization;
 pub mod primal;
 pub mod proxy;
+pub mod radix_heap;
 pub mod regions;
 pub mod strip_field;
 pub mod strips;

@@ -5,70 +5,17 @@
 // target/e2e/. Exits non-zero if any test fails.
 //
 //   node run.mjs [webgl2|webgpu]   (default: both)
-import { spawn } from 'node:child_process';
-import { mkdtempSync, readFileSync, mkdirSync, writeFileSync } from 'node:fs';
-import { createServer } from 'node:net';
-import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { readFileSync, mkdirSync, writeFileSync } from 'node:fs';
+import { join, resolve } from 'node:path';
 import { PNG } from 'pngjs';
+import {
+  root, startServer, CONFIGS, launch, open, waitForImport, waitForRun, settle,
+  surfaceGrid, enterDesign, DESIGN_WAIT, designState, hoverLatency,
+} from './harness.mjs';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const root = resolve(here, '../..');
 const meshes = process.env.QUADRILLE_MESHES || resolve(root, '../shared/meshes');
-const targetDir = process.env.CARGO_TARGET_DIR ? resolve(root, process.env.CARGO_TARGET_DIR) : join(root, 'target');
 export const artifacts = resolve(root, 'target/e2e');
 mkdirSync(artifacts, { recursive: true });
-
-function freePort() {
-  return new Promise((ok, fail) => {
-    const s = createServer();
-    s.listen(0, '127.0.0.1', () => { const { port } = s.address(); s.close(() => ok(port)); });
-    s.on('error', fail);
-  });
-}
-
-async function startServer() {
-  const port = await freePort();
-  const server = spawn(join(targetDir, 'release/examples/serve'), [join(root, 'www'), String(port)], { stdio: ['ignore', 'pipe', 'inherit'] });
-  await new Promise((ok, fail) => {
-    server.stdout.once('data', ok);
-    server.once('exit', (code) => fail(new Error(`server exited with ${code}`)));
-  });
-  return { server, url: `http://127.0.0.1:${port}/` };
-}
-
-const BASE_FLAGS = ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync'];
-// Without SwiftShader Vulkan the WebGPU adapter works but the canvas stays blank in screenshots.
-const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-angle=swiftshader'];
-
-const CONFIGS = {
-  webgl2: { flags: [], query: 'backend=webgl2' },
-  webgpu: { flags: WEBGPU_FLAGS, query: '' },
-};
-
-async function launch(extraFlags = []) {
-  return chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), 'quadrille-chromium-')), {
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-    headless: true,
-    args: ['--headless=new', ...BASE_FLAGS, ...extraFlags],
-    viewport: { width: 1280, height: 800 },
-  });
-}
-
-// Opens the app and collects console errors and page errors (the worker's too).
-async function open(env, query = '') {
-  const page = await env.context.newPage();
-  const errors = [];
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('worker', (w) => w.on('console', (m) => { if (m.type() === 'error') errors.push(`worker: ${m.text()}`); }));
-  const q = [env.query, query].filter(Boolean).join('&');
-  await page.goto(env.url + (q ? `?${q}` : ''));
-  return { page, errors };
-}
 
 // Drops `bytes` named `name` on `selector` through a synthetic DataTransfer.
 async function dropFile(page, selector, name, bytes) {
@@ -81,17 +28,6 @@ async function dropFile(page, selector, name, bytes) {
     target.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
   }, { selector, name, data: [...bytes] });
 }
-
-const waitForImport = (page, name) => page.waitForFunction(
-  (n) => window.quadrille && window.quadrille.lastImport && window.quadrille.lastImport.file === n, name, { timeout: 60000 });
-
-// Waits until a run of `name` is complete and two more animation frames have passed.
-async function waitForRun(page, name) {
-  await page.waitForFunction(
-    (n) => window.quadrille && window.quadrille.lastRun && window.quadrille.lastRun.input === n, name, { timeout: 60000 });
-  await settle(page);
-}
-const settle = (page) => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
 
 // The background the viewer clears to (see gpu.rs BACKGROUND), in sRGB bytes.
 const BACKGROUND = [246, 247, 249];
@@ -451,61 +387,11 @@ test('cancelling a parameter re-run keeps the cached stages when the worker stop
 
 // ---------------------------------------------------------------- design mode (dual strip weaving)
 
-// Client positions over the canvas where the surface is hit, on a grid.
-async function surfaceGrid(page, step = 24) {
-  const box = await page.locator('#canvas').boundingBox();
-  return page.evaluate(({ box, step }) => {
-    const hits = [];
-    for (let y = box.y + step / 2; y < box.y + box.height; y += step) {
-      for (let x = box.x + step / 2; x < box.x + box.width; x += step) {
-        const p = window.quadrille.surfacePoint(x, y);
-        if (p) hits.push({ x, y, p });
-      }
-    }
-    return hits;
-  }, { box, step });
-}
-
-// Enters the design mode (T) on the sample on screen and waits for the loop engine.
-async function enterDesign(page, timeout = 120000) {
-  await page.keyboard.press('t');
-  await page.waitForFunction(() => window.quadrille.design.ready && window.quadrille.design.state, null, { timeout });
-}
-
-// How long a design-mode step may take to answer. These waits bound a
-// hang, they do not test speed (the latencies are logged here and measured
-// by the layout benchmark, `examples/bench_anchors.rs`: the first click on
-// the torus now takes about half a millisecond natively); the generous
-// bound covers the strip analysis and the fit on a loaded machine (a 20 s
-// bound failed there once).
-const DESIGN_WAIT = { timeout: 120000 };
-
-const designState = (page) => page.evaluate(() => {
-  const s = window.quadrille.design.state;
-  return { revision: s.revision, anchors: s.anchors.length / 3, browse: s.browse, canUndo: s.canUndo, canRedo: s.canRedo,
-    loops: s.loops.map((l) => [...l.points]), proposal: [...window.quadrille.design.proposal] };
-});
-
 const polylineLength = (p) => {
   let s = 0;
   for (let i = 3; i < p.length; i += 3) s += Math.hypot(p[i] - p[i - 3], p[i + 1] - p[i - 2], p[i + 2] - p[i - 1]);
   return s;
 };
-
-// Moves the pointer over `points` one by one, waiting for each hover's loop
-// to be drawn; returns the median pointer-move → drawn latency (ms).
-async function hoverLatency(page, points) {
-  for (const { x, y } of points) {
-    const before = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
-    await page.mouse.move(x, y);
-    await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, before, DESIGN_WAIT);
-  }
-  return page.evaluate((n) => {
-    const xs = window.quadrille.design.hoverLatencies.slice(-n).sort((a, b) => a - b);
-    return { median: xs[Math.floor(xs.length / 2)], max: xs[xs.length - 1],
-      workerMedian: [...window.quadrille.design.hoverWorkerMs].sort((a, b) => a - b)[Math.floor(window.quadrille.design.hoverWorkerMs.length / 2)] };
-  }, points.length);
-}
 
 // Waits for the analysis of the current design revision.
 const waitForAnalysis = (page) => page.waitForFunction(() => {
@@ -785,6 +671,46 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(layout.faces.length === a.counts.patches, `one face per patch: ${layout.faces.length}`);
   const lb = bbox(layout.positions);
   for (let k = 0; k < 3; k++) assert(lb.max[k] <= input.max[k] + 1e-6 && lb.min[k] >= input.min[k] - 1e-6, `the layout lies within the file's box on axis ${k}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: a click while the analysis runs answers without it; an Enter during an action commits that action\u2019s loop', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  const hits = await surfaceGrid(page);
+  const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
+  // The commit's analysis now runs in its worker: click at once.
+  const p = byX[Math.floor(byX.length * 0.6)];
+  const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
+  const runningAtClick = await page.evaluate((n) => window.quadrille.design.analyses === n, analyses);
+  await page.mouse.click(p.x, p.y);
+  await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
+  const click = await page.evaluate((n) => ({ ms: window.quadrille.design.actionLatencies.addAnchor.at(-1), stillRunning: window.quadrille.design.analyses === n,
+    anchors: window.quadrille.design.state.anchors.length / 3 }), analyses);
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, DESIGN_WAIT);
+  const analysisMs = await page.evaluate(() => window.quadrille.design.analysisMs);
+  console.log(`      [${env.backend}] torus: click during the analysis answered (drawn) in ${click.ms.toFixed(1)} ms; the analysis ${click.stillRunning ? 'was still running then' : 'had finished by then'} (it took ${analysisMs.toFixed(0)} ms)`);
+  assert(runningAtClick, 'the click was made while the analysis ran');
+  assert(click.anchors === 1, `the click placed an anchor: ${click.anchors}`);
+  // A second click and Enter at once: the Enter waits for the click's
+  // answer, then commits the loop through both anchors.
+  const q = byX[Math.floor(byX.length * 0.8)];
+  const before = await page.evaluate(() => ({ loops: window.quadrille.design.state.loops.length, queued: window.quadrille.design.queuedEnters,
+    dropped: window.quadrille.design.droppedEnters, commits: (window.quadrille.design.actionLatencies.commit || []).length }));
+  await page.mouse.click(q.x, q.y);
+  await page.keyboard.press('Enter');
+  await page.waitForFunction((b) => window.quadrille.design.state.loops.length > b, before.loops, DESIGN_WAIT);
+  await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.commit || []).length > n, before.commits, DESIGN_WAIT);
+  const after = await page.evaluate(() => { const d = window.quadrille.design; return { loops: d.state.loops.map((l) => [...l.points]), anchors: d.state.anchors.length,
+    queued: d.queuedEnters, dropped: d.droppedEnters, shown: d.queuedEnterProposal ? [...d.queuedEnterProposal] : null, ms: d.actionLatencies.commit.at(-1) }; });
+  console.log(`      [${env.backend}] torus: Enter pressed during the second click's answer committed ${after.ms.toFixed(0)} ms after the press`);
+  assert(after.queued === before.queued + 1 && after.dropped === before.dropped, `the Enter was queued, not dropped: ${JSON.stringify({ before, queued: after.queued, dropped: after.dropped })}`);
+  assert(after.loops.length === before.loops + 1 && after.anchors === 0, `one strip committed: ${after.loops.length}`);
+  assert(after.shown && after.shown.length >= 9 && JSON.stringify(after.loops.at(-1)) === JSON.stringify(after.shown),
+    'the committed strip is the loop through both anchors, drawn before the commit');
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
