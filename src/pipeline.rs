@@ -64,12 +64,13 @@ pub enum AlignmentMode {
     /// No constraints: the fields only follow the surface (the extrinsic
     /// smoothing still lines them up with sharp edges). The default: with
     /// the spacing consistent with the field (`field.scale_consistency`),
-    /// the feature-vertex constraints cost regularity on the larger meshes
-    /// (medians over 5 vertex orders, docs/QUALITY.md, with them → without:
-    /// EV % bunny 11.5 → 8.0, fandisk 14.8 → 12.6, rocker-arm 11.0 → 10.4;
-    /// corner deviation bunny 6.03 → 4.51°, fandisk 6.23 → 5.36°, spot
-    /// 13.6 → 12.7°; Hausdorff bunny 0.031 → 0.023, cow 0.177 → 0.122),
-    /// and help only the coarsest (beetle at 71 vertices: EV 45.9 → 60.6 %).
+    /// the feature-vertex constraints cost regularity (medians over 5
+    /// vertex orders, docs/QUALITY.md, with them → without: EV % bunny
+    /// 11.5 → 7.4, spot 30.7 → 26.2, cow 30.5 → 26.1, suzanne 55.2 → 48.3,
+    /// fandisk 14.9 → 13.7; corner deviation bunny 5.90 → 4.30°, spot
+    /// 14.7 → 12.5°; Hausdorff bunny 0.027 → 0.020); only the beetle's EV
+    /// (54.1 → 56.5 %) and suzanne's corners (20.9 → 25.0°) do better
+    /// with them.
     #[default]
     None,
     /// Feature vertices (Kloiber §3.3), pointwise.

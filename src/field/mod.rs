@@ -66,16 +66,19 @@ pub struct FieldParams {
     /// target edges, over which the spacing may leave the sizing field's to
     /// follow the field's turning; 0 = off (the sizing field as it is).
     /// Default 5. Deviation from the thesis and Instant Meshes. Measured
-    /// (docs/QUALITY.md, medians over 5 vertex orders) on the
-    /// Instant-Meshes-equivalent configuration, off → on: EV % rocker-arm
-    /// 14.3 → 8.9, bunny 11.8 → 8.8, fandisk 15.2 → 11.9 (Instant Meshes
-    /// 12.0, 8.9, 13.5), odd faces rocker-arm 8.0 → 5.7 %, bunny 6.4 →
-    /// 4.2 %, corner deviation lower on 5 of 8 meshes; the rocker arm's
-    /// position singularities 71 → 35 (tests/pipeline.rs). On the defaults
-    /// it lowered EV % on 6 of 8 meshes (rocker-arm 16.0 → 11.0, bunny
-    /// 15.0 → 11.5, spot 31.2 → 27.0). 20 target edges regularises the
-    /// large meshes a little more but loses detail (bunny Hausdorff 0.045
-    /// against 0.031), 2 is too short to act (bunny EV 12.8 %).
+    /// (docs/QUALITY.md, medians over 5 vertex orders), off → on: on the
+    /// Instant-Meshes-equivalent configuration EV % rocker-arm 14.3 → 10.4,
+    /// bunny 11.8 → 8.6, fandisk 15.2 → 12.1, cow 25.3 → 22.5, suzanne
+    /// 60.0 → 50.0 (Instant Meshes 12.0, 8.9, 13.5, 27.2, 55.6), odd faces
+    /// lower on 6 of 8 meshes; the rocker arm's position singularities
+    /// 71 → 35 (tests/pipeline.rs). On the defaults EV % is lower on 6 of
+    /// 8 (bunny 11.3 → 7.4, rocker-arm 16.3 → 12.9, spot 30.3 → 26.2,
+    /// suzanne 60.7 → 48.3; beetle 52.8 → 56.5 and teapot 36.0 → 39.4
+    /// rise) and the corner deviation on 4 (bunny 5.27 → 4.30°, spot 13.6
+    /// → 12.5°; beetle 14.8 → 18.4° rises). It costs limit-surface
+    /// accuracy after the fit on fandisk (0.80 → 0.85 × Instant Meshes'),
+    /// the beetle (0.77 → 0.85) and the cow (1.02 → 1.10) and gains it on
+    /// spot (1.12 → 0.96). Single-run rows: 20 target edges and 2.
     pub scale_consistency: f32,
     pub seed: u64,
 }
