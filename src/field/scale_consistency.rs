@@ -44,8 +44,7 @@
 use glam::{DVec3, Vec3};
 
 use super::hierarchy::Level;
-use super::lattice::{compat_orientation_extrinsic_index_4, rotate90_by};
-use super::singularities::orientation_index;
+use super::singularities::{orientation_index, turned_to};
 use crate::param::solve::{NormalEquations, solve_spd};
 
 /// The largest factor between the consistent spacing and the target.
@@ -152,15 +151,8 @@ impl FaceGradient {
         let normal = cross / twice_area;
         let e1 = (p[1] - p[0]).normalize();
         let e2 = normal.cross(e1);
-        // Each cross turned to the representative closest to a's, as the
-        // position singularities do (rot(q_a, i) ≈ rot(q_j, k)).
-        let qa = q[a];
-        let turn = |j: usize| {
-            let (i, k) =
-                compat_orientation_extrinsic_index_4(qa, level.normals[a], q[j], level.normals[j]);
-            rotate90_by(q[j], level.normals[j], (k + 4 - i) % 4)
-        };
-        let reps = [qa, turn(b), turn(c)].map(|r| r.as_dvec3());
+        let reps =
+            [q[a], turned_to(level, q, a, b), turned_to(level, q, a, c)].map(|r| r.as_dvec3());
         let angle = |r: DVec3| r.dot(e2).atan2(r.dot(e1));
         let theta_a = angle(reps[0]);
         let wrap = |d: f64| {
@@ -190,6 +182,7 @@ impl FaceGradient {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::field::lattice::rotate90_by;
     use crate::field::{Hierarchy, mesh_links};
     use crate::progress::silently;
 

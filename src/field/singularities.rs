@@ -53,6 +53,15 @@ pub fn orientation_index(level: &Level, q: &[Vec3], t: [u32; 3]) -> u32 {
     index % 4
 }
 
+/// The cross of vertex `j` turned to the representative closest to vertex
+/// `a`'s own (rot(q_a, i) ≈ rot(q_j, k) means q_a ≈ rot(q_j, k − i)): the
+/// common frame of a non-singular triangle.
+pub fn turned_to(level: &Level, q: &[Vec3], a: usize, j: usize) -> Vec3 {
+    let (i, k) =
+        compat_orientation_extrinsic_index_4(q[a], level.normals[a], q[j], level.normals[j]);
+    rotate90_by(q[j], level.normals[j], (k + 4 - i) % 4)
+}
+
 /// Orientation singularities: triangles whose index is 1 or 3.
 pub fn orientation_singularities(
     level: &Level,
@@ -93,15 +102,7 @@ pub fn position_singularities(
             continue;
         }
         let [a, b, c] = t.map(|i| i as usize);
-        // Turn each cross to the representative closest to vertex a's own
-        // (rot(q_a, i) ≈ rot(q_j, k) means q_a ≈ rot(q_j, k − i)).
-        let qa = q[a];
-        let turn = |j: usize| {
-            let (i, k) =
-                compat_orientation_extrinsic_index_4(qa, level.normals[a], q[j], level.normals[j]);
-            rotate90_by(q[j], level.normals[j], (k + 4 - i) % 4)
-        };
-        let frames = [qa, turn(b), turn(c)];
+        let frames = [q[a], turned_to(level, q, a, b), turned_to(level, q, a, c)];
         let lattice = |k: usize, i: usize| Lattice {
             p: level.positions[i],
             n: level.normals[i],
