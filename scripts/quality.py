@@ -55,6 +55,7 @@ IM_EQUIVALENT = {
             "flat_triangles": False,
             "pair_non_quads_degrees": 0,
             "rotate_edges_degrees": 0,
+            "fix_wide_corners": False,
             "collapse_diagonals": False,
             "smoothing_iterations": 2,
             "reproject": True,
@@ -83,6 +84,9 @@ ROWS = {
     "+edge rotations and diagonal collapses": {"extraction": {"post": {"rotate_edges_degrees": 75,
                                                                        "collapse_diagonals": True}}},
     "+3 smoothing steps": {"extraction": {"post": {"smoothing_iterations": 3}}},
+    # The last step: quads with a corner above 170° untangled (vertices
+    # moved), then split within a 5 % odd-face budget.
+    "+wide-corner fix": {"extraction": {"post": {"fix_wide_corners": True}}},
     # The lattice spacing made consistent with the cross field (healing
     # length 5 target edges; src/field/scale_consistency.rs).
     "+scale consistency": {"field": {"scale_consistency": 5}},
@@ -101,6 +105,9 @@ ROWS = {
     "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
     "default - non-quad budget (pair all)": ("default", {"extraction": {"post": {"non_quad_budget_percent": 0}}}),
     "default - wide-corner rotations": ("default", {"extraction": {"post": {"wide_corner_degrees": 0}}}),
+    "default - wide-corner fix": ("default", {"extraction": {"post": {"fix_wide_corners": False}}}),
+    "default with every wide quad split": ("default", {"extraction": {"post": {
+        "wide_corner_split_budget_percent": 100}}}),
     "default + regular-shape smoothing": ("default", {"extraction": {"post": {"regular_shape_smoothing": True,
                                                                            "smoothing_iterations": 10}}}),
     "default + pure quad": ("default", {"extraction": {"pure_quad": True,
@@ -174,7 +181,7 @@ def run_tool(args, tool, src, stem, target):
 # for every tool.
 ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default",
               "default - scale consistency", "default + feature-vertex constraints",
-              "default + thin parts (5 edges)")
+              "default + thin parts (5 edges)", "default - wide-corner fix")
 
 
 def reordered_copy(src, dst, seed):

@@ -338,6 +338,36 @@ pub fn post_process(
             }
         }
     }
+    if p.fix_wide_corners && p.wide_corner_degrees > 0.0 {
+        let list = mesh.to_face_list();
+        let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
+        let (moved, split) = postprocess::fix_wide_corners(
+            &mut faces,
+            &mut mesh_graph,
+            p.wide_corner_degrees,
+            p.wide_corner_split_budget_percent,
+            surface,
+        );
+        report.wide_corner_vertices_moved += moved;
+        report.wide_corner_quads_split += split;
+        // The split's triangles may pair with other odd faces into quads
+        // whose corners stay below the bar.
+        if split > 0 && p.pair_non_quads_degrees > 0.0 {
+            let narrow = postprocess::PostProcessParams {
+                pair_max_corner_deviation: p
+                    .pair_max_corner_deviation
+                    .min(p.wide_corner_degrees - 90.0),
+                ..*p
+            };
+            report.non_quad_pairs_merged +=
+                postprocess::pair_non_quads(&mut faces, &mesh_graph, &narrow, surface);
+        }
+        if moved + split > 0 {
+            let (again, map2) = repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
+            mesh = again;
+            mesh_graph = mesh_graph.select(&map2);
+        }
+    }
     if params.pure_quad {
         progress.report(0.9, "pure-quad split")?;
         if let Ok(split) = pure_quad::catmull_clark_split(&mesh, surface) {

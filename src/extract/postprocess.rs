@@ -44,6 +44,8 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::Triangle;
 use serde::{Deserialize, Serialize};
 
 use super::clusters::Graph;
@@ -113,8 +115,19 @@ pub struct PostProcessParams {
     /// 5 → 3; cow 29.7 → 28.0, 16.46 → 16.06, 7; fandisk, beetle, teapot
     /// and suzanne unchanged. Most wide corners left are at valence-3
     /// vertices on creases, where every such rotation would leave a vertex
-    /// at valence 2 or make another wide corner.
+    /// at valence 2 or make another wide corner. It is also the bar of
+    /// [`fix_wide_corners`] (0 turns that off too).
     pub wide_corner_degrees: f64,
+    /// The last step: every quad still holding a corner above
+    /// `wide_corner_degrees` is untangled ([`fix_wide_corners`]): its
+    /// vertices move towards their neighbours (projected onto the input)
+    /// where that narrows the corner, and a quad still wide after that is
+    /// split into two triangles through its wide corner. Default on.
+    pub fix_wide_corners: bool,
+    /// The untangling's splits stop before the odd faces exceed this share
+    /// (percent; the quality issue allows 5 %). Default 5; 100 splits every
+    /// wide quad.
+    pub wide_corner_split_budget_percent: f64,
     /// Diagonal collapses of quads between two valence-3 corners
     /// ([`collapse_diagonals`]) after the edge rotations, with the quads at
     /// the merged vertex within 90° ± `rotate_edges_degrees` (so only when
@@ -162,6 +175,8 @@ impl Default for PostProcessParams {
             split_reflex_degrees: 0.0,
             rotate_edges_degrees: 75.0,
             wide_corner_degrees: 170.0,
+            fix_wide_corners: true,
+            wide_corner_split_budget_percent: 5.0,
             collapse_diagonals: true,
             smoothing_iterations: 3,
             regular_shape_smoothing: false,
@@ -183,6 +198,9 @@ pub struct PostProcessReport {
     pub edges_rotated: usize,
     pub diagonals_collapsed: usize,
     pub smoothed_vertices: usize,
+    /// [`fix_wide_corners`]: vertices moved, quads split.
+    pub wide_corner_vertices_moved: usize,
+    pub wide_corner_quads_split: usize,
 }
 
 /// Removes the faces marked dead, keeping the others' order.
@@ -666,6 +684,195 @@ pub fn split_reflex_quads(faces: &mut Vec<Vec<u32>>, g: &Graph, max_degrees: f64
     }
     *faces = out;
     splits
+}
+
+/// Deviation (not in the thesis): the quality issue's bar that no quad has
+/// a corner above `max_degrees` (170°), met after everything else. A wide
+/// or reflex corner is a vertex on the wrong side of its quad's diagonal,
+/// left by the extraction at a valence-3 vertex, by a pairing or by the
+/// smoothing's projection. First, up to three rounds: each interior vertex
+/// of such a quad may move to the mean of its edge neighbours or of its
+/// faces' other corners (or half-way to either), projected onto the input
+/// when there is one, taking the candidate that most lowers the widest
+/// corner of its faces, turns none of them over and keeps their centroids
+/// as close to the input as before (plus a tenth of the longest distance
+/// from the vertex to a corner of its faces: a vertex moved across a crease
+/// would cut it); boundary vertices stay. Then the quads still wide are
+/// split, widest first, into two triangles through the wide corner (the
+/// diagonal that halves it; skipped when that diagonal is already an edge)
+/// while at most `split_budget_percent` of the faces are odd. Returns (vertices
+/// moved, quads split).
+pub fn fix_wide_corners(
+    faces: &mut Vec<Vec<u32>>,
+    g: &mut Graph,
+    max_degrees: f64,
+    split_budget_percent: f64,
+    surface: Option<&SurfaceIndex>,
+) -> (usize, usize) {
+    let limit = max_degrees.to_radians();
+    let widest = |pos: &[DVec3], f: &[u32]| -> f64 {
+        if f.len() != 4 {
+            return 0.0;
+        }
+        let p: [DVec3; 4] = std::array::from_fn(|i| pos[f[i] as usize]);
+        crate::metrics::quad_corner_angles(&p)
+            .into_iter()
+            .fold(0.0, f64::max)
+    };
+    let n = g.len();
+    let vf = vertex_faces(n, faces);
+    let mut moved = vec![false; n];
+    for _ in 0..3 {
+        let wide: Vec<usize> = (0..faces.len())
+            .filter(|&f| widest(&g.pos, &faces[f]) > limit)
+            .collect();
+        if wide.is_empty() {
+            break;
+        }
+        let mut any = false;
+        for f in wide {
+            for &v in &faces[f].clone() {
+                let v = v as usize;
+                if g.boundary[v] || vf[v].is_empty() {
+                    continue;
+                }
+                let normals: Vec<DVec3> = vf[v]
+                    .iter()
+                    .map(|&h| face_normal(&g.pos, &faces[h]))
+                    .collect();
+                // The widest corner of v's faces, or None when one of them
+                // folds against its normal before the move or, with an
+                // input, strays further from it than before the move plus
+                // a tenth of the mean edge (a vertex moved across a crease
+                // cuts it: its faces' centroids leave the input).
+                let deviation = |pos: &[DVec3]| -> f64 {
+                    surface.map_or(0.0, |s| {
+                        vf[v]
+                            .iter()
+                            .map(|&h| {
+                                let f = &faces[h];
+                                let c = f.iter().map(|&x| pos[x as usize]).sum::<DVec3>()
+                                    / f.len() as f64;
+                                s.closest(c).distance
+                            })
+                            .fold(0.0, f64::max)
+                    })
+                };
+                let edge = vf[v]
+                    .iter()
+                    .flat_map(|&h| faces[h].iter())
+                    .map(|&x| g.pos[x as usize].distance(g.pos[v]))
+                    .fold(0.0, f64::max);
+                let allowed = deviation(&g.pos) + 0.1 * edge;
+                // How far the old position (on the input) is from the
+                // moved faces: a vertex at a tip pulled towards its
+                // neighbours would cut the tip off.
+                let old = g.pos[v];
+                let retraction = |pos: &[DVec3]| -> f64 {
+                    let mut d = f64::INFINITY;
+                    for &h in &vf[v] {
+                        let f = rotate_to(&faces[h], v as u32);
+                        for k in 1..f.len() - 1 {
+                            let t =
+                                Triangle::new(pos[v], pos[f[k] as usize], pos[f[k + 1] as usize]);
+                            d = d.min(t.distance_to_local_point(old, true));
+                        }
+                    }
+                    d
+                };
+                let score = |pos: &[DVec3]| -> Option<f64> {
+                    let mut w = 0.0f64;
+                    for (&h, &n0) in vf[v].iter().zip(&normals) {
+                        if face_normal(pos, &faces[h]).dot(n0) <= 0.0 {
+                            return None;
+                        }
+                        w = w.max(widest(pos, &faces[h]));
+                    }
+                    (deviation(pos) <= allowed && retraction(pos) <= 0.1 * edge).then_some(w)
+                };
+                let Some(now) = score(&g.pos) else { continue };
+                let mut ring: Vec<u32> = Vec::new();
+                let mut corners = DVec3::ZERO;
+                let mut count = 0usize;
+                for &h in &vf[v] {
+                    let fh = &faces[h];
+                    let k = fh.iter().position(|&x| x as usize == v).unwrap_or(0);
+                    for (j, &x) in fh.iter().enumerate() {
+                        if x as usize == v {
+                            continue;
+                        }
+                        corners += g.pos[x as usize];
+                        count += 1;
+                        let adjacent = j == (k + 1) % fh.len() || (j + 1) % fh.len() == k;
+                        if adjacent && !ring.contains(&x) {
+                            ring.push(x);
+                        }
+                    }
+                }
+                if ring.is_empty() || count == 0 {
+                    continue;
+                }
+                let umbrella =
+                    ring.iter().map(|&x| g.pos[x as usize]).sum::<DVec3>() / ring.len() as f64;
+                let centre = corners / count as f64;
+                let mut best: Option<(f64, DVec3)> = None;
+                for target in [
+                    umbrella,
+                    centre,
+                    0.5 * (old + umbrella),
+                    0.5 * (old + centre),
+                ] {
+                    let q = surface.map_or(target, |s| s.closest(target).point);
+                    g.pos[v] = q;
+                    if let Some(w) = score(&g.pos)
+                        && w < now - 1e-9
+                        && best.is_none_or(|(b, _)| w < b)
+                    {
+                        best = Some((w, q));
+                    }
+                }
+                g.pos[v] = best.map_or(old, |(_, q)| q);
+                if best.is_some() {
+                    moved[v] = true;
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    // The widest first, while the odd faces stay within the budget.
+    let mut wide: Vec<(f64, usize)> = (0..faces.len())
+        .map(|f| (widest(&g.pos, &faces[f]), f))
+        .filter(|&(w, _)| w > limit)
+        .collect();
+    wide.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut edges: std::collections::HashSet<(u32, u32)> = faces
+        .iter()
+        .flat_map(|f| (0..f.len()).map(move |k| key(f[k], f[(k + 1) % f.len()])))
+        .collect();
+    let mut odd = faces.iter().filter(|f| f.len() != 4).count();
+    let mut splits = 0;
+    for (_, fi) in wide {
+        let total = faces.len() + 1;
+        if 100.0 * (odd + 2) as f64 > split_budget_percent * total as f64 {
+            break;
+        }
+        let f = faces[fi].clone();
+        let p: [DVec3; 4] = std::array::from_fn(|i| g.pos[f[i] as usize]);
+        let a = crate::metrics::quad_corner_angles(&p);
+        let i = (0..4).max_by(|&x, &y| a[x].total_cmp(&a[y])).unwrap_or(0);
+        let c = |k: usize| f[(i + k) % 4];
+        if c(0) == c(2) || !edges.insert(key(c(0), c(2))) {
+            continue;
+        }
+        faces[fi] = vec![c(0), c(1), c(2)];
+        faces.push(vec![c(0), c(2), c(3)]);
+        odd += 2;
+        splits += 1;
+    }
+    (moved.iter().filter(|&&m| m).count(), splits)
 }
 
 /// Deviation (not in the thesis): odd faces (triangles, pentagons) are
@@ -1449,5 +1656,71 @@ mod tests {
         assert_eq!(square, vec![vec![0, 1, 4, 3]]);
         let mut taken = vec![vec![0, 1, 2, 3], vec![2, 4, 3, 0]];
         assert_eq!(split_reflex_quads(&mut taken, &g, 170.0), 0);
+    }
+
+    fn widest_corner(g: &Graph, faces: &[Vec<u32>]) -> f64 {
+        faces
+            .iter()
+            .filter(|f| f.len() == 4)
+            .flat_map(|f| {
+                crate::metrics::quad_corner_angles(&std::array::from_fn(|i| g.pos[f[i] as usize]))
+            })
+            .fold(0.0, f64::max)
+            .to_degrees()
+    }
+
+    /// A 2 × 2 grid of unit squares whose centre is pushed towards a corner
+    /// has a 174° corner at a boundary vertex; the centre moves back (the
+    /// boundary stays) and no split is needed. A lone dart whose corners
+    /// are all on the boundary cannot move: it is split within the budget
+    /// and kept beyond it.
+    #[test]
+    fn wide_corners_are_untangled_by_moving_then_split_within_the_budget() {
+        let mut pos: Vec<DVec3> = (0..9)
+            .map(|k| DVec3::new((k % 3) as f64, (k / 3) as f64, 0.0))
+            .collect();
+        pos[4] = DVec3::new(1.9, 1.9, 0.0);
+        let mut g = plane_graph(pos);
+        for v in 0..9 {
+            g.boundary[v] = v != 4;
+        }
+        let mut faces = vec![
+            vec![0, 1, 4, 3],
+            vec![1, 2, 5, 4],
+            vec![3, 4, 7, 6],
+            vec![4, 5, 8, 7],
+        ];
+        let before = widest_corner(&g, &faces);
+        assert!(before > 170.0, "{before}");
+        let (moved, split) = fix_wide_corners(&mut faces, &mut g, 170.0, 5.0, None);
+        assert_eq!((moved, split), (1, 0));
+        let after = widest_corner(&g, &faces);
+        assert!(after < 170.0, "{after}");
+        for v in 0..9 {
+            if v != 4 {
+                assert_eq!(g.pos[v], DVec3::new((v % 3) as f64, (v / 3) as f64, 0.0));
+            }
+        }
+
+        let dart = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.5, 0.5, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+        ];
+        let mut g = plane_graph(dart);
+        g.boundary = vec![true; 4];
+        let mut kept = vec![vec![0, 1, 2, 3]];
+        assert_eq!(
+            fix_wide_corners(&mut kept, &mut g, 170.0, 5.0, None),
+            (0, 0)
+        );
+        assert_eq!(kept, vec![vec![0, 1, 2, 3]]);
+        let mut faces = vec![vec![0, 1, 2, 3]];
+        assert_eq!(
+            fix_wide_corners(&mut faces, &mut g, 170.0, 100.0, None),
+            (0, 1)
+        );
+        assert_eq!(faces, vec![vec![2, 3, 0], vec![2, 0, 1]]);
     }
 }
