@@ -91,9 +91,8 @@ ROWS = {
     # length 5 target edges; src/field/scale_consistency.rs).
     "+scale consistency": {"field": {"scale_consistency": 5}},
     "default": None,
-    # Overlays on the defaults: Instant Meshes' own pure-quad route (extract
-    # at a quarter of the count, one split), with the odd-face pairing off.
-    "default + split long edges": ("default", {"field": {"split_long_edges": True}}),
+    # Overlays on the defaults.
+    "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
     "default with scale consistency 20 edges": ("default", {"field": {"scale_consistency": 20}}),
     "default with scale consistency 2 edges": ("default", {"field": {"scale_consistency": 2}}),
@@ -110,6 +109,8 @@ ROWS = {
         "wide_corner_split_budget_percent": 100}}}),
     "default + regular-shape smoothing": ("default", {"extraction": {"post": {"regular_shape_smoothing": True,
                                                                            "smoothing_iterations": 10}}}),
+    # Instant Meshes' own pure-quad route (extract at a quarter of the
+    # count, one split), with the odd-face pairing off.
     "default + pure quad": ("default", {"extraction": {"pure_quad": True,
                                                       "post": {"pair_non_quads_degrees": 0}}}),
     # Folded quads split into triangles before the second pairing, whose

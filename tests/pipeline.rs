@@ -251,7 +251,7 @@ fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
     let n = input.mesh.vertex_count();
     let mut params = Params::default();
     params.sizing.target_vertex_count = Some(150);
-    params.field.split_long_edges = true;
+    assert!(params.field.split_long_edges, "on by default");
     let mut p = Pipeline::new(input.clone(), params);
     run(&mut p);
     let refined = p
@@ -303,6 +303,7 @@ fn long_input_edges_are_split_before_the_fields_and_the_surface_is_kept() {
     // Without the option the fields stay on the input's vertices.
     let mut plain = Pipeline::new(input, Params::default());
     plain.params.sizing.target_vertex_count = Some(150);
+    plain.params.field.split_long_edges = false;
     run(&mut plain);
     assert!(plain.analysis.as_ref().unwrap().refined.is_none());
     assert_eq!(plain.position.as_ref().unwrap().o.len(), n);

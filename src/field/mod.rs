@@ -53,13 +53,21 @@ pub struct FieldParams {
     pub filtered_normals: bool,
     /// Split every input edge longer than `min(s/2, 2·mean edge)` at its
     /// midpoint, longest first, before the fields are built (Instant Meshes'
-    /// preprocessing, digest §1.3; [`crate::mesh::refine`]). Off by default:
-    /// it brings the Instant-Meshes-equivalent configuration closer to
-    /// Instant Meshes (EV % rocker-arm 16.3 → 14.3, fandisk 16.6 → 13.8,
-    /// bunny 11.2 → 10.6, cow 29.3 → 22.8; IM 11.8 / 15.4 / 8.5 / 24.3),
-    /// but on the defaults it helps fandisk, rocker-arm and spot and hurts
-    /// the cow (EV 29.9 → 35.5 %, odd faces 5.6 → 9.0 %), the beetle (EV
-    /// 50 → 58 %, Hausdorff 0.088 → 0.125) and the bunny's EV (17.5 → 19.6 %).
+    /// preprocessing, digest §1.3; [`crate::mesh::refine`]). Default on:
+    /// the position field is sampled at the input's vertices, and a target
+    /// edge that is not well above the input's edges leaves lattice cells
+    /// without samples. At a quarter of the input's vertices (rocker-arm,
+    /// 2508) the defaults without it gave EV 25.5 %, corner deviation 13.6°,
+    /// Hausdorff 0.027 and limit 2.18e-4, with it 5.6 %, 3.6°, 0.010 and
+    /// 1.16e-4 (bunny 8708: corner 3.28 → 2.76°, Hausdorff 0.0189 → 0.0165;
+    /// spot 732: EV 12.4 → 10.4 %, corner 6.72 → 5.33°; one run each). At
+    /// the default target (input / 16; medians over 3 vertex orders, off →
+    /// on; EV %, corner °, limit): fandisk 13.7 → 11.7, 5.71 → 4.96, 7.36e-4
+    /// → 7.25e-4; rocker-arm 12.8 → 10.5, 6.61 → 6.70, 3.39e-4 → 3.29e-4;
+    /// cow 26.1 → 24.3, 14.50 → 13.07, 1.19e-3 → 1.13e-3; beetle 58.9 →
+    /// 52.1, 19.0 → 14.1, 3.97e-3 → 2.93e-3; but spot 26.2 → 29.4 (limit
+    /// 7.95e-4 → 8.55e-4), bunny 7.3 → 8.4, 4.31 → 4.75, and suzanne's odd
+    /// faces 7.1 → 12.5 %; teapot mixed.
     pub split_long_edges: bool,
     /// Make the lattice spacing consistent with the cross field before the
     /// position field ([`scale_consistency`]): the healing length, in
@@ -91,7 +99,7 @@ impl Default for FieldParams {
             scale_mode: ScaleMode::PerVertex,
             level_sizing: LevelSizing::PerLevel,
             filtered_normals: false,
-            split_long_edges: false,
+            split_long_edges: true,
             scale_consistency: 5.0,
             seed: 0,
         }
