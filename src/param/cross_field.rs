@@ -386,10 +386,12 @@ fn relaxed_angles(
                 .collect()
         })
         .collect();
-    let iterations = if constrained_component.iter().all(|&c| c) {
-        1
-    } else {
+    // With every component constrained the right-hand side does not
+    // depend on z: one solve is the minimiser.
+    let iterations = if has_free_component(r) {
         INVERSE_ITERATIONS
+    } else {
+        1
     };
     for _ in 0..iterations {
         let b: Vec<Vec<c64>> = xs
