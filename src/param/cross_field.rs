@@ -320,6 +320,10 @@ fn relaxation_system(r: &Relaxation<'_>) -> Hermitian {
 /// smoothness matrix L (inverse iteration) and L + λM (the unit-length
 /// steps).
 struct RelaxedSystem {
+    /// The dual graph's pattern (with the full diagonal), its symbolic
+    /// factorization reused by the angle system when that has the same
+    /// unknowns.
+    pattern: SpdPattern,
     rhs: Vec<c64>,
     var: Vec<usize>,
     factor: SpdFactor<c64>,
@@ -340,6 +344,7 @@ impl RelaxedSystem {
         let factor = pattern.factor(&triplets).ok()?;
         let unit_factor = pattern.factor(&unit).ok()?;
         Some(RelaxedSystem {
+            pattern,
             rhs,
             var,
             factor,
@@ -386,10 +391,12 @@ fn relaxed_angles(
                 .collect()
         })
         .collect();
-    let iterations = if constrained_component.iter().all(|&c| c) {
-        1
-    } else {
+    // With every component constrained the right-hand side does not
+    // depend on z: one solve is the minimiser.
+    let iterations = if has_free_component(r) {
         INVERSE_ITERATIONS
+    } else {
+        1
     };
     for _ in 0..iterations {
         let b: Vec<Vec<c64>> = xs
@@ -501,7 +508,14 @@ struct AngleSystem {
 }
 
 impl AngleSystem {
-    fn new(r: &Relaxation<'_>, theta: &[f64]) -> Option<AngleSystem> {
+    /// `relaxed`: the relaxation's unknowns and pattern, reused when the
+    /// unknowns are the same (no gauge face added): the angle system's
+    /// entries lie in the relaxation's pattern (the same dual edges).
+    fn new(
+        r: &Relaxation<'_>,
+        theta: &[f64],
+        relaxed: (&[usize], &SpdPattern),
+    ) -> Option<AngleSystem> {
         let nf = theta.len();
         let mut fixed: Vec<Option<f64>> = r.fixed.to_vec();
         let mut has_fixed = vec![false; nf];
@@ -525,7 +539,11 @@ impl AngleSystem {
         }
         // The matrix does not depend on p: factorize it with p = 0.
         let eq = equations(r, &fixed, &var, n, &vec![[0; 3]; nf], &vec![0; nf]);
-        let factor = SpdFactor::new(n, &eq.triplets)?;
+        let factor = if var == relaxed.0 {
+            relaxed.1.factor(&eq.triplets).ok()?
+        } else {
+            SpdFactor::new(n, &eq.triplets)?
+        };
         Some(AngleSystem {
             fixed,
             var,
@@ -697,7 +715,11 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
                 a.gauge(&r, &theta);
                 a
             }
-            None => angles.insert(AngleSystem::new(&r, &theta)?),
+            None => angles.insert(AngleSystem::new(
+                &r,
+                &theta,
+                (&system.var, &system.pattern),
+            )?),
         };
         let (theta, p) = round_and_resolve(&r, angles, theta)?;
         let energy = smoothness_energy(input.topology, &kappa, &p, &theta);

@@ -22,12 +22,12 @@
 //! (isolines close there; no helix).
 //!
 //! Deviations: the target is Id/S(f) (one parameter unit = one target
-//! edge; Ebke writes S(f)·Id, a density convention); each re-solve is a
-//! new numeric factorization (no local Gauss–Seidel updates as in MIQ),
-//! but in the first solve's index space (rounded variables get identity
-//! rows), so it reuses that solve's symbolic factorization
-//! ([`Resolver`]); no stiffening (fold-overs are left to the extraction,
-//! as Ebke §6 does).
+//! edge; Ebke writes S(f)·Id, a density convention); the re-solves are
+//! not MIQ's local Gauss–Seidel updates but exact: the continuous unknowns
+//! are condensed out once (a Schur complement onto the unknowns the
+//! integer quantities use, [`Condensed`]), so each re-solve is a small
+//! dense solve; no stiffening (fold-overs are left to the extraction, as
+//! Ebke §6 does).
 
 // Parallel per-face arrays read best indexed.
 #![allow(clippy::needless_range_loop)]
@@ -37,7 +37,10 @@ use glam::{DVec2, DVec3};
 use super::constraints::{Added, Eliminator, Expr};
 use super::cross_field::{Cone, CrossField, face_components};
 use super::cut::{Cut, CutInput, cut};
-use super::solve::{FactorError, NormalEquations, SpdFactor, SpdPattern};
+use faer::Mat;
+use nalgebra::{DMatrix, DVector};
+
+use super::solve::{NormalEquations, SpdFactor, SpdPattern};
 use super::topology::EdgeTopology;
 use crate::mesh::TriMesh;
 
@@ -134,9 +137,9 @@ pub struct GridMap {
     pub energy: f64,
     /// Re-solves of the rounding.
     pub rounding_steps: usize,
-    /// Symbolic Cholesky analyses (fill-reducing ordering) over all
-    /// solves: the re-solves reuse the first one's unless a rounded
-    /// expression adds entries outside its pattern.
+    /// Sparse symbolic Cholesky analyses (fill-reducing ordering): one,
+    /// of the continuous unknowns' system (the rounding's re-solves are
+    /// dense ones on the condensed system, [`Condensed`]).
     pub symbolic_analyses: usize,
     /// Seam constraints that contradicted earlier ones plus integer
     /// quantities left non-integer (0 in a valid map).
@@ -475,185 +478,286 @@ fn energy_rows(
     rows
 }
 
-/// The rounding's re-solves in one index space, that of the variables
-/// free at the first solve: a variable eliminated since then keeps its
-/// place with an identity row, so the later systems' entries mostly lie in
-/// the first pattern and reuse its symbolic factorization (a rounded
-/// expression of several free variables can add entries; then the pattern
-/// is analysed anew, with the first one's ordering, and kept). The energy rows reduced to free variables
-/// are kept too: a re-solve reduces again only the rows that use a
-/// variable eliminated since the last one.
-#[derive(Default)]
-struct Resolver {
-    /// Per variable: its index in the first solve's system (`usize::MAX`
-    /// if it was not free then).
-    index: Vec<usize>,
-    /// Variables free at the first solve.
-    base: Vec<usize>,
-    pattern: Option<SpdPattern>,
-    /// The last numeric factorization (its storage is reused).
-    factor: Option<SpdFactor>,
-    /// Per energy row: its reduction to free variables, compact indices
-    /// (the base ones), and the right-hand side.
-    reduced: Vec<(Vec<(usize, f64)>, f64)>,
-    /// Per base variable: the rows whose reduction uses it (may hold
-    /// stale entries).
-    users: Vec<Vec<u32>>,
-    /// Per base variable: free at the last solve.
-    free: Vec<bool>,
-    /// Symbolic analyses done (for the benchmark's report).
-    analyses: usize,
+/// The rounding's system with the integer unknowns last: the free
+/// variables split into Z, those the integer quantities use (cone
+/// coordinates, seam translations, isoline values: a few hundred), and
+/// the continuous rest F. The energy's normal equations
+/// [K_FF K_FZ; K_ZF K_ZZ] y = [b_F; b_Z] are condensed once onto Z, the
+/// Schur complement S = K_ZZ − K_ZF K_FF⁻¹ K_FZ and b̃ = b_Z − K_ZF K_FF⁻¹
+/// b_F (one sparse Cholesky factorization of K_FF and block solves
+/// for the columns of K_FZ). The rounding's constraints only involve Z
+/// (a rounded quantity is an expression of Z unknowns, and eliminating
+/// one of them keeps every other quantity's reduction in Z), so every
+/// re-solve of MIQ's greedy rounding is a small dense one,
+/// min yᵀS y − 2b̃ᵀy over the Z unknowns still free, and the continuous
+/// unknowns follow once at the end, y_F = K_FF⁻¹ (b_F − K_FZ y_Z). The
+/// same minimiser as re-solving the whole system after each batch.
+struct Condensed {
+    /// Per variable: its index in Z, or `usize::MAX`.
+    z_index: Vec<usize>,
+    /// The Z unknowns (variable indices).
+    z_vars: Vec<usize>,
+    /// The F unknowns (variable indices).
+    f_vars: Vec<usize>,
+    factor: SpdFactor,
+    /// Per Z unknown: its column of K_FZ, (F index, value).
+    k_fz: Vec<Vec<(usize, f64)>>,
+    b_f: Vec<f64>,
+    s: DMatrix<f64>,
+    b_z: DVector<f64>,
 }
 
-impl Resolver {
-    /// Factorizes `triplets` with the kept pattern, or with a new one.
-    fn factor(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), FactorError> {
-        let mut out = self
-            .factor
-            .take()
-            .unwrap_or_else(|| SpdFactor::empty(self.base.len()));
-        if let Some(p) = &self.pattern {
-            match p.refactor(triplets, &mut out) {
-                Ok(()) => {
-                    self.factor = Some(out);
-                    return Ok(());
+/// Right-hand sides solved together in [`Condensed::new`].
+const BLOCK: usize = 32;
+
+/// Diagonal shifts tried in turn when a system is singular (or its
+/// solution not finite).
+const SHIFTS: [f64; 3] = [0.0, 1e-10, 1e-7];
+
+impl Condensed {
+    /// The condensed system of the rows under the eliminator's
+    /// constraints, Z the free variables the `integer` quantities reduce
+    /// to. `go_on()` is asked between the block solves.
+    fn new(
+        el: &Eliminator,
+        rows: &[(Vec<(usize, f64)>, f64)],
+        integer: &[Vec<(usize, f64)>],
+        go_on: &mut dyn FnMut() -> bool,
+    ) -> Result<Condensed, MapStop> {
+        let n = el.len();
+        let mut z_index = vec![usize::MAX; n];
+        let mut z_vars = Vec::new();
+        for q in integer {
+            for (i, _) in el.reduce(q, 0.0).terms {
+                if z_index[i] == usize::MAX {
+                    z_index[i] = z_vars.len();
+                    z_vars.push(i);
                 }
-                Err(FactorError::NotPositiveDefinite) => {
-                    return Err(FactorError::NotPositiveDefinite);
-                }
-                Err(FactorError::OutsidePattern) => {}
             }
         }
-        // A later pattern keeps the first one's fill-reducing ordering.
-        let p = match &self.pattern {
-            Some(old) => old.reordered(triplets),
-            None => SpdPattern::new(self.base.len(), triplets),
+        let mut f_index = vec![usize::MAX; n];
+        let mut f_vars = Vec::new();
+        for i in 0..n {
+            if el.is_free(i) && z_index[i] == usize::MAX {
+                f_index[i] = f_vars.len();
+                f_vars.push(i);
+            }
         }
-        .ok_or(FactorError::NotPositiveDefinite)?;
-        self.analyses += 1;
-        let result = p.refactor(triplets, &mut out);
-        self.pattern = Some(p);
-        self.factor = Some(out);
-        result
-    }
-
-    /// Brings the reduced rows up to date with the eliminator: all of
-    /// them at the first solve, then those using a variable eliminated
-    /// since the last solve.
-    fn reduce_rows(&mut self, el: &Eliminator, rows: &[(Vec<(usize, f64)>, f64)]) {
-        let reduce = |index: &[usize], (terms, target): &(Vec<(usize, f64)>, f64)| {
+        let (nf, nz) = (f_vars.len(), z_vars.len());
+        // The normal equations in the index space F, then Z.
+        let mut eq = NormalEquations::new(nf + nz);
+        let mut compact = Vec::new();
+        for (terms, target) in rows {
             let e = el.reduce(terms, 0.0);
-            let compact: Vec<(usize, f64)> = e.terms.iter().map(|&(j, c)| (index[j], c)).collect();
-            (compact, target - e.constant)
-        };
-        if self.reduced.len() != rows.len() {
-            self.reduced = rows.iter().map(|r| reduce(&self.index, r)).collect();
-            self.users = vec![Vec::new(); self.base.len()];
-            for (r, (terms, _)) in self.reduced.iter().enumerate() {
-                for &(k, _) in terms {
-                    self.users[k].push(r as u32);
+            compact.clear();
+            compact.extend(e.terms.iter().map(|&(j, c)| {
+                let k = if f_index[j] != usize::MAX {
+                    f_index[j]
+                } else {
+                    nf + z_index[j]
+                };
+                (k, c)
+            }));
+            eq.row(1.0, &compact, target - e.constant);
+        }
+        let mut ff: Vec<(usize, usize, f64)> = Vec::with_capacity(eq.triplets.len() + nf);
+        let mut k_fz = vec![Vec::new(); nz];
+        let mut s = DMatrix::zeros(nz, nz);
+        for &(r, c, v) in &eq.triplets {
+            match (r < nf, c < nf) {
+                (true, _) => ff.push((r, c, v)),
+                (false, true) => k_fz[r - nf].push((c, v)),
+                (false, false) => {
+                    s[(r - nf, c - nf)] += v;
+                    if r != c {
+                        s[(c - nf, r - nf)] += v;
+                    }
                 }
             }
-            self.free = vec![true; self.base.len()];
-            return;
         }
-        let mut stale: Vec<u32> = Vec::new();
-        for (k, &i) in self.base.iter().enumerate() {
-            if self.free[k] && !el.is_free(i) {
-                self.free[k] = false;
-                stale.append(&mut self.users[k]);
-            }
-        }
-        stale.sort_unstable();
-        stale.dedup();
-        for r in stale {
-            let r = r as usize;
-            let (old, _) = std::mem::take(&mut self.reduced[r]);
-            let new = reduce(&self.index, &rows[r]);
-            for &(k, _) in &new.0 {
-                if !old.iter().any(|t| t.0 == k) {
-                    self.users[k].push(r as u32);
+        drop(eq.triplets);
+        for col in &mut k_fz {
+            col.sort_unstable_by_key(|e| e.0);
+            col.dedup_by(|b, a| {
+                if a.0 == b.0 {
+                    a.1 += b.1;
+                    true
+                } else {
+                    false
                 }
-            }
-            self.reduced[r] = new;
+            });
         }
-    }
-}
-
-/// Minimises the rows under the eliminator's constraints; x per variable.
-fn solve(
-    el: &Eliminator,
-    rows: &[(Vec<(usize, f64)>, f64)],
-    rs: &mut Resolver,
-) -> Option<(Vec<f64>, f64)> {
-    let n = el.len();
-    if rs.index.len() != n {
-        *rs = Resolver {
-            analyses: rs.analyses,
-            ..Resolver::default()
-        };
-        rs.index = vec![usize::MAX; n];
-        for (i, slot) in rs.index.iter_mut().enumerate() {
-            if el.is_free(i) {
-                *slot = rs.base.len();
-                rs.base.push(i);
-            }
-        }
-    }
-    rs.reduce_rows(el, rows);
-    let m = rs.base.len();
-    let mut eq = NormalEquations::new(m);
-    for (compact, b) in &rs.reduced {
-        eq.row(1.0, compact, *b);
-    }
-    // Identity rows for the variables eliminated since the first solve
-    // (their value is taken from the eliminator).
-    for (k, &i) in rs.base.iter().enumerate() {
-        if !el.is_free(i) {
-            eq.triplets.push((k, k, 1.0));
-            eq.rhs[k] = 0.0;
-        }
-    }
-    // A diagonal shift only when the system is singular (or the solution
-    // not finite).
-    let mut y = None;
-    for eps in [0.0, 1e-10, 1e-7] {
-        let shifted;
-        let t = if eps == 0.0 {
-            &eq.triplets
-        } else {
-            let mut t = eq.triplets.clone();
-            t.extend((0..m).map(|i| (i, i, eps)));
-            shifted = t;
-            &shifted
-        };
-        if rs.factor(t).is_ok() {
-            y = rs
-                .factor
-                .as_ref()
-                .and_then(|f| f.solve(std::slice::from_ref(&eq.rhs)))
-                .and_then(|mut v| v.pop());
-            if y.is_some() {
+        // The full diagonal in the pattern, for a shift.
+        ff.extend((0..nf).map(|i| (i, i, 0.0)));
+        let pattern = SpdPattern::new(nf, &ff).ok_or(MapStop::Solve)?;
+        let mut factor = None;
+        for eps in SHIFTS {
+            let result = if eps == 0.0 {
+                pattern.factor(&ff)
+            } else {
+                let mut t = ff.clone();
+                t.extend((0..nf).map(|i| (i, i, eps)));
+                pattern.factor(&t)
+            };
+            if let Ok(f) = result {
+                factor = Some(f);
                 break;
             }
         }
-    }
-    let y = y?;
-    let mut full = vec![0.0; n];
-    for (k, &i) in rs.base.iter().enumerate() {
-        if el.is_free(i) {
-            full[i] = y[k];
+        drop(ff);
+        let factor = factor.ok_or(MapStop::Solve)?;
+        let b_f = eq.rhs[..nf].to_vec();
+        let mut b_z = DVector::from_column_slice(&eq.rhs[nf..]);
+        // Column None is b_F, Some(z) the column of K_FZ.
+        let columns: Vec<Option<usize>> = std::iter::once(None).chain((0..nz).map(Some)).collect();
+        for chunk in columns.chunks(BLOCK) {
+            if !go_on() {
+                return Err(MapStop::Cancelled);
+            }
+            let mut x = Mat::<f64>::zeros(nf, chunk.len());
+            for (j, c) in chunk.iter().enumerate() {
+                match *c {
+                    None => {
+                        for (i, &b) in b_f.iter().enumerate() {
+                            x[(i, j)] = b;
+                        }
+                    }
+                    Some(z) => {
+                        for &(i, v) in &k_fz[z] {
+                            x[(i, j)] = v;
+                        }
+                    }
+                }
+            }
+            if !factor.solve_in_place(x.as_mut()) {
+                return Err(MapStop::Solve);
+            }
+            for (j, c) in chunk.iter().enumerate() {
+                for (z2, col) in k_fz.iter().enumerate() {
+                    let d: f64 = col.iter().map(|&(i, v)| v * x[(i, j)]).sum();
+                    match *c {
+                        None => b_z[z2] -= d,
+                        Some(z) => s[(z2, z)] -= d,
+                    }
+                }
+            }
         }
+        let s = (&s + s.transpose()) * 0.5;
+        Ok(Condensed {
+            z_index,
+            z_vars,
+            f_vars,
+            factor,
+            k_fz,
+            b_f,
+            s,
+            b_z,
+        })
     }
-    let x = el.expand(&full);
-    let energy = rows
-        .iter()
+
+    /// The Z unknowns minimising the energy under the eliminator's
+    /// constraints (those added since [`Condensed::new`] involve Z only).
+    fn solve(&self, el: &Eliminator) -> Option<DVector<f64>> {
+        let nz = self.z_vars.len();
+        let mut column = vec![usize::MAX; nz];
+        let mut m = 0;
+        for (k, &i) in self.z_vars.iter().enumerate() {
+            if el.is_free(i) {
+                column[k] = m;
+                m += 1;
+            }
+        }
+        // y_Z = A u + c over the free Z unknowns u (A sparse, per row).
+        let mut a: Vec<Vec<(usize, f64)>> = Vec::with_capacity(nz);
+        let mut c = DVector::zeros(nz);
+        for (k, &i) in self.z_vars.iter().enumerate() {
+            let e = el.reduce(&[(i, 1.0)], 0.0);
+            c[k] = e.constant;
+            let mut row = Vec::with_capacity(e.terms.len());
+            for (j, v) in e.terms {
+                let z = self.z_index[j];
+                debug_assert!(z != usize::MAX, "a Z unknown reduces to Z unknowns");
+                row.push((column[z], v));
+            }
+            a.push(row);
+        }
+        // S·A by columns of A, then Aᵀ(S A) and Aᵀ(b̃ − S c).
+        let mut sa = DMatrix::zeros(nz, m);
+        for (k, row) in a.iter().enumerate() {
+            for &(j, v) in row {
+                let mut col = sa.column_mut(j);
+                col.axpy(v, &self.s.column(k), 1.0);
+            }
+        }
+        let r0 = &self.b_z - &self.s * &c;
+        let mut mat = DMatrix::zeros(m, m);
+        let mut rhs = DVector::zeros(m);
+        for (k, row) in a.iter().enumerate() {
+            for &(j, v) in row {
+                // M is symmetric: its column j is its row j.
+                mat.column_mut(j).axpy(v, &sa.row(k).transpose(), 1.0);
+                rhs[j] += v * r0[k];
+            }
+        }
+        let u = SHIFTS.iter().find_map(|&eps| {
+            let mut shifted = mat.clone();
+            for i in 0..m {
+                shifted[(i, i)] += eps;
+            }
+            let u = shifted.cholesky()?.solve(&rhs);
+            u.iter().all(|x| x.is_finite()).then_some(u)
+        })?;
+        let mut y = c;
+        for (k, row) in a.iter().enumerate() {
+            y[k] += row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+        }
+        Some(y)
+    }
+
+    /// The value of an expression reduced to free variables, all in Z.
+    fn value(&self, e: &Expr, y: &DVector<f64>) -> f64 {
+        e.constant
+            + e.terms
+                .iter()
+                .map(|&(j, v)| v * y[self.z_index[j]])
+                .sum::<f64>()
+    }
+
+    /// Every variable's value for the Z unknowns `y`: the continuous ones
+    /// from y_F = K_FF⁻¹ (b_F − K_FZ y_Z), the eliminated ones from the
+    /// eliminator.
+    fn expand(&self, el: &Eliminator, y: &DVector<f64>) -> Option<Vec<f64>> {
+        let mut b = Mat::<f64>::zeros(self.f_vars.len(), 1);
+        for (i, &v) in self.b_f.iter().enumerate() {
+            b[(i, 0)] = v;
+        }
+        for (z, col) in self.k_fz.iter().enumerate() {
+            for &(i, v) in col {
+                b[(i, 0)] -= v * y[z];
+            }
+        }
+        if !self.factor.solve_in_place(b.as_mut()) {
+            return None;
+        }
+        let mut free = vec![0.0; el.len()];
+        for (i, &var) in self.f_vars.iter().enumerate() {
+            free[var] = b[(i, 0)];
+        }
+        for (z, &var) in self.z_vars.iter().enumerate() {
+            free[var] = y[z];
+        }
+        Some(el.expand(&free))
+    }
+}
+
+/// Σ of the rows' squared residuals at x.
+fn energy_at(rows: &[(Vec<(usize, f64)>, f64)], x: &[f64]) -> f64 {
+    rows.iter()
         .map(|(terms, b)| {
             let r = terms.iter().map(|&(i, c)| c * x[i]).sum::<f64>() - b;
             r * r
         })
-        .sum();
-    Some((x, energy))
+        .sum()
 }
 
 /// Why [`grid_map_with`] stopped without a map.
@@ -665,8 +769,9 @@ pub enum MapStop {
     Cancelled,
 }
 
-/// Greedy rounding with re-solves; returns the final solution.
-/// `go_on(fraction rounded)` is asked before every re-solve.
+/// Greedy rounding with re-solves on the [`Condensed`] system; returns
+/// the final solution. `go_on(fraction rounded)` is asked before every
+/// re-solve (and during the condensation).
 fn round(
     el: &mut Eliminator,
     rows: &[(Vec<(usize, f64)>, f64)],
@@ -674,33 +779,35 @@ fn round(
     fraction: f64,
     go_on: &mut dyn FnMut(f32) -> bool,
 ) -> Result<(Vec<f64>, f64, usize, usize, usize), MapStop> {
+    let sys = Condensed::new(el, rows, &ints.quantities, &mut || go_on(0.0))?;
     let mut done = vec![false; ints.quantities.len()];
     let mut steps = 0;
-    let mut rs = Resolver::default();
     loop {
         let finished = done.iter().filter(|&&d| d).count();
         if !go_on(finished as f32 / ints.quantities.len().max(1) as f32) {
             return Err(MapStop::Cancelled);
         }
-        let (x, energy) = solve(el, rows, &mut rs).ok_or(MapStop::Solve)?;
-        let mut open: Vec<(f64, usize, f64)> = Vec::new();
+        let y = sys.solve(el).ok_or(MapStop::Solve)?;
+        let mut open: Vec<(f64, usize, f64, Expr)> = Vec::new();
         for (q, terms) in ints.quantities.iter().enumerate() {
             if done[q] {
                 continue;
             }
-            if el.reduce(terms, 0.0).terms.is_empty() {
+            let e = el.reduce(terms, 0.0);
+            if e.terms.is_empty() {
                 done[q] = true;
                 continue;
             }
-            let value: f64 = terms.iter().map(|&(i, c)| c * x[i]).sum();
+            let value = sys.value(&e, &y);
             let priority = if q < ints.first {
                 -1.0
             } else {
                 (value - value.round()).abs()
             };
-            open.push((priority, q, value));
+            open.push((priority, q, value, e));
         }
         if open.is_empty() {
+            let x = sys.expand(el, &y).ok_or(MapStop::Solve)?;
             // Integer quantities the rounding could not make integer (a
             // batch's targets can contradict each other).
             let missed = ints
@@ -711,7 +818,8 @@ fn round(
                     (v - v.round()).abs() > 1e-6
                 })
                 .count();
-            return Ok((x, energy, steps, missed, rs.analyses));
+            let energy = energy_at(rows, &x);
+            return Ok((x, energy, steps, missed, 1));
         }
         open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let cones = open.iter().filter(|o| o.0 < 0.0).count();
@@ -720,10 +828,11 @@ fn round(
         } else {
             ((open.len() as f64 * fraction).ceil() as usize).max(1)
         };
-        for &(_, q, value) in open.iter().take(batch) {
-            done[q] = true;
-            let target = nearest_reachable_integer(&el.reduce(&ints.quantities[q], 0.0), value);
-            el.add(&ints.quantities[q], target, 1e-6);
+        for (_, q, value, _) in open.iter().take(batch) {
+            done[*q] = true;
+            // The reduction again: earlier ones of this batch changed it.
+            let target = nearest_reachable_integer(&el.reduce(&ints.quantities[*q], 0.0), *value);
+            el.add(&ints.quantities[*q], target, 1e-6);
         }
         steps += 1;
     }
@@ -831,9 +940,11 @@ pub fn grid_map_with(
         if !go_on(0.0) {
             return Err(MapStop::Cancelled);
         }
-        let mut rs = Resolver::default();
-        let (x, e) = solve(&el, &rows, &mut rs).ok_or(MapStop::Solve)?;
-        (x, e, 0, 0, rs.analyses)
+        let sys = Condensed::new(&el, &rows, &[], &mut || go_on(0.0))?;
+        let y = sys.solve(&el).ok_or(MapStop::Solve)?;
+        let x = sys.expand(&el, &y).ok_or(MapStop::Solve)?;
+        let e = energy_at(&rows, &x);
+        (x, e, 0, 0, 1)
     };
     conflicts += more;
     let uv = (0..nf)
@@ -860,6 +971,76 @@ pub fn grid_map_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The condensed re-solve against the direct one: after constraints
+    /// on the integer unknowns, minimising over the Schur complement and
+    /// expanding gives the minimiser of the whole least-squares problem
+    /// under the same constraints (a dense solve of all free unknowns).
+    #[test]
+    fn condensed_resolve_equals_the_direct_constrained_minimiser() {
+        let n = 14;
+        let mut rng = rand_pcg::Pcg32::new(7, 11);
+        let mut next = || rand_core::RngCore::next_u32(&mut rng) as f64 / u32::MAX as f64 - 0.5;
+        // Rows: a chain Laplacian with random weights and targets, plus a
+        // few random three-term rows.
+        let mut rows: Vec<(Vec<(usize, f64)>, f64)> = Vec::new();
+        for i in 0..n - 1 {
+            let w = 1.0 + next();
+            rows.push((vec![(i, w), (i + 1, -w)], next()));
+        }
+        for i in 0..n - 2 {
+            rows.push((
+                vec![(i, next()), (i + 2, next()), ((i + 5) % n, next())],
+                next(),
+            ));
+        }
+        rows.push((vec![(0, 1.0)], 0.3));
+        let mut el = Eliminator::new(n, n);
+        el.add(&[(1, 1.0), (4, -1.0)], 0.25, 1e-9);
+        el.add(&[(6, 1.0), (7, 1.0), (9, -1.0)], 0.0, 1e-9);
+        let integer = vec![vec![(2, 1.0)], vec![(9, 1.0)], vec![(11, 1.0), (12, 2.0)]];
+        let sys = Condensed::new(&el, &rows, &integer, &mut || true).expect("condensed");
+        assert!(!sys.z_vars.is_empty() && !sys.f_vars.is_empty());
+        // Round two of the quantities, as the greedy rounding does.
+        el.add(&integer[0], 1.0, 1e-6);
+        el.add(&integer[2], -2.0, 1e-6);
+        let y = sys.solve(&el).expect("dense solve");
+        let x = sys.expand(&el, &y).expect("expanded");
+
+        // Direct: every row reduced to the free unknowns, dense normal
+        // equations.
+        let free: Vec<usize> = (0..n).filter(|&i| el.is_free(i)).collect();
+        let col = |i: usize| free.iter().position(|&j| j == i).unwrap();
+        let m = free.len();
+        let mut a = DMatrix::<f64>::zeros(m, m);
+        let mut b = DVector::<f64>::zeros(m);
+        for (terms, target) in &rows {
+            let e = el.reduce(terms, 0.0);
+            for &(i, ci) in &e.terms {
+                b[col(i)] += ci * (target - e.constant);
+                for &(j, cj) in &e.terms {
+                    a[(col(i), col(j))] += ci * cj;
+                }
+            }
+        }
+        let u = a.cholesky().expect("SPD").solve(&b);
+        let mut full = vec![0.0; n];
+        for (k, &i) in free.iter().enumerate() {
+            full[i] = u[k];
+        }
+        let direct = el.expand(&full);
+        for i in 0..n {
+            assert!(
+                (x[i] - direct[i]).abs() < 1e-9,
+                "x{i}: {} vs {}",
+                x[i],
+                direct[i]
+            );
+        }
+        assert!((x[2] - 1.0).abs() < 1e-12);
+        assert!((x[11] + 2.0 * x[12] + 2.0).abs() < 1e-12);
+        assert!((x[1] - x[4] - 0.25).abs() < 1e-12);
+    }
 
     #[test]
     fn rounding_targets_are_reachable_with_integer_unknowns() {

@@ -3,18 +3,18 @@
 //! tool's strip field and parametrization. [`SpdPattern`] keeps the
 //! symbolic factorization (fill-reducing ordering, elimination tree,
 //! supernodes) of a sparsity pattern, so that systems whose entries lie in
-//! it — the integer rounding's re-solves, the cross field's two relaxation
-//! matrices — only pay for the numeric factorization.
+//! it — the cross field's two relaxation matrices — only pay for the
+//! numeric factorization.
 
 use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::perm::PermRef;
+use faer::reborrow::ReborrowMut;
 use faer::sparse::linalg::cholesky::{
     LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, Mat, Side, c64};
+use faer::{Conj, Mat, MatMut, Side, c64};
 
 /// A matrix entry type of the solves: real (f64) or complex (c64, a
 /// Hermitian matrix, e.g. a connection Laplacian on complex face values).
@@ -63,30 +63,12 @@ impl SpdPattern {
             .filter(lower(n))
             .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
             .collect();
-        SpdPattern::from_keys(n, keys, None)
-    }
-
-    /// The pattern of the triplets' lower triangle with this pattern's
-    /// fill-reducing ordering (no new ordering: for a pattern that differs
-    /// from this one in a few entries, e.g. the integer rounding's).
-    pub fn reordered<T: Scalar>(&self, triplets: &[(usize, usize, T)]) -> Option<SpdPattern> {
-        let n = self.n;
-        let keys: Vec<u64> = triplets
-            .iter()
-            .filter(lower(n))
-            .map(|&(r, c, _)| ((c as u64) << 32) | r as u64)
-            .collect();
-        let perm = self.pattern.as_ref().and_then(|(_, s)| s.perm());
-        SpdPattern::from_keys(n, keys, perm)
+        SpdPattern::from_keys(n, keys)
     }
 
     /// The pattern of the entries `(col << 32) | row` (lower triangle),
-    /// ordered by `perm` or else AMD.
-    fn from_keys(
-        n: usize,
-        mut keys: Vec<u64>,
-        perm: Option<PermRef<'_, usize>>,
-    ) -> Option<SpdPattern> {
+    /// AMD-ordered.
+    fn from_keys(n: usize, mut keys: Vec<u64>) -> Option<SpdPattern> {
         if n == 0 {
             return Some(SpdPattern { n, pattern: None });
         }
@@ -101,11 +83,10 @@ impl SpdPattern {
         }
         let row_idx: Vec<usize> = keys.iter().map(|&k| (k & 0xffff_ffff) as usize).collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let ordering = perm.map_or(SymmetricOrdering::Amd, SymmetricOrdering::Custom);
         let symbolic = factorize_symbolic_cholesky(
             pattern.as_ref(),
             Side::Lower,
-            ordering,
+            SymmetricOrdering::Amd,
             Default::default(),
         )
         .ok()?;
@@ -230,6 +211,24 @@ impl<T: Scalar> SpdFactor<T> {
             .map(|j| (0..self.n).map(|i| b[(i, j)]).collect())
             .collect();
         out.iter().flatten().all(|v| v.finite()).then_some(out)
+    }
+}
+
+impl<T: Scalar> SpdFactor<T> {
+    /// Solves in place for the columns of `rhs` (n rows); false if the
+    /// result is not finite.
+    pub fn solve_in_place(&self, mut rhs: MatMut<'_, T>) -> bool {
+        if let Some((symbolic, values)) = &self.llt {
+            let par = faer::get_global_parallelism();
+            let mut buffer = MemBuffer::new(symbolic.solve_in_place_scratch::<T>(rhs.ncols(), par));
+            LltRef::new(symbolic, values).solve_in_place_with_conj(
+                Conj::No,
+                rhs.rb_mut(),
+                par,
+                MemStack::new(&mut buffer),
+            );
+        }
+        (0..rhs.ncols()).all(|j| (0..rhs.nrows()).all(|i| rhs[(i, j)].finite()))
     }
 }
 
