@@ -278,6 +278,21 @@ pub struct LoopEngine {
     ws: Workspace,
     /// The state of [`LoopEngine::layered_cycle`]'s search.
     layered: LayeredWorkspace,
+    /// The state of [`LoopEngine::two_anchor_cycle`]'s searches.
+    pair: PairWorkspace,
+}
+
+/// [`LoopEngine::two_anchor_cycle`]: the distances to and from the second
+/// anchor's candidates (kept across the searches of one query) and the
+/// second half-search's state.
+#[derive(Debug, Clone, Default)]
+struct PairWorkspace {
+    /// `to[z]`: the distance from `reverse(z)` to any candidate of the
+    /// second anchor.
+    to: Vec<f32>,
+    /// `from[x]`: the distance from any candidate of the second anchor to x.
+    from: Vec<f32>,
+    side: LayeredWorkspace,
 }
 
 /// Per (g′ node, layer) state of the layered search
@@ -314,6 +329,110 @@ impl LayeredWorkspace {
     }
 }
 
+/// Copies the distances a single-layer search settled (∞ elsewhere).
+fn export_field(ws: &LayeredWorkspace, nodes: usize, out: &mut Vec<f32>) {
+    let settled = 2 * ws.generation + 1;
+    out.clear();
+    out.extend(
+        ws.state[..nodes]
+            .iter()
+            .zip(&ws.dist[..nodes])
+            .map(|(&st, &d)| if st == settled { d } else { f32::INFINITY }),
+    );
+}
+
+/// The distance a single-layer search settled at `x` (∞ if it did not).
+fn settled_dist(ws: &LayeredWorkspace, x: u32) -> f32 {
+    let x = x as usize;
+    if ws.state.get(x) == Some(&(2 * ws.generation + 1)) {
+        ws.dist[x]
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// The nodes of the path a single-layer search found to `x`, source first.
+fn path_to(ws: &LayeredWorkspace, x: u32) -> Vec<u32> {
+    let mut path = Vec::new();
+    let mut at = x;
+    while at != NONE && path.len() <= ws.parent.len() {
+        path.push(at);
+        at = ws.parent[at as usize];
+    }
+    path.reverse();
+    path
+}
+
+/// One A* over g′ from `source` (single layer), pruned at `bound`, with
+/// the heuristic `heur[reverse(x)]` (a distance field over the reversed
+/// paths; 0 where x has no reverse). `reversed`: a search over reversed
+/// paths, node z blocked when `reverse(z)` is disabled. Returns the
+/// number of nodes settled.
+fn half_search(
+    graph: &ElasticaGraph,
+    disabled: &[bool],
+    ws: &mut LayeredWorkspace,
+    source: u32,
+    reversed: bool,
+    heur: &[f32],
+    bound: f32,
+) -> u64 {
+    let g = &graph.g;
+    let nodes = graph.node_count();
+    let blocked = |z: usize| -> bool {
+        if reversed {
+            let r = g.reverse[z];
+            r == NONE || disabled[r as usize]
+        } else {
+            disabled[z]
+        }
+    };
+    let h = |z: usize| -> f32 {
+        let r = g.reverse[z];
+        if r == NONE { 0.0 } else { heur[r as usize] }
+    };
+    let now = ws.start(nodes);
+    let (reached, settled) = (2 * now, 2 * now + 1);
+    let src = source as usize;
+    if source == NONE || blocked(src) || !(bound > 0.0) {
+        return 0;
+    }
+    ws.state[src] = reached;
+    ws.dist[src] = 0.0;
+    ws.parent[src] = NONE;
+    ws.heap.push(Reverse((h(src).to_bits(), source)));
+    let mut effort = 0u64;
+    while let Some(Reverse((k, x))) = ws.heap.pop() {
+        let x = x as usize;
+        if ws.state[x] == settled {
+            continue;
+        }
+        if f32::from_bits(k) >= bound {
+            break;
+        }
+        ws.state[x] = settled;
+        effort += 1;
+        let d = ws.dist[x];
+        graph.for_each_arc(x, |y, w| {
+            if blocked(y) {
+                return;
+            }
+            let nd = d + w;
+            if ws.state[y] < reached || nd < ws.dist[y] {
+                let key = nd + h(y);
+                if !(key < bound) {
+                    return;
+                }
+                ws.state[y] = reached;
+                ws.dist[y] = nd;
+                ws.parent[y] = x as u32;
+                ws.heap.push(Reverse((key.to_bits(), y as u32)));
+            }
+        });
+    }
+    effort
+}
+
 /// How a layered search ends: back at the node its path started from
 /// after the last layer (a closed loop), or at the last anchor, leaving to
 /// ∂ at the given cost per candidate of the last layer (a dual curve, §5.7).
@@ -344,6 +463,7 @@ impl LoopEngine {
                 ..Workspace::default()
             },
             layered: LayeredWorkspace::default(),
+            pair: PairWorkspace::default(),
         }
     }
 
@@ -512,32 +632,10 @@ impl LoopEngine {
         // at its own start: a loop, not necessarily the cheapest (a state
         // keeps only its cheapest start), whose cost bounds the searches
         // from each start that follow.
-        let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
-        let starts_of = |a0: &u32| -> Vec<(u32, f32)> { vec![(*a0, 0.0)] };
-        let runs: Vec<Vec<(u32, f32)>> = if all.len() > 1 {
-            std::iter::once(all.clone())
-                .chain(layers[s].iter().map(starts_of))
-                .collect()
+        if let Some(found) = self.two_anchor_cycle(verts, layers, close, &rotated) {
+            best = found;
         } else {
-            vec![all]
-        };
-        for sources in &runs {
-            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
-            if let Some((cost, mut nodes, starts)) = self.layered_search(
-                verts,
-                layers,
-                close,
-                &rotated,
-                sources,
-                LayeredEnd::Closed,
-                bound,
-            ) {
-                // Start the loop at anchor 0's candidate, as the pairwise
-                // method does.
-                let first = starts[(n - s) % n];
-                nodes.rotate_left(first);
-                best = Some((cost, nodes, true));
-            }
+            self.multi_start_cycle(verts, layers, close, s, &rotated, &mut best);
         }
         if self.has_boundary {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
@@ -584,6 +682,372 @@ impl LoopEngine {
             }
         }
         best
+    }
+
+    /// The closed loop through two positional anchors on distinct vertices
+    /// (`None` for any other anchor set): the loop through a start a₀ of
+    /// the first anchor is min over the second anchor's candidates y of
+    /// d(a₀ → y) + d(y → a₀), and d(y → a₀) = d(reverse(a₀) → reverse(y))
+    /// (g′ weights are reversal-symmetric), so each start needs two
+    /// half-searches, from a₀ and from reverse(a₀), both A* with exact
+    /// heuristics: the distances to and from the second anchor's
+    /// candidates, one search each per query. Their sum is also a lower
+    /// bound of each start's loop: the starts run cheapest bound first and
+    /// stop when the bound reaches the best loop; each half-search is
+    /// pruned by the best loop minus the other half's bound. The same
+    /// optimum as one layered search per start (tested against it); the
+    /// halves settle only the states within the bounds' slack of the
+    /// cheapest paths.
+    #[allow(clippy::type_complexity)]
+    fn two_anchor_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        order: &[usize],
+    ) -> Option<Option<(f32, Vec<u32>, bool)>> {
+        if layers.len() != 2 || close.iter().any(|c| c.is_finite()) || verts[0] == verts[1] {
+            return None;
+        }
+        let (s, t) = (order[0], order[1]);
+        let nodes = self.graph.node_count();
+        // The distances to (reversed) and from the second anchor.
+        let reverse = &self.graph.g.reverse;
+        let to_sources: Vec<u32> = layers[t]
+            .iter()
+            .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
+            .map(|&y| reverse[y as usize])
+            .collect();
+        self.layer_field(&to_sources, &[], true, f32::INFINITY, &[]);
+        export_field(&self.layered, nodes, &mut self.pair.to);
+        let from_sources: Vec<u32> = layers[t]
+            .iter()
+            .copied()
+            .filter(|&y| !self.disabled[y as usize])
+            .collect();
+        self.layer_field(&from_sources, &[], false, f32::INFINITY, &[]);
+        export_field(&self.layered, nodes, &mut self.pair.from);
+        let reverse = &self.graph.g.reverse;
+        let to_of = |x: u32| -> f32 {
+            let r = reverse[x as usize];
+            if r == NONE {
+                0.0
+            } else {
+                self.pair.to[r as usize]
+            }
+        };
+        let mut starts: Vec<(f32, u32)> = layers[s]
+            .iter()
+            .filter(|&&a| !self.disabled[a as usize] && reverse[a as usize] != NONE)
+            .map(|&a| (to_of(a) + self.pair.from[a as usize], a))
+            .filter(|e| e.0.is_finite())
+            .collect();
+        starts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut best: (f32, Vec<u32>) = (f32::INFINITY, Vec::new());
+        // The half-searches are pruned by the best loop so far, and at
+        // first by a radius a little above the cheapest bound, which grows
+        // (as the metagraph's did) while no loop below it is found.
+        let mut radius = starts
+            .first()
+            .map_or(f32::INFINITY, |e| e.0 * 1.0625 + 1e-3);
+        loop {
+            for &(lb, a0) in &starts {
+                let cap = best.0.min(radius);
+                // The bounds sum reversed searches: rounding may put them a
+                // little above the forward costs.
+                if lb * (1.0 - 1e-4) >= cap {
+                    break;
+                }
+                let back = self.pair.from[a0 as usize];
+                let graph = &self.graph;
+                let reverse = &graph.g.reverse;
+                self.ws.effort += half_search(
+                    graph,
+                    &self.disabled,
+                    &mut self.layered,
+                    a0,
+                    false,
+                    &self.pair.to,
+                    cap - back,
+                );
+                let ws1 = &self.layered;
+                let d1: Vec<f32> = layers[t].iter().map(|&y| settled_dist(ws1, y)).collect();
+                let min1 = d1.iter().copied().fold(f32::INFINITY, f32::min);
+                if min1 + back >= cap {
+                    continue;
+                }
+                self.ws.effort += half_search(
+                    graph,
+                    &self.disabled,
+                    &mut self.pair.side,
+                    reverse[a0 as usize],
+                    true,
+                    &self.pair.from,
+                    cap - min1,
+                );
+                let ws2 = &self.pair.side;
+                let mut found: Option<(f32, u32)> = None;
+                for (&y, &d) in layers[t].iter().zip(&d1) {
+                    let r = reverse[y as usize];
+                    if !d.is_finite() || r == NONE {
+                        continue;
+                    }
+                    let total = d + settled_dist(ws2, r);
+                    if total < found.map_or(cap, |f| f.0) {
+                        found = Some((total, y));
+                    }
+                }
+                if let Some((cost, y)) = found {
+                    // a₀ … y, then y … a₀ from the reversed half, without its
+                    // ends (y is there already; a₀ closes the loop).
+                    let mut loop_nodes = path_to(ws1, y);
+                    let back_path = path_to(ws2, reverse[y as usize]);
+                    let inner = back_path.len().saturating_sub(1);
+                    loop_nodes.extend(
+                        back_path[1..inner]
+                            .iter()
+                            .rev()
+                            .map(|&z| reverse[z as usize]),
+                    );
+                    if s != 0 {
+                        // Start at anchor 0's candidate, y.
+                        let at = loop_nodes.iter().position(|&x| x == y).unwrap_or(0);
+                        loop_nodes.rotate_left(at);
+                    }
+                    best = (cost, loop_nodes);
+                }
+            }
+            if best.0 <= radius || !radius.is_finite() {
+                break;
+            }
+            radius = if best.0.is_finite() {
+                best.0
+            } else if radius > 1e4 {
+                f32::INFINITY
+            } else {
+                2.0 * radius
+            };
+        }
+        Some(best.0.is_finite().then_some((best.0, best.1, true)))
+    }
+
+    /// The closed loop of [`Self::layered_cycle`] by layered searches: one
+    /// from all of the smallest layer `s` at once (a loop, not necessarily
+    /// the cheapest: a state keeps only its cheapest start), then one per
+    /// start, cheapest lower bound first ([`Self::start_bounds`]), each
+    /// pruned by the best loop so far.
+    fn multi_start_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        s: usize,
+        rotated: &[usize],
+        best: &mut Option<(f32, Vec<u32>, bool)>,
+    ) {
+        let n = layers.len();
+        let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
+        let run = |engine: &mut Self,
+                   sources: &[(u32, f32)],
+                   best: &mut Option<(f32, Vec<u32>, bool)>| {
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            if let Some((cost, mut nodes, starts)) = engine.layered_search(
+                verts,
+                layers,
+                close,
+                rotated,
+                sources,
+                LayeredEnd::Closed,
+                bound,
+            ) {
+                // Start the loop at anchor 0's candidate, as the pairwise
+                // method does.
+                let first = starts[(n - s) % n];
+                nodes.rotate_left(first);
+                *best = Some((cost, nodes, true));
+            }
+        };
+        run(self, &all, best);
+        if all.len() > 1 {
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            // Then one exact search per start, cheapest lower bound first,
+            // skipping the starts whose bound reaches the best loop so far
+            // (without bounds: every start).
+            let order: Vec<(f32, u32)> =
+                match self.start_bounds(verts, layers, close, rotated, bound) {
+                    Some(lb) => {
+                        let mut o: Vec<(f32, u32)> =
+                            lb.into_iter().zip(layers[s].iter().copied()).collect();
+                        o.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                        o
+                    }
+                    None => layers[s].iter().map(|&a| (0.0, a)).collect(),
+                };
+            for (lb, a0) in order {
+                let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+                // The bounds sum reversed searches: rounding may put them a
+                // little above the forward costs.
+                if lb * (1.0 - 1e-4) >= bound {
+                    break;
+                }
+                run(self, &[(a0, 0.0)], best);
+            }
+        }
+    }
+
+    /// Lower bounds of the loop through each start a₀ of layer `order[0]`
+    /// (all anchors positional, consecutive anchors on distinct vertices;
+    /// `None` otherwise): the loop a₀ → ξ₁ → … → ξ_{n−1} → a₀ costs at least
+    /// F(a₀) + B(a₀), with F(a₀) the distance from a₀ to any candidate of
+    /// the next anchor and B(a₀) the layered distance from any candidate of
+    /// the next anchor, past the later anchors, back to a₀ (the relaxation
+    /// drops only that the two halves meet at the same candidate). F comes
+    /// from ONE search from the reversed candidates of the next anchor
+    /// (g′ weights are reversal-symmetric), B from one forward search from
+    /// all of them, each pruned at `bound` (a bound at or above it means
+    /// "not below `bound`"). Two searches instead of one per start.
+    fn start_bounds(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        order: &[usize],
+        bound: f32,
+    ) -> Option<Vec<f32>> {
+        let n = order.len();
+        if n < 2
+            || close.iter().any(|c| c.is_finite())
+            || (0..n).any(|k| verts[order[k]] == verts[order[(k + 1) % n]])
+            || !bound.is_finite()
+        {
+            return None;
+        }
+        let reverse = &self.graph.g.reverse;
+        let starts = &layers[order[0]];
+        let next = &layers[order[1]];
+        // F: from the reversed candidates of the next anchor to the reversed
+        // starts.
+        let sources: Vec<u32> = next
+            .iter()
+            .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
+            .map(|&y| reverse[y as usize])
+            .collect();
+        let read: Vec<u32> = starts.iter().map(|&a| reverse[a as usize]).collect();
+        let f = self.layer_field(&sources, &[], true, bound, &read);
+        let f: Vec<f32> = f
+            .iter()
+            .zip(&read)
+            .map(|(&d, &r)| if r == NONE { 0.0 } else { d.min(bound) })
+            .collect();
+        let min_f = f.iter().copied().fold(f32::INFINITY, f32::min);
+        if min_f >= bound {
+            return Some(f);
+        }
+        // B: from the next anchor's candidates past the later ones to the
+        // starts.
+        let sources: Vec<u32> = next.clone();
+        let passes: Vec<Vec<u32>> = (2..n).map(|k| layers[order[k]].clone()).collect();
+        let b_bound = bound - min_f;
+        let b = self.layer_field(&sources, &passes, false, b_bound, starts);
+        Some(
+            f.iter()
+                .zip(&b)
+                .map(|(&f, &b)| f + b.min(b_bound))
+                .collect(),
+        )
+    }
+
+    /// Multi-source Dijkstra over a layered g′ (state (x, j): x having
+    /// passed the first j of `passes`; an arc onto a node of `passes[j]`
+    /// also leads to layer j + 1), from `sources` at cost 0 in layer 0,
+    /// pruned at `bound`. Returns the distance (∞ if not below `bound`) of
+    /// each node of `read` in the last layer. `reversed`: a search over the
+    /// reversed paths (node z stands for `reverse(z)`; only without passes).
+    fn layer_field(
+        &mut self,
+        sources: &[u32],
+        passes: &[Vec<u32>],
+        reversed: bool,
+        bound: f32,
+        read: &[u32],
+    ) -> Vec<f32> {
+        debug_assert!(!reversed || passes.is_empty());
+        let graph = &self.graph;
+        let g = &graph.g;
+        let nodes = graph.node_count();
+        let last = passes.len();
+        let pass_vertex: Vec<u32> = passes
+            .iter()
+            .map(|p| p.first().map_or(NONE, |&y| g.source[y as usize]))
+            .collect();
+        let disabled = &self.disabled;
+        let blocked = |z: usize| -> bool {
+            if reversed {
+                let r = g.reverse[z];
+                r == NONE || disabled[r as usize]
+            } else {
+                disabled[z]
+            }
+        };
+        let ws = &mut self.layered;
+        let now = ws.start(nodes * (last + 1));
+        let (reached, settled) = (2 * now, 2 * now + 1);
+        for &b in sources {
+            let st = b as usize;
+            if blocked(st) {
+                continue;
+            }
+            ws.state[st] = reached;
+            ws.dist[st] = 0.0;
+            ws.heap.push(Reverse((0f32.to_bits(), st as u32)));
+        }
+        let mut effort = 0u64;
+        while let Some(Reverse((k, st))) = ws.heap.pop() {
+            let st = st as usize;
+            if ws.state[st] == settled {
+                continue;
+            }
+            if f32::from_bits(k) >= bound {
+                break;
+            }
+            ws.state[st] = settled;
+            effort += 1;
+            let (l, x) = (st / nodes, st % nodes);
+            let d = ws.dist[st];
+            let base = l * nodes;
+            let pass = (l < last && g.target[x] == pass_vertex[l]).then(|| &passes[l]);
+            graph.for_each_arc(x, |y, w| {
+                if blocked(y) {
+                    return;
+                }
+                let nd = d + w;
+                let mut relax = |t: usize| {
+                    if ws.state[t] < reached || nd < ws.dist[t] {
+                        ws.state[t] = reached;
+                        ws.dist[t] = nd;
+                        ws.heap.push(Reverse((nd.to_bits(), t as u32)));
+                    }
+                };
+                relax(base + y);
+                if pass.is_some_and(|p| p.contains(&(y as u32))) {
+                    relax(base + nodes + y);
+                }
+            });
+        }
+        self.ws.effort += effort;
+        read.iter()
+            .map(|&r| {
+                if r == NONE {
+                    return f32::INFINITY;
+                }
+                let st = last * nodes + r as usize;
+                if ws.state[st] == settled {
+                    ws.dist[st]
+                } else {
+                    f32::INFINITY
+                }
+            })
+            .collect()
     }
 
     /// One A* over the layered g′ of [`Self::layered_cycle`] with the
@@ -1938,6 +2402,107 @@ mod tests {
             }
         }
         assert!(open_curves > 0, "no dual curve was the best answer");
+    }
+
+    /// The loop through two (and three) positional anchors by the
+    /// half-searches of [`LoopEngine::two_anchor_cycle`] (and the
+    /// bound-ordered starts of [`LoopEngine::multi_start_cycle`]) costs the
+    /// same as the method before them, one unpruned layered search per
+    /// start of the first anchor, on many random anchor sets of a torus,
+    /// a sphere and an open cylinder, with and without a committed strip
+    /// (disabled nodes); the loop found walks its cost through the anchors.
+    #[test]
+    fn two_anchor_half_searches_equal_one_layered_search_per_start() {
+        use rand_core::{RngCore, SeedableRng};
+        let meshes = [
+            torus(2.0, 0.7, 30, 12),
+            icosphere(1.0, 2),
+            cylinder(1.0, 3.0, 24, 12),
+        ];
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(21);
+        let mut compared = 0;
+        for mesh in &meshes {
+            let mut e = LoopEngine::new(mesh, &ElasticaParams::default());
+            let n = mesh.vertex_count();
+            for covered in [false, true] {
+                if covered {
+                    let l = e
+                        .best_loop(e.vertex_position(n / 2))
+                        .expect("a loop to commit");
+                    e.cover_loop(&l, 0.15 * e.graph.g.diagonal);
+                }
+                for _ in 0..12 {
+                    for count in [2usize, 3] {
+                        let verts: Vec<usize> =
+                            (0..count).map(|_| rng.next_u32() as usize % n).collect();
+                        if (0..count).any(|i| verts[i] == verts[(i + 1) % count]) {
+                            continue;
+                        }
+                        let layers: Vec<Vec<u32>> = verts
+                            .iter()
+                            .map(|&v| e.candidate_edges(v, DVec3::ZERO))
+                            .collect();
+                        if layers.iter().any(|l| l.is_empty()) {
+                            continue;
+                        }
+                        let close = vec![f32::INFINITY; count];
+                        let order: Vec<usize> = (0..count).collect();
+                        // The method before: one search per start, unpruned.
+                        let mut reference = f32::INFINITY;
+                        for &a in &layers[0] {
+                            if let Some((c, _, _)) = e.layered_search(
+                                &verts,
+                                &layers,
+                                &close,
+                                &order,
+                                &[(a, 0.0)],
+                                LayeredEnd::Closed,
+                                f32::INFINITY,
+                            ) {
+                                reference = reference.min(c);
+                            }
+                        }
+                        let mut best = None;
+                        let found = if count == 2 {
+                            e.two_anchor_cycle(&verts, &layers, &close, &order)
+                                .expect("two positional anchors")
+                        } else {
+                            e.multi_start_cycle(&verts, &layers, &close, 0, &order, &mut best);
+                            best
+                        };
+                        let tol = 1e-4 * reference.max(1.0);
+                        match found {
+                            None => assert!(!reference.is_finite(), "{verts:?}: no loop found"),
+                            Some((cost, nodes, closed)) => {
+                                assert!(
+                                    (cost - reference).abs() <= tol,
+                                    "{verts:?} covered {covered}: {cost} vs {reference}"
+                                );
+                                assert!(closed);
+                                let (walked, ok) = walk_cost(&e, &nodes);
+                                assert!(ok, "{verts:?}: not a cycle of arcs");
+                                assert!(
+                                    (walked - cost).abs() <= tol,
+                                    "{verts:?}: walks {walked}, reported {cost}"
+                                );
+                                assert!(layers[0].contains(&nodes[0]));
+                                for &v in &verts {
+                                    assert!(
+                                        nodes
+                                            .iter()
+                                            .any(|&x| e.graph.g.source[x as usize] as usize == v),
+                                        "{verts:?}: misses anchor vertex {v}"
+                                    );
+                                }
+                                assert!(nodes.iter().all(|&x| !e.disabled[x as usize]));
+                                compared += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared >= 100, "only {compared} anchor sets compared");
     }
 
     /// The metagraph cycle pruned by the growing radius equals the unpruned
