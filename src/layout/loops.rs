@@ -287,12 +287,98 @@ pub struct LoopEngine {
 /// second half-search's state.
 #[derive(Debug, Clone, Default)]
 struct PairWorkspace {
-    /// `to[z]`: the distance from `reverse(z)` to any candidate of the
-    /// second anchor.
-    to: Vec<f32>,
-    /// `from[x]`: the distance from any candidate of the second anchor to x.
-    from: Vec<f32>,
+    /// `to.value(z)`: the distance from `reverse(z)` to any candidate of
+    /// the second anchor (a search over the reversed paths).
+    to: GrowingField,
+    /// `from.value(x)`: the distance from any candidate of the second
+    /// anchor to x.
+    from: GrowingField,
     side: LayeredWorkspace,
+}
+
+/// A multi-source Dijkstra over g′ settled up to a radius that grows on
+/// demand (the heap is kept between the steps).
+#[derive(Debug, Clone, Default)]
+struct GrowingField {
+    dist: Vec<f32>,
+    done: Vec<bool>,
+    heap: BinaryHeap<Reverse<(u32, u32)>>,
+    /// Every node closer than this is settled (∞ once the heap is empty).
+    radius: f32,
+    /// Over reversed paths: node z blocked when `reverse(z)` is disabled.
+    reversed: bool,
+}
+
+impl GrowingField {
+    /// Starts a new field from `sources` (at distance 0).
+    fn reset(&mut self, nodes: usize, sources: &[u32], reversed: bool) {
+        self.dist.clear();
+        self.dist.resize(nodes, f32::INFINITY);
+        self.done.clear();
+        self.done.resize(nodes, false);
+        self.heap.clear();
+        self.radius = 0.0;
+        self.reversed = reversed;
+        for &z in sources {
+            self.dist[z as usize] = 0.0;
+            self.heap.push(Reverse((0f32.to_bits(), z)));
+        }
+    }
+
+    /// Settles every node closer than `radius`; returns how many it settled.
+    fn grow(&mut self, graph: &ElasticaGraph, disabled: &[bool], radius: f32) -> u64 {
+        if radius <= self.radius {
+            return 0;
+        }
+        let g = &graph.g;
+        let reversed = self.reversed;
+        let blocked = |z: usize| -> bool {
+            if reversed {
+                let r = g.reverse[z];
+                r == NONE || disabled[r as usize]
+            } else {
+                disabled[z]
+            }
+        };
+        let mut effort = 0u64;
+        while let Some(&Reverse((k, x))) = self.heap.peek() {
+            if f32::from_bits(k) >= radius {
+                self.radius = radius;
+                return effort;
+            }
+            self.heap.pop();
+            let x = x as usize;
+            if self.done[x] {
+                continue;
+            }
+            self.done[x] = true;
+            effort += 1;
+            let d = self.dist[x];
+            let (dist, heap) = (&mut self.dist, &mut self.heap);
+            graph.for_each_arc(x, |y, w| {
+                if blocked(y) {
+                    return;
+                }
+                let nd = d + w;
+                if nd < dist[y] {
+                    dist[y] = nd;
+                    heap.push(Reverse((nd.to_bits(), y as u32)));
+                }
+            });
+        }
+        self.radius = f32::INFINITY;
+        effort
+    }
+
+    /// The distance of `x`, or the radius when not settled (a lower bound).
+    #[inline]
+    fn value(&self, x: usize) -> f32 {
+        if self.done[x] {
+            self.dist[x]
+        } else {
+            self.radius
+        }
+    }
 }
 
 /// Per (g′ node, layer) state of the layered search
@@ -329,18 +415,6 @@ impl LayeredWorkspace {
     }
 }
 
-/// Copies the distances a single-layer search settled (∞ elsewhere).
-fn export_field(ws: &LayeredWorkspace, nodes: usize, out: &mut Vec<f32>) {
-    let settled = 2 * ws.generation + 1;
-    out.clear();
-    out.extend(
-        ws.state[..nodes]
-            .iter()
-            .zip(&ws.dist[..nodes])
-            .map(|(&st, &d)| if st == settled { d } else { f32::INFINITY }),
-    );
-}
-
 /// The distance a single-layer search settled at `x` (∞ if it did not).
 fn settled_dist(ws: &LayeredWorkspace, x: u32) -> f32 {
     let x = x as usize;
@@ -364,8 +438,8 @@ fn path_to(ws: &LayeredWorkspace, x: u32) -> Vec<u32> {
 }
 
 /// One A* over g′ from `source` (single layer), pruned at `bound`, with
-/// the heuristic `heur[reverse(x)]` (a distance field over the reversed
-/// paths; 0 where x has no reverse). `reversed`: a search over reversed
+/// the heuristic `heur.value(reverse(x))` (a distance field over the
+/// reversed paths; 0 where x has no reverse). `reversed`: a search over reversed
 /// paths, node z blocked when `reverse(z)` is disabled. Returns the
 /// number of nodes settled.
 fn half_search(
@@ -374,7 +448,7 @@ fn half_search(
     ws: &mut LayeredWorkspace,
     source: u32,
     reversed: bool,
-    heur: &[f32],
+    heur: &GrowingField,
     bound: f32,
 ) -> u64 {
     let g = &graph.g;
@@ -389,7 +463,11 @@ fn half_search(
     };
     let h = |z: usize| -> f32 {
         let r = g.reverse[z];
-        if r == NONE { 0.0 } else { heur[r as usize] }
+        if r == NONE {
+            0.0
+        } else {
+            heur.value(r as usize)
+        }
     };
     let now = ws.start(nodes);
     let (reached, settled) = (2 * now, 2 * now + 1);
@@ -718,39 +796,41 @@ impl LoopEngine {
             .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
             .map(|&y| reverse[y as usize])
             .collect();
-        self.layer_field(&to_sources, &[], true, f32::INFINITY, &[]);
-        export_field(&self.layered, nodes, &mut self.pair.to);
+        self.pair.to.reset(nodes, &to_sources, true);
         let from_sources: Vec<u32> = layers[t]
             .iter()
             .copied()
             .filter(|&y| !self.disabled[y as usize])
             .collect();
-        self.layer_field(&from_sources, &[], false, f32::INFINITY, &[]);
-        export_field(&self.layered, nodes, &mut self.pair.from);
-        let reverse = &self.graph.g.reverse;
-        let to_of = |x: u32| -> f32 {
-            let r = reverse[x as usize];
-            if r == NONE {
-                0.0
-            } else {
-                self.pair.to[r as usize]
-            }
-        };
-        let mut starts: Vec<(f32, u32)> = layers[s]
-            .iter()
-            .filter(|&&a| !self.disabled[a as usize] && reverse[a as usize] != NONE)
-            .map(|&a| (to_of(a) + self.pair.from[a as usize], a))
-            .filter(|e| e.0.is_finite())
-            .collect();
-        starts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        self.pair.from.reset(nodes, &from_sources, false);
         let mut best: (f32, Vec<u32>) = (f32::INFINITY, Vec::new());
-        // The half-searches are pruned by the best loop so far, and at
-        // first by a radius a little above the cheapest bound, which grows
-        // (as the metagraph's did) while no loop below it is found.
-        let mut radius = starts
-            .first()
-            .map_or(f32::INFINITY, |e| e.0 * 1.0625 + 1e-3);
+        // Everything is pruned by a radius R, at first a little above a
+        // lower bound of any loop through both (there and back at 0.9 × the
+        // straight distance, as the A* heuristic), doubling while no loop
+        // below it is found: the fields are settled up to R (beyond it
+        // they read R, still a lower bound), the half-searches pruned by
+        // min(best, R).
+        let p = &self.graph.g.mesh.positions;
+        let apart = p[verts[0]].distance(p[verts[1]]) as f32;
+        let mut radius = 2.0 * (2.0 * 0.9 * apart) + BOUNDARY_RADIUS;
         loop {
+            let graph = &self.graph;
+            self.ws.effort += self.pair.to.grow(graph, &self.disabled, radius);
+            self.ws.effort += self.pair.from.grow(graph, &self.disabled, radius);
+            let reverse = &graph.g.reverse;
+            let (to, from) = (&self.pair.to, &self.pair.from);
+            let mut starts: Vec<(f32, u32)> = layers[s]
+                .iter()
+                .filter(|&&a| !self.disabled[a as usize] && reverse[a as usize] != NONE)
+                .map(|&a| {
+                    (
+                        to.value(reverse[a as usize] as usize) + from.value(a as usize),
+                        a,
+                    )
+                })
+                .filter(|e| e.0.is_finite())
+                .collect();
+            starts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             for &(lb, a0) in &starts {
                 let cap = best.0.min(radius);
                 // The bounds sum reversed searches: rounding may put them a
@@ -758,7 +838,7 @@ impl LoopEngine {
                 if lb * (1.0 - 1e-4) >= cap {
                     break;
                 }
-                let back = self.pair.from[a0 as usize];
+                let back = self.pair.from.value(a0 as usize);
                 let graph = &self.graph;
                 let reverse = &graph.g.reverse;
                 self.ws.effort += half_search(
