@@ -43,9 +43,20 @@
 //!   or chords across a part narrower than k rings) never end a curve, so a
 //!   part with no interior vertex has no dual curve.
 //! - The hover searches (the labelled ranking and the bidirectional loop)
+//!   and the searches through several anchors
 //!   pop from a radix heap ([`super::radix_heap`]) keyed by the distance's
-//!   bits, not a binary heap: the same order up to ties between equal
-//!   distances. The hover query settles the distances
+//!   bits (A*: the key's), not a binary heap: the same order up to ties
+//!   between equal keys.
+//! - The loop through two positional anchors (the second click) is not one
+//!   layered search per start of the first anchor but, per start a₀, two
+//!   half-searches meeting at the second anchor's candidates y: d(a₀ → y)
+//!   forward and d(y → a₀) as the forward search from reverse(a₀), both A*
+//!   with exact heuristics (the distances to and from the second anchor's
+//!   candidates, one growing Dijkstra each per query); their sum bounds
+//!   each start's loop from below, so the starts run cheapest bound first
+//!   and stop at the best loop. With three or more positional anchors the
+//!   same kind of bound orders and prunes the per-start layered searches.
+//!   Exact (tested against one layered search per start). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
@@ -302,7 +313,7 @@ struct PairWorkspace {
 struct GrowingField {
     dist: Vec<f32>,
     done: Vec<bool>,
-    heap: BinaryHeap<Reverse<(u32, u32)>>,
+    heap: RadixHeap,
     /// Every node closer than this is settled (∞ once the heap is empty).
     radius: f32,
     /// Over reversed paths: node z blocked when `reverse(z)` is disabled.
@@ -321,7 +332,7 @@ impl GrowingField {
         self.reversed = reversed;
         for &z in sources {
             self.dist[z as usize] = 0.0;
-            self.heap.push(Reverse((0f32.to_bits(), z)));
+            self.heap.push(0f32.to_bits(), z);
         }
     }
 
@@ -341,12 +352,13 @@ impl GrowingField {
             }
         };
         let mut effort = 0u64;
-        while let Some(&Reverse((k, x))) = self.heap.peek() {
+        while let Some((k, x)) = self.heap.pop() {
             if f32::from_bits(k) >= radius {
+                // Kept for the next step (at the last popped key: valid).
+                self.heap.push(k, x);
                 self.radius = radius;
                 return effort;
             }
-            self.heap.pop();
             let x = x as usize;
             if self.done[x] {
                 continue;
@@ -362,7 +374,7 @@ impl GrowingField {
                 let nd = d + w;
                 if nd < dist[y] {
                     dist[y] = nd;
-                    heap.push(Reverse((nd.to_bits(), y as u32)));
+                    heap.push(nd.to_bits(), y as u32);
                 }
             });
         }
@@ -393,7 +405,7 @@ struct LayeredWorkspace {
     /// `2·generation` once reached, `2·generation + 1` once settled.
     state: Vec<u32>,
     generation: u32,
-    heap: BinaryHeap<Reverse<(u32, u32)>>,
+    heap: RadixHeap,
 }
 
 impl LayeredWorkspace {
@@ -478,9 +490,9 @@ fn half_search(
     ws.state[src] = reached;
     ws.dist[src] = 0.0;
     ws.parent[src] = NONE;
-    ws.heap.push(Reverse((h(src).to_bits(), source)));
+    ws.heap.push(h(src).to_bits(), source);
     let mut effort = 0u64;
-    while let Some(Reverse((k, x))) = ws.heap.pop() {
+    while let Some((k, x)) = ws.heap.pop() {
         let x = x as usize;
         if ws.state[x] == settled {
             continue;
@@ -504,7 +516,7 @@ fn half_search(
                 ws.state[y] = reached;
                 ws.dist[y] = nd;
                 ws.parent[y] = x as u32;
-                ws.heap.push(Reverse((key.to_bits(), y as u32)));
+                ws.heap.push(key.to_bits(), y as u32);
             }
         });
     }
@@ -685,8 +697,8 @@ impl LoopEngine {
     /// at the next anchor's vertex and y is one of its candidates (turning
     /// at most its `close` limit), the arc also leads to (y, l + 1). The
     /// closed loop runs from (a₀, 0) to (a₀, n) for each a₀ of the smallest
-    /// layer (pruned by the best loop so far, the first bound from one
-    /// search from all of them at once); the dual curve
+    /// layer ([`Self::multi_start_cycle`]; for two positional anchors
+    /// [`Self::two_anchor_cycle`] instead); the dual curve
     /// from every (b, 0) at its distance from ∂ to some (a, n − 1) plus a's
     /// distance to ∂. The same optimum as the metagraph of all pairwise
     /// searches (tested against it), without searching every pair.
@@ -706,10 +718,8 @@ impl LoopEngine {
         let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
         let rotated: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
         let mut best: Option<(f32, Vec<u32>, bool)> = None;
-        // First from all of the smallest layer at once, each path closing
-        // at its own start: a loop, not necessarily the cheapest (a state
-        // keeps only its cheapest start), whose cost bounds the searches
-        // from each start that follow.
+        // The closed loop: two positional anchors by half-searches, any
+        // other anchors by layered searches from the starts.
         if let Some(found) = self.two_anchor_cycle(verts, layers, close, &rotated) {
             best = found;
         } else {
@@ -1079,10 +1089,10 @@ impl LoopEngine {
             }
             ws.state[st] = reached;
             ws.dist[st] = 0.0;
-            ws.heap.push(Reverse((0f32.to_bits(), st as u32)));
+            ws.heap.push(0f32.to_bits(), st as u32);
         }
         let mut effort = 0u64;
-        while let Some(Reverse((k, st))) = ws.heap.pop() {
+        while let Some((k, st)) = ws.heap.pop() {
             let st = st as usize;
             if ws.state[st] == settled {
                 continue;
@@ -1105,7 +1115,7 @@ impl LoopEngine {
                     if ws.state[t] < reached || nd < ws.dist[t] {
                         ws.state[t] = reached;
                         ws.dist[t] = nd;
-                        ws.heap.push(Reverse((nd.to_bits(), t as u32)));
+                        ws.heap.push(nd.to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
@@ -1189,12 +1199,12 @@ impl LoopEngine {
                 ws.dist[st] = c;
                 ws.parent[st] = NONE;
                 ws.label[st] = b;
-                ws.heap.push(Reverse(((c + h(st)).to_bits(), st as u32)));
+                ws.heap.push((c + h(st)).to_bits(), st as u32);
             }
         }
         let mut best = (bound, NONE);
         let mut effort = 0u64;
-        while let Some(Reverse((k, st))) = ws.heap.pop() {
+        while let Some((k, st)) = ws.heap.pop() {
             let st = st as usize;
             if ws.state[st] == settled {
                 continue;
@@ -1237,7 +1247,7 @@ impl LoopEngine {
                         ws.dist[t] = nd;
                         ws.parent[t] = st as u32;
                         ws.label[t] = label;
-                        ws.heap.push(Reverse(((nd + h(t)).to_bits(), t as u32)));
+                        ws.heap.push((nd + h(t)).to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
