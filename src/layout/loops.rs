@@ -484,7 +484,7 @@ fn half_search(
     let now = ws.start(nodes);
     let (reached, settled) = (2 * now, 2 * now + 1);
     let src = source as usize;
-    if source == NONE || blocked(src) || !(bound > 0.0) {
+    if source == NONE || blocked(src) || bound.is_nan() || bound <= 0.0 {
         return 0;
     }
     ws.state[src] = reached;
@@ -510,7 +510,7 @@ fn half_search(
             let nd = d + w;
             if ws.state[y] < reached || nd < ws.dist[y] {
                 let key = nd + h(y);
-                if !(key < bound) {
+                if key.is_nan() || key >= bound {
                     return;
                 }
                 ws.state[y] = reached;
