@@ -11,11 +11,14 @@
 //!    hover loop at v, across it (tangent turned by 90°);
 //! 3. a grab: three positional anchors, at v and at the points one third and
 //!    two thirds along the hover loop, the last moved off the loop by a few
-//!    rings.
+//!    rings;
+//! 4. two anchors apart (as the page's two clicks): v and an independent
+//!    random vertex;
+//! 5. three anchors apart: those two and a third random vertex.
 //!
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
 //! per case (mesh, trial, case, cost) for comparing loop energies between
-//! versions.
+//! versions; `BENCH_EFFORT=1` also prints the g′ states settled per case.
 
 use std::time::Instant;
 
@@ -67,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t.elapsed().as_secs_f64()
         );
         let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
-        let mut times: [Vec<f64>; 3] = Default::default();
+        let mut times: [Vec<f64>; 5] = Default::default();
         for trial in 0..trials {
             let v = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
@@ -103,8 +106,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ];
             let (l, ms) = timed(&mut engine, &grab);
             report(&mut lines, &label, trial, "grab", &l, ms, &mut times[2]);
+            // Anchors apart, as the page's clicks place them: a second and a
+            // third anchor at independent random vertices.
+            let w = rng.next_u32() as usize % mesh.vertex_count().max(1);
+            let two = [click[0], Anchor::positional(mesh.positions[w])];
+            let (l, ms) = timed(&mut engine, &two);
+            report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
+            let u = rng.next_u32() as usize % mesh.vertex_count().max(1);
+            let three = [two[0], two[1], Anchor::positional(mesh.positions[u])];
+            let (l, ms) = timed(&mut engine, &three);
+            report(&mut lines, &label, trial, "apart3", &l, ms, &mut times[4]);
         }
-        for (case, t) in ["click", "drag", "grab"].iter().zip(&mut times) {
+        for (case, t) in ["click", "drag", "grab", "apart2", "apart3"]
+            .iter()
+            .zip(&mut times)
+        {
             t.sort_by(f64::total_cmp);
             if t.is_empty() {
                 continue;
@@ -125,8 +141,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 fn timed(engine: &mut LoopEngine, anchors: &[Anchor]) -> (Option<DualLoop>, f64) {
     let t = Instant::now();
+    let e0 = engine.settled_nodes();
     let l = engine.constrained_loop(anchors);
-    (l, t.elapsed().as_secs_f64() * 1e3)
+    let ms = t.elapsed().as_secs_f64() * 1e3;
+    if std::env::var_os("BENCH_EFFORT").is_some() {
+        println!("    settled {}", engine.settled_nodes() - e0);
+    }
+    (l, ms)
 }
 
 fn report(

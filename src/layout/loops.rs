@@ -43,9 +43,20 @@
 //!   or chords across a part narrower than k rings) never end a curve, so a
 //!   part with no interior vertex has no dual curve.
 //! - The hover searches (the labelled ranking and the bidirectional loop)
+//!   and the searches through several anchors
 //!   pop from a radix heap ([`super::radix_heap`]) keyed by the distance's
-//!   bits, not a binary heap: the same order up to ties between equal
-//!   distances. The hover query settles the distances
+//!   bits (A*: the key's), not a binary heap: the same order up to ties
+//!   between equal keys.
+//! - The loop through two positional anchors (the second click) is not one
+//!   layered search per start of the first anchor but, per start a₀, two
+//!   half-searches meeting at the second anchor's candidates y: d(a₀ → y)
+//!   forward and d(y → a₀) as the forward search from reverse(a₀), both A*
+//!   with exact heuristics (the distances to and from the second anchor's
+//!   candidates, one growing Dijkstra each per query); their sum bounds
+//!   each start's loop from below, so the starts run cheapest bound first
+//!   and stop at the best loop. With three or more positional anchors the
+//!   same kind of bound orders and prunes the per-start layered searches.
+//!   Exact (tested against one layered search per start). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
@@ -278,6 +289,108 @@ pub struct LoopEngine {
     ws: Workspace,
     /// The state of [`LoopEngine::layered_cycle`]'s search.
     layered: LayeredWorkspace,
+    /// The state of [`LoopEngine::two_anchor_cycle`]'s searches.
+    pair: PairWorkspace,
+}
+
+/// [`LoopEngine::two_anchor_cycle`]: the distances to and from the second
+/// anchor's candidates (kept across the searches of one query) and the
+/// second half-search's state.
+#[derive(Debug, Clone, Default)]
+struct PairWorkspace {
+    /// `to.value(z)`: the distance from `reverse(z)` to any candidate of
+    /// the second anchor (a search over the reversed paths).
+    to: GrowingField,
+    /// `from.value(x)`: the distance from any candidate of the second
+    /// anchor to x.
+    from: GrowingField,
+    side: LayeredWorkspace,
+}
+
+/// A multi-source Dijkstra over g′ settled up to a radius that grows on
+/// demand (the heap is kept between the steps).
+#[derive(Debug, Clone, Default)]
+struct GrowingField {
+    dist: Vec<f32>,
+    done: Vec<bool>,
+    heap: RadixHeap,
+    /// Every node closer than this is settled (∞ once the heap is empty).
+    radius: f32,
+    /// Over reversed paths: node z blocked when `reverse(z)` is disabled.
+    reversed: bool,
+}
+
+impl GrowingField {
+    /// Starts a new field from `sources` (at distance 0).
+    fn reset(&mut self, nodes: usize, sources: &[u32], reversed: bool) {
+        self.dist.clear();
+        self.dist.resize(nodes, f32::INFINITY);
+        self.done.clear();
+        self.done.resize(nodes, false);
+        self.heap.clear();
+        self.radius = 0.0;
+        self.reversed = reversed;
+        for &z in sources {
+            self.dist[z as usize] = 0.0;
+            self.heap.push(0f32.to_bits(), z);
+        }
+    }
+
+    /// Settles every node closer than `radius`; returns how many it settled.
+    fn grow(&mut self, graph: &ElasticaGraph, disabled: &[bool], radius: f32) -> u64 {
+        if radius <= self.radius {
+            return 0;
+        }
+        let g = &graph.g;
+        let reversed = self.reversed;
+        let blocked = |z: usize| -> bool {
+            if reversed {
+                let r = g.reverse[z];
+                r == NONE || disabled[r as usize]
+            } else {
+                disabled[z]
+            }
+        };
+        let mut effort = 0u64;
+        while let Some((k, x)) = self.heap.pop() {
+            if f32::from_bits(k) >= radius {
+                // Kept for the next step (at the last popped key: valid).
+                self.heap.push(k, x);
+                self.radius = radius;
+                return effort;
+            }
+            let x = x as usize;
+            if self.done[x] {
+                continue;
+            }
+            self.done[x] = true;
+            effort += 1;
+            let d = self.dist[x];
+            let (dist, heap) = (&mut self.dist, &mut self.heap);
+            graph.for_each_arc(x, |y, w| {
+                if blocked(y) {
+                    return;
+                }
+                let nd = d + w;
+                if nd < dist[y] {
+                    dist[y] = nd;
+                    heap.push(nd.to_bits(), y as u32);
+                }
+            });
+        }
+        self.radius = f32::INFINITY;
+        effort
+    }
+
+    /// The distance of `x`, or the radius when not settled (a lower bound).
+    #[inline]
+    fn value(&self, x: usize) -> f32 {
+        if self.done[x] {
+            self.dist[x]
+        } else {
+            self.radius
+        }
+    }
 }
 
 /// Per (g′ node, layer) state of the layered search
@@ -292,7 +405,7 @@ struct LayeredWorkspace {
     /// `2·generation` once reached, `2·generation + 1` once settled.
     state: Vec<u32>,
     generation: u32,
-    heap: BinaryHeap<Reverse<(u32, u32)>>,
+    heap: RadixHeap,
 }
 
 impl LayeredWorkspace {
@@ -312,6 +425,102 @@ impl LayeredWorkspace {
         self.heap.clear();
         self.generation
     }
+}
+
+/// The distance a single-layer search settled at `x` (∞ if it did not).
+fn settled_dist(ws: &LayeredWorkspace, x: u32) -> f32 {
+    let x = x as usize;
+    if ws.state.get(x) == Some(&(2 * ws.generation + 1)) {
+        ws.dist[x]
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// The nodes of the path a single-layer search found to `x`, source first.
+fn path_to(ws: &LayeredWorkspace, x: u32) -> Vec<u32> {
+    let mut path = Vec::new();
+    let mut at = x;
+    while at != NONE && path.len() <= ws.parent.len() {
+        path.push(at);
+        at = ws.parent[at as usize];
+    }
+    path.reverse();
+    path
+}
+
+/// One A* over g′ from `source` (single layer), pruned at `bound`, with
+/// the heuristic `heur.value(reverse(x))` (a distance field over the
+/// reversed paths; 0 where x has no reverse). `reversed`: a search over reversed
+/// paths, node z blocked when `reverse(z)` is disabled. Returns the
+/// number of nodes settled.
+fn half_search(
+    graph: &ElasticaGraph,
+    disabled: &[bool],
+    ws: &mut LayeredWorkspace,
+    source: u32,
+    reversed: bool,
+    heur: &GrowingField,
+    bound: f32,
+) -> u64 {
+    let g = &graph.g;
+    let nodes = graph.node_count();
+    let blocked = |z: usize| -> bool {
+        if reversed {
+            let r = g.reverse[z];
+            r == NONE || disabled[r as usize]
+        } else {
+            disabled[z]
+        }
+    };
+    let h = |z: usize| -> f32 {
+        let r = g.reverse[z];
+        if r == NONE {
+            0.0
+        } else {
+            heur.value(r as usize)
+        }
+    };
+    let now = ws.start(nodes);
+    let (reached, settled) = (2 * now, 2 * now + 1);
+    let src = source as usize;
+    if source == NONE || blocked(src) || bound.is_nan() || bound <= 0.0 {
+        return 0;
+    }
+    ws.state[src] = reached;
+    ws.dist[src] = 0.0;
+    ws.parent[src] = NONE;
+    ws.heap.push(h(src).to_bits(), source);
+    let mut effort = 0u64;
+    while let Some((k, x)) = ws.heap.pop() {
+        let x = x as usize;
+        if ws.state[x] == settled {
+            continue;
+        }
+        if f32::from_bits(k) >= bound {
+            break;
+        }
+        ws.state[x] = settled;
+        effort += 1;
+        let d = ws.dist[x];
+        graph.for_each_arc(x, |y, w| {
+            if blocked(y) {
+                return;
+            }
+            let nd = d + w;
+            if ws.state[y] < reached || nd < ws.dist[y] {
+                let key = nd + h(y);
+                if key.is_nan() || key >= bound {
+                    return;
+                }
+                ws.state[y] = reached;
+                ws.dist[y] = nd;
+                ws.parent[y] = x as u32;
+                ws.heap.push(key.to_bits(), y as u32);
+            }
+        });
+    }
+    effort
 }
 
 /// How a layered search ends: back at the node its path started from
@@ -344,6 +553,7 @@ impl LoopEngine {
                 ..Workspace::default()
             },
             layered: LayeredWorkspace::default(),
+            pair: PairWorkspace::default(),
         }
     }
 
@@ -487,8 +697,8 @@ impl LoopEngine {
     /// at the next anchor's vertex and y is one of its candidates (turning
     /// at most its `close` limit), the arc also leads to (y, l + 1). The
     /// closed loop runs from (a₀, 0) to (a₀, n) for each a₀ of the smallest
-    /// layer (pruned by the best loop so far, the first bound from one
-    /// search from all of them at once); the dual curve
+    /// layer ([`Self::multi_start_cycle`]; for two positional anchors
+    /// [`Self::two_anchor_cycle`] instead); the dual curve
     /// from every (b, 0) at its distance from ∂ to some (a, n − 1) plus a's
     /// distance to ∂. The same optimum as the metagraph of all pairwise
     /// searches (tested against it), without searching every pair.
@@ -508,36 +718,12 @@ impl LoopEngine {
         let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
         let rotated: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
         let mut best: Option<(f32, Vec<u32>, bool)> = None;
-        // First from all of the smallest layer at once, each path closing
-        // at its own start: a loop, not necessarily the cheapest (a state
-        // keeps only its cheapest start), whose cost bounds the searches
-        // from each start that follow.
-        let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
-        let starts_of = |a0: &u32| -> Vec<(u32, f32)> { vec![(*a0, 0.0)] };
-        let runs: Vec<Vec<(u32, f32)>> = if all.len() > 1 {
-            std::iter::once(all.clone())
-                .chain(layers[s].iter().map(starts_of))
-                .collect()
+        // The closed loop: two positional anchors by half-searches, any
+        // other anchors by layered searches from the starts.
+        if let Some(found) = self.two_anchor_cycle(verts, layers, close, &rotated) {
+            best = found;
         } else {
-            vec![all]
-        };
-        for sources in &runs {
-            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
-            if let Some((cost, mut nodes, starts)) = self.layered_search(
-                verts,
-                layers,
-                close,
-                &rotated,
-                sources,
-                LayeredEnd::Closed,
-                bound,
-            ) {
-                // Start the loop at anchor 0's candidate, as the pairwise
-                // method does.
-                let first = starts[(n - s) % n];
-                nodes.rotate_left(first);
-                best = Some((cost, nodes, true));
-            }
+            self.multi_start_cycle(verts, layers, close, s, &rotated, &mut best);
         }
         if self.has_boundary {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
@@ -584,6 +770,374 @@ impl LoopEngine {
             }
         }
         best
+    }
+
+    /// The closed loop through two positional anchors on distinct vertices
+    /// (`None` for any other anchor set): the loop through a start a₀ of
+    /// the first anchor is min over the second anchor's candidates y of
+    /// d(a₀ → y) + d(y → a₀), and d(y → a₀) = d(reverse(a₀) → reverse(y))
+    /// (g′ weights are reversal-symmetric), so each start needs two
+    /// half-searches, from a₀ and from reverse(a₀), both A* with exact
+    /// heuristics: the distances to and from the second anchor's
+    /// candidates, one search each per query. Their sum is also a lower
+    /// bound of each start's loop: the starts run cheapest bound first and
+    /// stop when the bound reaches the best loop; each half-search is
+    /// pruned by the best loop minus the other half's bound. The same
+    /// optimum as one layered search per start (tested against it); the
+    /// halves settle only the states within the bounds' slack of the
+    /// cheapest paths.
+    #[allow(clippy::type_complexity)]
+    fn two_anchor_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        order: &[usize],
+    ) -> Option<Option<(f32, Vec<u32>, bool)>> {
+        if layers.len() != 2 || close.iter().any(|c| c.is_finite()) || verts[0] == verts[1] {
+            return None;
+        }
+        let (s, t) = (order[0], order[1]);
+        let nodes = self.graph.node_count();
+        // The distances to (reversed) and from the second anchor.
+        let reverse = &self.graph.g.reverse;
+        let to_sources: Vec<u32> = layers[t]
+            .iter()
+            .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
+            .map(|&y| reverse[y as usize])
+            .collect();
+        self.pair.to.reset(nodes, &to_sources, true);
+        let from_sources: Vec<u32> = layers[t]
+            .iter()
+            .copied()
+            .filter(|&y| !self.disabled[y as usize])
+            .collect();
+        self.pair.from.reset(nodes, &from_sources, false);
+        let mut best: (f32, Vec<u32>) = (f32::INFINITY, Vec::new());
+        // Everything is pruned by a radius R, at first a little above a
+        // lower bound of any loop through both (there and back at 0.9 × the
+        // straight distance, as the A* heuristic), doubling while no loop
+        // below it is found: the fields are settled up to R (beyond it
+        // they read R, still a lower bound), the half-searches pruned by
+        // min(best, R).
+        let p = &self.graph.g.mesh.positions;
+        let apart = p[verts[0]].distance(p[verts[1]]) as f32;
+        let mut radius = 2.0 * (2.0 * 0.9 * apart) + BOUNDARY_RADIUS;
+        loop {
+            let graph = &self.graph;
+            self.ws.effort += self.pair.to.grow(graph, &self.disabled, radius);
+            self.ws.effort += self.pair.from.grow(graph, &self.disabled, radius);
+            let reverse = &graph.g.reverse;
+            let (to, from) = (&self.pair.to, &self.pair.from);
+            let mut starts: Vec<(f32, u32)> = layers[s]
+                .iter()
+                .filter(|&&a| !self.disabled[a as usize] && reverse[a as usize] != NONE)
+                .map(|&a| {
+                    (
+                        to.value(reverse[a as usize] as usize) + from.value(a as usize),
+                        a,
+                    )
+                })
+                .filter(|e| e.0.is_finite())
+                .collect();
+            starts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            for &(lb, a0) in &starts {
+                let cap = best.0.min(radius);
+                // The bounds sum reversed searches: rounding may put them a
+                // little above the forward costs.
+                if lb * (1.0 - 1e-4) >= cap {
+                    break;
+                }
+                let back = self.pair.from.value(a0 as usize);
+                let graph = &self.graph;
+                let reverse = &graph.g.reverse;
+                self.ws.effort += half_search(
+                    graph,
+                    &self.disabled,
+                    &mut self.layered,
+                    a0,
+                    false,
+                    &self.pair.to,
+                    cap - back,
+                );
+                let ws1 = &self.layered;
+                let d1: Vec<f32> = layers[t].iter().map(|&y| settled_dist(ws1, y)).collect();
+                let min1 = d1.iter().copied().fold(f32::INFINITY, f32::min);
+                if min1 + back >= cap {
+                    continue;
+                }
+                self.ws.effort += half_search(
+                    graph,
+                    &self.disabled,
+                    &mut self.pair.side,
+                    reverse[a0 as usize],
+                    true,
+                    &self.pair.from,
+                    cap - min1,
+                );
+                let ws2 = &self.pair.side;
+                let mut found: Option<(f32, u32)> = None;
+                for (&y, &d) in layers[t].iter().zip(&d1) {
+                    let r = reverse[y as usize];
+                    if !d.is_finite() || r == NONE {
+                        continue;
+                    }
+                    let total = d + settled_dist(ws2, r);
+                    if total < found.map_or(cap, |f| f.0) {
+                        found = Some((total, y));
+                    }
+                }
+                if let Some((cost, y)) = found {
+                    // a₀ … y, then y … a₀ from the reversed half, without its
+                    // ends (y is there already; a₀ closes the loop).
+                    let mut loop_nodes = path_to(ws1, y);
+                    let back_path = path_to(ws2, reverse[y as usize]);
+                    let inner = back_path.len().saturating_sub(1);
+                    loop_nodes.extend(
+                        back_path[1..inner]
+                            .iter()
+                            .rev()
+                            .map(|&z| reverse[z as usize]),
+                    );
+                    if s != 0 {
+                        // Start at anchor 0's candidate, y.
+                        let at = loop_nodes.iter().position(|&x| x == y).unwrap_or(0);
+                        loop_nodes.rotate_left(at);
+                    }
+                    best = (cost, loop_nodes);
+                }
+            }
+            if best.0 <= radius || !radius.is_finite() {
+                break;
+            }
+            radius = if best.0.is_finite() {
+                best.0
+            } else if radius > 1e4 {
+                f32::INFINITY
+            } else {
+                2.0 * radius
+            };
+        }
+        Some(best.0.is_finite().then_some((best.0, best.1, true)))
+    }
+
+    /// The closed loop of [`Self::layered_cycle`] by layered searches: one
+    /// from all of the smallest layer `s` at once (a loop, not necessarily
+    /// the cheapest: a state keeps only its cheapest start), then one per
+    /// start, cheapest lower bound first ([`Self::start_bounds`]), each
+    /// pruned by the best loop so far.
+    fn multi_start_cycle(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        s: usize,
+        rotated: &[usize],
+        best: &mut Option<(f32, Vec<u32>, bool)>,
+    ) {
+        let n = layers.len();
+        let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
+        let run = |engine: &mut Self,
+                   sources: &[(u32, f32)],
+                   best: &mut Option<(f32, Vec<u32>, bool)>| {
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            if let Some((cost, mut nodes, starts)) = engine.layered_search(
+                verts,
+                layers,
+                close,
+                rotated,
+                sources,
+                LayeredEnd::Closed,
+                bound,
+            ) {
+                // Start the loop at anchor 0's candidate, as the pairwise
+                // method does.
+                let first = starts[(n - s) % n];
+                nodes.rotate_left(first);
+                *best = Some((cost, nodes, true));
+            }
+        };
+        run(self, &all, best);
+        if all.len() > 1 {
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            // Then one exact search per start, cheapest lower bound first,
+            // skipping the starts whose bound reaches the best loop so far
+            // (without bounds: every start).
+            let order: Vec<(f32, u32)> =
+                match self.start_bounds(verts, layers, close, rotated, bound) {
+                    Some(lb) => {
+                        let mut o: Vec<(f32, u32)> =
+                            lb.into_iter().zip(layers[s].iter().copied()).collect();
+                        o.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                        o
+                    }
+                    None => layers[s].iter().map(|&a| (0.0, a)).collect(),
+                };
+            for (lb, a0) in order {
+                let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+                // The bounds sum reversed searches: rounding may put them a
+                // little above the forward costs.
+                if lb * (1.0 - 1e-4) >= bound {
+                    break;
+                }
+                run(self, &[(a0, 0.0)], best);
+            }
+        }
+    }
+
+    /// Lower bounds of the loop through each start a₀ of layer `order[0]`
+    /// (all anchors positional, consecutive anchors on distinct vertices;
+    /// `None` otherwise): the loop a₀ → ξ₁ → … → ξ_{n−1} → a₀ costs at least
+    /// F(a₀) + B(a₀), with F(a₀) the distance from a₀ to any candidate of
+    /// the next anchor and B(a₀) the layered distance from any candidate of
+    /// the next anchor, past the later anchors, back to a₀ (the relaxation
+    /// drops only that the two halves meet at the same candidate). F comes
+    /// from ONE search from the reversed candidates of the next anchor
+    /// (g′ weights are reversal-symmetric), B from one forward search from
+    /// all of them, each pruned at `bound` (a bound at or above it means
+    /// "not below `bound`"). Two searches instead of one per start.
+    fn start_bounds(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        order: &[usize],
+        bound: f32,
+    ) -> Option<Vec<f32>> {
+        let n = order.len();
+        if n < 2
+            || close.iter().any(|c| c.is_finite())
+            || (0..n).any(|k| verts[order[k]] == verts[order[(k + 1) % n]])
+            || !bound.is_finite()
+        {
+            return None;
+        }
+        let reverse = &self.graph.g.reverse;
+        let starts = &layers[order[0]];
+        let next = &layers[order[1]];
+        // F: from the reversed candidates of the next anchor to the reversed
+        // starts.
+        let sources: Vec<u32> = next
+            .iter()
+            .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
+            .map(|&y| reverse[y as usize])
+            .collect();
+        let read: Vec<u32> = starts.iter().map(|&a| reverse[a as usize]).collect();
+        let f = self.layer_field(&sources, &[], true, bound, &read);
+        let f: Vec<f32> = f
+            .iter()
+            .zip(&read)
+            .map(|(&d, &r)| if r == NONE { 0.0 } else { d.min(bound) })
+            .collect();
+        let min_f = f.iter().copied().fold(f32::INFINITY, f32::min);
+        if min_f >= bound {
+            return Some(f);
+        }
+        // B: from the next anchor's candidates past the later ones to the
+        // starts.
+        let sources: Vec<u32> = next.clone();
+        let passes: Vec<Vec<u32>> = (2..n).map(|k| layers[order[k]].clone()).collect();
+        let b_bound = bound - min_f;
+        let b = self.layer_field(&sources, &passes, false, b_bound, starts);
+        Some(
+            f.iter()
+                .zip(&b)
+                .map(|(&f, &b)| f + b.min(b_bound))
+                .collect(),
+        )
+    }
+
+    /// Multi-source Dijkstra over a layered g′ (state (x, j): x having
+    /// passed the first j of `passes`; an arc onto a node of `passes[j]`
+    /// also leads to layer j + 1), from `sources` at cost 0 in layer 0,
+    /// pruned at `bound`. Returns the distance (∞ if not below `bound`) of
+    /// each node of `read` in the last layer. `reversed`: a search over the
+    /// reversed paths (node z stands for `reverse(z)`; only without passes).
+    fn layer_field(
+        &mut self,
+        sources: &[u32],
+        passes: &[Vec<u32>],
+        reversed: bool,
+        bound: f32,
+        read: &[u32],
+    ) -> Vec<f32> {
+        debug_assert!(!reversed || passes.is_empty());
+        let graph = &self.graph;
+        let g = &graph.g;
+        let nodes = graph.node_count();
+        let last = passes.len();
+        let pass_vertex: Vec<u32> = passes
+            .iter()
+            .map(|p| p.first().map_or(NONE, |&y| g.source[y as usize]))
+            .collect();
+        let disabled = &self.disabled;
+        let blocked = |z: usize| -> bool {
+            if reversed {
+                let r = g.reverse[z];
+                r == NONE || disabled[r as usize]
+            } else {
+                disabled[z]
+            }
+        };
+        let ws = &mut self.layered;
+        let now = ws.start(nodes * (last + 1));
+        let (reached, settled) = (2 * now, 2 * now + 1);
+        for &b in sources {
+            let st = b as usize;
+            if blocked(st) {
+                continue;
+            }
+            ws.state[st] = reached;
+            ws.dist[st] = 0.0;
+            ws.heap.push(0f32.to_bits(), st as u32);
+        }
+        let mut effort = 0u64;
+        while let Some((k, st)) = ws.heap.pop() {
+            let st = st as usize;
+            if ws.state[st] == settled {
+                continue;
+            }
+            if f32::from_bits(k) >= bound {
+                break;
+            }
+            ws.state[st] = settled;
+            effort += 1;
+            let (l, x) = (st / nodes, st % nodes);
+            let d = ws.dist[st];
+            let base = l * nodes;
+            let pass = (l < last && g.target[x] == pass_vertex[l]).then(|| &passes[l]);
+            graph.for_each_arc(x, |y, w| {
+                if blocked(y) {
+                    return;
+                }
+                let nd = d + w;
+                let mut relax = |t: usize| {
+                    if ws.state[t] < reached || nd < ws.dist[t] {
+                        ws.state[t] = reached;
+                        ws.dist[t] = nd;
+                        ws.heap.push(nd.to_bits(), t as u32);
+                    }
+                };
+                relax(base + y);
+                if pass.is_some_and(|p| p.contains(&(y as u32))) {
+                    relax(base + nodes + y);
+                }
+            });
+        }
+        self.ws.effort += effort;
+        read.iter()
+            .map(|&r| {
+                if r == NONE {
+                    return f32::INFINITY;
+                }
+                let st = last * nodes + r as usize;
+                if ws.state[st] == settled {
+                    ws.dist[st]
+                } else {
+                    f32::INFINITY
+                }
+            })
+            .collect()
     }
 
     /// One A* over the layered g′ of [`Self::layered_cycle`] with the
@@ -645,12 +1199,12 @@ impl LoopEngine {
                 ws.dist[st] = c;
                 ws.parent[st] = NONE;
                 ws.label[st] = b;
-                ws.heap.push(Reverse(((c + h(st)).to_bits(), st as u32)));
+                ws.heap.push((c + h(st)).to_bits(), st as u32);
             }
         }
         let mut best = (bound, NONE);
         let mut effort = 0u64;
-        while let Some(Reverse((k, st))) = ws.heap.pop() {
+        while let Some((k, st)) = ws.heap.pop() {
             let st = st as usize;
             if ws.state[st] == settled {
                 continue;
@@ -693,7 +1247,7 @@ impl LoopEngine {
                         ws.dist[t] = nd;
                         ws.parent[t] = st as u32;
                         ws.label[t] = label;
-                        ws.heap.push(Reverse(((nd + h(t)).to_bits(), t as u32)));
+                        ws.heap.push((nd + h(t)).to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
@@ -1938,6 +2492,107 @@ mod tests {
             }
         }
         assert!(open_curves > 0, "no dual curve was the best answer");
+    }
+
+    /// The loop through two (and three) positional anchors by the
+    /// half-searches of [`LoopEngine::two_anchor_cycle`] (and the
+    /// bound-ordered starts of [`LoopEngine::multi_start_cycle`]) costs the
+    /// same as the method before them, one unpruned layered search per
+    /// start of the first anchor, on many random anchor sets of a torus,
+    /// a sphere and an open cylinder, with and without a committed strip
+    /// (disabled nodes); the loop found walks its cost through the anchors.
+    #[test]
+    fn two_anchor_half_searches_equal_one_layered_search_per_start() {
+        use rand_core::{RngCore, SeedableRng};
+        let meshes = [
+            torus(2.0, 0.7, 30, 12),
+            icosphere(1.0, 2),
+            cylinder(1.0, 3.0, 24, 12),
+        ];
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(21);
+        let mut compared = 0;
+        for mesh in &meshes {
+            let mut e = LoopEngine::new(mesh, &ElasticaParams::default());
+            let n = mesh.vertex_count();
+            for covered in [false, true] {
+                if covered {
+                    let l = e
+                        .best_loop(e.vertex_position(n / 2))
+                        .expect("a loop to commit");
+                    e.cover_loop(&l, 0.15 * e.graph.g.diagonal);
+                }
+                for _ in 0..12 {
+                    for count in [2usize, 3] {
+                        let verts: Vec<usize> =
+                            (0..count).map(|_| rng.next_u32() as usize % n).collect();
+                        if (0..count).any(|i| verts[i] == verts[(i + 1) % count]) {
+                            continue;
+                        }
+                        let layers: Vec<Vec<u32>> = verts
+                            .iter()
+                            .map(|&v| e.candidate_edges(v, DVec3::ZERO))
+                            .collect();
+                        if layers.iter().any(|l| l.is_empty()) {
+                            continue;
+                        }
+                        let close = vec![f32::INFINITY; count];
+                        let order: Vec<usize> = (0..count).collect();
+                        // The method before: one search per start, unpruned.
+                        let mut reference = f32::INFINITY;
+                        for &a in &layers[0] {
+                            if let Some((c, _, _)) = e.layered_search(
+                                &verts,
+                                &layers,
+                                &close,
+                                &order,
+                                &[(a, 0.0)],
+                                LayeredEnd::Closed,
+                                f32::INFINITY,
+                            ) {
+                                reference = reference.min(c);
+                            }
+                        }
+                        let mut best = None;
+                        let found = if count == 2 {
+                            e.two_anchor_cycle(&verts, &layers, &close, &order)
+                                .expect("two positional anchors")
+                        } else {
+                            e.multi_start_cycle(&verts, &layers, &close, 0, &order, &mut best);
+                            best
+                        };
+                        let tol = 1e-4 * reference.max(1.0);
+                        match found {
+                            None => assert!(!reference.is_finite(), "{verts:?}: no loop found"),
+                            Some((cost, nodes, closed)) => {
+                                assert!(
+                                    (cost - reference).abs() <= tol,
+                                    "{verts:?} covered {covered}: {cost} vs {reference}"
+                                );
+                                assert!(closed);
+                                let (walked, ok) = walk_cost(&e, &nodes);
+                                assert!(ok, "{verts:?}: not a cycle of arcs");
+                                assert!(
+                                    (walked - cost).abs() <= tol,
+                                    "{verts:?}: walks {walked}, reported {cost}"
+                                );
+                                assert!(layers[0].contains(&nodes[0]));
+                                for &v in &verts {
+                                    assert!(
+                                        nodes
+                                            .iter()
+                                            .any(|&x| e.graph.g.source[x as usize] as usize == v),
+                                        "{verts:?}: misses anchor vertex {v}"
+                                    );
+                                }
+                                assert!(nodes.iter().all(|&x| !e.disabled[x as usize]));
+                                compared += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared >= 100, "only {compared} anchor sets compared");
     }
 
     /// The metagraph cycle pruned by the growing radius equals the unpruned
