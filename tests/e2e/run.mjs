@@ -680,12 +680,18 @@ test('design mode: a click while the analysis runs answers without it; an Enter 
   await enterDesign(page);
   const hits = await surfaceGrid(page);
   const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
-  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
-  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
-  // The commit's analysis now runs in its worker: click at once.
+  // The commit's analysis then runs in its worker: click at once. The
+  // torus' analysis takes a few hundred ms; when it has already ended by
+  // the time the page is asked, another strip is committed (at most 4).
+  let analyses = 0;
+  let runningAtClick = false;
+  for (let attempt = 0; attempt < 4 && !runningAtClick; attempt++) {
+    analyses = await page.evaluate(() => window.quadrille.design.analyses);
+    await hoverAndCommit(page, byX[Math.floor(byX.length * (0.05 + 0.1 * attempt))]);
+    runningAtClick = await page.evaluate((n) => window.quadrille.design.analyses === n, analyses);
+  }
   const p = byX[Math.floor(byX.length * 0.6)];
   const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
-  const runningAtClick = await page.evaluate((n) => window.quadrille.design.analyses === n, analyses);
   await page.mouse.click(p.x, p.y);
   await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
   const click = await page.evaluate((n) => ({ ms: window.quadrille.design.actionLatencies.addAnchor.at(-1), stillRunning: window.quadrille.design.analyses === n,
