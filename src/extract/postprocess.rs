@@ -710,15 +710,7 @@ pub fn fix_wide_corners(
     surface: Option<&SurfaceIndex>,
 ) -> (usize, usize) {
     let limit = max_degrees.to_radians();
-    let widest = |pos: &[DVec3], f: &[u32]| -> f64 {
-        if f.len() != 4 {
-            return 0.0;
-        }
-        let p: [DVec3; 4] = std::array::from_fn(|i| pos[f[i] as usize]);
-        crate::metrics::quad_corner_angles(&p)
-            .into_iter()
-            .fold(0.0, f64::max)
-    };
+    let widest = widest_quad_corner;
     let n = g.len();
     let vf = vertex_faces(n, faces);
     let mut moved = vec![false; n];
@@ -842,9 +834,35 @@ pub fn fix_wide_corners(
             break;
         }
     }
+    let splits = split_wide_quads(faces, g, limit, split_budget_percent);
+    (moved.iter().filter(|&&m| m).count(), splits)
+}
+
+/// A quad's widest corner (radians; reflex corners read above π), 0 for
+/// other faces.
+fn widest_quad_corner(pos: &[DVec3], f: &[u32]) -> f64 {
+    if f.len() != 4 {
+        return 0.0;
+    }
+    let p: [DVec3; 4] = std::array::from_fn(|i| pos[f[i] as usize]);
+    crate::metrics::quad_corner_angles(&p)
+        .into_iter()
+        .fold(0.0, f64::max)
+}
+
+/// The splits of [`fix_wide_corners`]: quads with a corner above `limit`
+/// (radians), widest first, into two triangles through that corner while
+/// at most `budget_percent` of the faces are odd. Returns the number split.
+fn split_wide_quads(
+    faces: &mut Vec<Vec<u32>>,
+    g: &Graph,
+    limit: f64,
+    budget_percent: f64,
+) -> usize {
+    let widest = |f: &[u32]| widest_quad_corner(&g.pos, f);
     // The widest first, while the odd faces stay within the budget.
     let mut wide: Vec<(f64, usize)> = (0..faces.len())
-        .map(|f| (widest(&g.pos, &faces[f]), f))
+        .map(|f| (widest(&faces[f]), f))
         .filter(|&(w, _)| w > limit)
         .collect();
     wide.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -856,7 +874,7 @@ pub fn fix_wide_corners(
     let mut splits = 0;
     for (_, fi) in wide {
         let total = faces.len() + 1;
-        if 100.0 * (odd + 2) as f64 > split_budget_percent * total as f64 {
+        if 100.0 * (odd + 2) as f64 > budget_percent * total as f64 {
             break;
         }
         let f = faces[fi].clone();
@@ -872,7 +890,7 @@ pub fn fix_wide_corners(
         odd += 2;
         splits += 1;
     }
-    (moved.iter().filter(|&&m| m).count(), splits)
+    splits
 }
 
 /// Deviation (not in the thesis): odd faces (triangles, pentagons) are
