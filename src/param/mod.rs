@@ -390,6 +390,7 @@ pub fn cross_field_of(
         constraints: &constraints,
         soft_constraints: &soft,
         soft_weight: params.region_cross_weight.unwrap_or(0.0),
+        feature_edges: &p.feature_edges,
     })
     .ok_or(ParamError::Solve("cross field"))
 }
