@@ -349,18 +349,7 @@ fn fandisk_feature_curves_lie_on_integer_isolines() {
     };
     let r = param::run(&mesh, &params, &|| 0.0).expect("a map");
     assert_eq!(r.map.conflicts, 0);
-    let mut count = 0;
-    for (f, edges) in r.prepared.feature_edges.iter().enumerate() {
-        for e in (0..3).filter(|&e| edges[e]) {
-            let (a, b) = (r.map.uv[f][e], r.map.uv[f][(e + 1) % 3]);
-            let on_isoline = |x: f64, y: f64| (x - y).abs() < 1e-9 && (x - x.round()).abs() < 1e-9;
-            assert!(
-                on_isoline(a.x, b.x) || on_isoline(a.y, b.y),
-                "face {f} edge {e}: {a} – {b}"
-            );
-            count += 1;
-        }
-    }
+    let count = feature_edges_on_isolines(&r);
     // Both sides of every feature edge.
     assert!(count > 200 && count % 2 == 0, "{count} feature edge sides");
     let plain = param::run(&mesh, &Params::default(), &|| 0.0).expect("a map");
@@ -439,6 +428,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
         constraints: &helical,
         soft_constraints: &[],
         soft_weight: 0.0,
+        feature_edges: &[],
     })
     .expect("a cross field");
     let principal_field = param::cross_field_of(&mesh, &prepared, &params).expect("a cross field");
@@ -497,4 +487,175 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
             errors[0], errors[1]
         );
     }
+}
+
+/// The cube [−1, 1]³, each face an n × n grid of squares split into two
+/// triangles.
+fn cube(n: u32) -> TriMesh {
+    let mut index = std::collections::HashMap::new();
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut triangles = Vec::new();
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let normal =
+                DVec3::from_array(std::array::from_fn(|k| if k == axis { sign } else { 0.0 }));
+            let u = DVec3::from_array(std::array::from_fn(|k| {
+                if k == (axis + 1) % 3 { 1.0 } else { 0.0 }
+            }));
+            let v = normal.cross(u);
+            let mut id = |i: u32, j: u32| {
+                let (a, b) = (
+                    2.0 * i as f64 / n as f64 - 1.0,
+                    2.0 * j as f64 / n as f64 - 1.0,
+                );
+                let q = normal + u * a + v * b;
+                let key = (q * 1e6).round().as_i64vec3().to_array();
+                *index.entry(key).or_insert_with(|| {
+                    positions.push(q);
+                    (positions.len() - 1) as u32
+                })
+            };
+            for j in 0..n {
+                for i in 0..n {
+                    let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                    triangles.push([a, b, c]);
+                    triangles.push([a, c, d]);
+                }
+            }
+        }
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
+/// Per interior vertex with two or more feature edges: the index its
+/// corner angles ask for, in quarter turns, 4 − Σk with k = max(1,
+/// round(α/90°)) per sector α between consecutive feature edges (MIQ
+/// §4–5: the curves are integer isolines, so every sector is a whole
+/// number of quarter turns in the map) — from the mesh's own angles.
+fn corner_targets(mesh: &TriMesh, prepared: &param::Prepared) -> Vec<(u32, i32)> {
+    let mut out = Vec::new();
+    for (v, fan) in prepared.fans.iter().enumerate() {
+        let Some(fan) = fan.as_ref().filter(|f| f.closed) else {
+            continue;
+        };
+        let mut sectors: Vec<f64> = Vec::new();
+        let mut angle = 0.0;
+        let mut seen = 0;
+        // Start after the last feature crossing; each corner's angle is
+        // added before its outgoing crossing (over local edge i + 2).
+        let m = fan.corners.len();
+        let feature = |c: (u32, u8)| prepared.feature_edges[c.0 as usize][(c.1 as usize + 2) % 3];
+        let Some(last) = (0..m).rev().find(|&j| feature(fan.corners[j])) else {
+            continue;
+        };
+        for k in 1..=m {
+            let c = fan.corners[(last + k) % m];
+            let t = mesh.triangles[c.0 as usize];
+            let i = c.1 as usize;
+            let p = |j: usize| mesh.positions[t[j % 3] as usize];
+            angle += (p(i + 1) - p(i)).angle_between(p(i + 2) - p(i));
+            if feature(c) {
+                sectors.push(angle);
+                angle = 0.0;
+                seen += 1;
+            }
+        }
+        if seen >= 2 {
+            let k: i32 = sectors
+                .iter()
+                .map(|a| ((a / std::f64::consts::FRAC_PI_2).round() as i32).max(1))
+                .sum();
+            out.push((v as u32, 4 - k));
+        }
+    }
+    out
+}
+
+/// Every feature edge of `r` on an integer isoline, on both sides;
+/// returns the number of sides.
+fn feature_edges_on_isolines(r: &param::Run) -> usize {
+    let mut count = 0;
+    for (f, edges) in r.prepared.feature_edges.iter().enumerate() {
+        for e in (0..3).filter(|&e| edges[e]) {
+            let (a, b) = (r.map.uv[f][e], r.map.uv[f][(e + 1) % 3]);
+            let on_isoline = |x: f64, y: f64| (x - y).abs() < 1e-9 && is_integer(x);
+            assert!(
+                on_isoline(a.x, b.x) || on_isoline(a.y, b.y),
+                "face {f} edge {e}: {a} – {b}"
+            );
+            count += 1;
+        }
+    }
+    count
+}
+
+/// Cones at feature corners (Bommes et al. 2009 §4–5): on a cube with its
+/// twelve edges as feature curves, the 8 corners (three 90° sectors: 1 −
+/// 3/4) are the only cones, +¼ each, at the corner vertices, and every
+/// feature edge lies on an integer isoline of the rounded, seamless map.
+#[test]
+fn cube_corners_are_the_quarter_cones_and_its_edges_integer_isolines() {
+    let mesh = cube(8);
+    let params = Params {
+        feature_curve_degrees: 60.0,
+        ..uniform(200)
+    };
+    let r = param::run(&mesh, &params, &|| 0.0).expect("a map");
+    assert_eq!(r.map.conflicts, 0);
+    let corners: Vec<u32> = (0..mesh.vertex_count() as u32)
+        .filter(|&v| {
+            let p = mesh.positions[v as usize];
+            (p.abs() - DVec3::ONE).abs().max_element() < 1e-12
+        })
+        .collect();
+    assert_eq!(corners.len(), 8);
+    let mut cones: Vec<(u32, i32)> = r.map.cones.iter().map(|c| (c.vertex, c.quarters)).collect();
+    cones.sort_unstable();
+    assert_eq!(cones, corners.iter().map(|&v| (v, 1)).collect::<Vec<_>>());
+    check_seamless(&mesh, &r.map, true);
+    // 12 curves of 8 edges, two sides each.
+    assert_eq!(feature_edges_on_isolines(&r), 12 * 8 * 2);
+    println!(
+        "cube: flips {}, misalignment {:.2}°, shear {:.2}°",
+        r.measures.flipped_triangles, r.measures.misalignment_degrees, r.measures.shear_degrees
+    );
+}
+
+/// On fandisk (feature curves at 60°), every vertex of the curves has the
+/// index its corner angles ask for ([`corner_targets`]: 23 corners with
+/// cones, none on the curves elsewhere), with the filtered normals
+/// (whose plain period-jump rounding put 5 of the corner cones one or
+/// two rings away from their corners).
+#[test]
+fn fandisk_feature_corners_have_the_cones_of_their_angles() {
+    let mesh = common::mesh("fandisk.obj");
+    let params = Params {
+        feature_curve_degrees: 60.0,
+        ..Params::default()
+    };
+    let prepared = param::prepare(&mesh, &params);
+    let field = param::cross_field_of(&mesh, &prepared, &params).expect("a cross field");
+    let targets = corner_targets(&mesh, &prepared);
+    let index = |v: u32| {
+        field
+            .cones
+            .iter()
+            .find(|c| c.vertex == v)
+            .map_or(0, |c| c.quarters)
+    };
+    let wrong: Vec<(u32, i32, i32)> = targets
+        .iter()
+        .filter(|&&(v, q)| index(v) != q)
+        .map(|&(v, q)| (v, q, index(v)))
+        .collect();
+    let corners = targets.iter().filter(|t| t.1 != 0).count();
+    println!(
+        "fandisk: {} feature vertices, {corners} corners, wrong {wrong:?}",
+        targets.len()
+    );
+    assert!(corners >= 20, "{corners} corners");
+    assert!(wrong.is_empty(), "vertex, target, index: {wrong:?}");
 }

@@ -27,7 +27,12 @@
 //! θ_target − k_f·π/2)² to step (3), k_f rounded with the p in step (2):
 //! a finite instead of Campen §4.1's ∞ weight. Faces on the boundary are aligned
 //! with their boundary edge (MIQ's boundary alignment), so boundaries can
-//! become integer isolines.
+//! become integer isolines; so are faces on feature curves, and at every
+//! vertex of the curves the period jumps of each sector between two
+//! curves are rounded with the sum that makes the sector k·90° (k from
+//! its surface angle), so corners get the cone their angles ask for,
+//! at the corner vertex (MIQ §4–5's feature constraints; see
+//! `corner_sectors`).
 
 // Parallel per-face arrays read best indexed.
 #![allow(clippy::needless_range_loop)]
@@ -67,6 +72,13 @@ pub struct CrossFieldInput<'a> {
     /// The soft constraints' weight against E_smooth's unit edge weights
     /// (areas normalised to mean 1).
     pub soft_weight: f64,
+    /// Per face edge: on a feature curve (empty: none). At every interior
+    /// vertex with two or more feature edges, the period jumps of each
+    /// sector between consecutive feature edges make the sector k·90° in
+    /// the map, k = max(1, round(sector angle / 90°)), so that the vertex
+    /// gets the index 1 − Σk/4 ([`corner_sectors`]). Their faces should
+    /// be constrained to the feature edges.
+    pub feature_edges: &'a [[bool; 3]],
 }
 
 /// A cone: an interior vertex with nonzero index.
@@ -646,21 +658,222 @@ fn has_free_component(r: &Relaxation<'_>) -> bool {
     (0..nf).any(|f| r.components[f] as usize == f && !constrained[f])
 }
 
-/// Steps (2)–(3), repeated.
+/// Steps (2)–(3), repeated; the period jumps at feature corners are
+/// rounded with their sectors' sums ([`enforce_sectors`]).
 fn round_and_resolve(
     r: &Relaxation<'_>,
     system: &AngleSystem,
+    sectors: &[Sector],
     mut theta: Vec<f64>,
 ) -> Option<(Vec<f64>, Vec<[i32; 3]>)> {
-    let mut p = round_period_jumps(r.topology, r.kappa, &theta);
+    let round = |theta: &[f64]| {
+        let mut p = round_period_jumps(r.topology, r.kappa, theta);
+        enforce_sectors(r.topology, r.kappa, theta, sectors, &mut p);
+        p
+    };
+    let mut p = round(&theta);
     let mut k = round_soft_offsets(r, &theta);
     for _ in 0..ROUNDS {
         theta = system.solve(r, &p, &k)?;
-        p = round_period_jumps(r.topology, r.kappa, &theta);
+        p = round(&theta);
         k = round_soft_offsets(r, &theta);
     }
     theta = system.solve(r, &p, &k)?;
     Some((theta, p))
+}
+
+/// One sector of a feature vertex's fan between two consecutive feature
+/// edges: the interior edges crossed counter-clockwise, (face, local
+/// edge), and the sum of their period jumps that makes it `quarters`
+/// quarter turns in the map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sector {
+    pub vertex: u32,
+    pub edges: Vec<(usize, usize)>,
+    pub quarters: i32,
+    pub period_jump_sum: i32,
+}
+
+/// The sectors of every interior vertex with at least two feature edges
+/// (Bommes et al. 2009 §4–5: the feature curves are integer isolines,
+/// so at a corner each sector between two of them spans a whole number
+/// k ≥ 1 of quarter turns in the map, and the vertex is a cone of index
+/// 1 − Σk/4; on a straight curve k = 2 + 2, no cone).
+///
+/// A sector runs from feature edge a, in its first face F₁, to the next
+/// feature edge b counter-clockwise; its edges are the crossings from F₁
+/// up to and including b's, into the next sector's first face F_b. Let β
+/// be the counter-clockwise angle from a to b by the transport of the κ
+/// (the representative nearest the sector's surface angle α). The cross
+/// carried from F₁ along the sector arrives rotated by
+/// ρ = θ_b − θ₁ − Σκ − (π/2)·Σp against the transport; it turns a onto b
+/// after k quarter turns when ρ = β − k·π/2, which gives Σp (θ₁, θ_b are
+/// the fixed angles of the constrained faces; a sector whose end face is
+/// unconstrained is skipped). With the filtered normals β is not α (a
+/// cube corner's sectors are 120° in the filtered planes), which is why
+/// the plain rounding of p puts corner cones a ring or two away.
+fn corner_sectors(
+    input: &CrossFieldInput<'_>,
+    reference: &[DVec3],
+    kappa: &[[f64; 3]],
+    fixed: &[Option<f64>],
+) -> Vec<Sector> {
+    let (mesh, features) = (input.mesh, input.feature_edges);
+    let mut out = Vec::new();
+    if features.is_empty() {
+        return out;
+    }
+    let sharp = |f: usize, e: usize| features.get(f).is_some_and(|s| s[e]);
+    for (v, fan) in input.fans.iter().enumerate() {
+        let Some(fan) = fan.as_ref().filter(|f| f.closed) else {
+            continue;
+        };
+        let corners: Vec<(usize, usize)> = fan
+            .corners
+            .iter()
+            .map(|&(f, i)| (f as usize, i as usize))
+            .collect();
+        let m = corners.len();
+        // Crossing j goes from corner j to corner j + 1 over local edge
+        // i + 2 of corner j's face.
+        let cuts: Vec<usize> = (0..m)
+            .filter(|&j| sharp(corners[j].0, (corners[j].1 + 2) % 3))
+            .collect();
+        if cuts.len() < 2 {
+            continue;
+        }
+        let mut here: Vec<(f64, Sector)> = Vec::with_capacity(cuts.len());
+        for (c, &s) in cuts.iter().enumerate() {
+            let next = cuts[(c + 1) % cuts.len()];
+            let len = (next + m - s - 1) % m + 1; // faces s + 1 ..= next
+            let faces: Vec<(usize, usize)> = (1..=len).map(|k| corners[(s + k) % m]).collect();
+            let (f1, i1) = faces[0];
+            let (fb, ib) = corners[(next + 1) % m];
+            let (Some(t1), Some(tb)) = (fixed[f1], fixed[fb]) else {
+                continue;
+            };
+            let p = |f: usize, i: usize| mesh.positions[mesh.triangles[f][i] as usize];
+            let alpha: f64 = faces
+                .iter()
+                .map(|&(f, i)| {
+                    let (a, b) = (p(f, (i + 1) % 3) - p(f, i), p(f, (i + 2) % 3) - p(f, i));
+                    a.angle_between(b)
+                })
+                .sum();
+            let edges: Vec<(usize, usize)> = faces.iter().map(|&(f, i)| (f, (i + 2) % 3)).collect();
+            let sum_kappa: f64 = edges.iter().map(|&(f, e)| kappa[f][e]).sum();
+            let ea = p(f1, (i1 + 1) % 3) - p(f1, i1);
+            let eb = p(fb, (ib + 1) % 3) - p(fb, ib);
+            let a1 = angle_from(reference[f1], input.normals[f1], ea);
+            let ab = angle_from(reference[fb], input.normals[fb], eb);
+            let raw = ab - a1 - sum_kappa;
+            let beta = raw + TAU * ((alpha - raw) / TAU).round();
+            let k = ((alpha / FRAC_PI_2).round() as i32).max(1);
+            let sum_p = (tb - t1 - sum_kappa - (beta - FRAC_PI_2 * k as f64)) / FRAC_PI_2;
+            here.push((
+                sum_p,
+                Sector {
+                    vertex: v as u32,
+                    edges,
+                    quarters: k,
+                    period_jump_sum: sum_p.round() as i32,
+                },
+            ));
+        }
+        // The sectors' real sums add up to an integer (the θ telescope and
+        // Σκ ≡ K(v)); rounding them one by one could miss it by one (end
+        // faces whose cross is turned against their edge, as in a sector
+        // of one face aligned with its other feature edge), so they are
+        // rounded with that total (largest remainders first).
+        if here.len() == cuts.len() {
+            let total = here.iter().map(|h| h.0).sum::<f64>().round() as i32;
+            for h in &mut here {
+                h.1.period_jump_sum = h.0.floor() as i32;
+            }
+            let mut d = total - here.iter().map(|h| h.1.period_jump_sum).sum::<i32>();
+            let mut order: Vec<usize> = (0..here.len()).collect();
+            order.sort_by(|&i, &j| {
+                (here[j].0 - here[j].0.floor()).total_cmp(&(here[i].0 - here[i].0.floor()))
+            });
+            for &i in order.iter().cycle().take(here.len() * 4) {
+                if d <= 0 {
+                    break;
+                }
+                here[i].1.period_jump_sum += 1;
+                d -= 1;
+            }
+        }
+        out.extend(here.into_iter().map(|h| h.1));
+    }
+    out.sort_by_key(|s| s.edges.len());
+    out
+}
+
+/// The period jumps of each sector's edges: the integers nearest their
+/// real values (θ_g − θ_f − κ)/(π/2) with the sector's sum (the largest
+/// rounding residuals move first); the other side of each edge gets −p.
+/// Neighbouring feature vertices share edges (every feature edge between
+/// two of them): the sectors go in order of their edge count (as
+/// [`corner_sectors`] sorts them) and each one moves only edges no
+/// earlier sector has used, when it has any.
+fn enforce_sectors(
+    topology: &EdgeTopology,
+    kappa: &[[f64; 3]],
+    theta: &[f64],
+    sectors: &[Sector],
+    p: &mut [[i32; 3]],
+) {
+    let mut used = std::collections::HashSet::new();
+    let key = |f: usize, e: usize| match topology.across(f, e) {
+        Some((g, ge)) => (f, e).min((g, ge)),
+        None => (f, e),
+    };
+    for s in sectors {
+        let mut real: Vec<(f64, usize)> = Vec::with_capacity(s.edges.len());
+        let mut sum = 0;
+        for (j, &(f, e)) in s.edges.iter().enumerate() {
+            let Some((g, _)) = topology.across(f, e) else {
+                continue;
+            };
+            sum += p[f][e];
+            if !used.contains(&key(f, e)) {
+                let x = (theta[g] - theta[f] - kappa[f][e]) / FRAC_PI_2;
+                real.push((x - p[f][e] as f64, j));
+            }
+        }
+        if real.is_empty() {
+            // Every edge is an earlier sector's: move them anyway.
+            for (j, &(f, e)) in s.edges.iter().enumerate() {
+                if let Some((g, _)) = topology.across(f, e) {
+                    let x = (theta[g] - theta[f] - kappa[f][e]) / FRAC_PI_2;
+                    real.push((x - p[f][e] as f64, j));
+                }
+            }
+        }
+        if real.is_empty() {
+            continue;
+        }
+        let mut d = s.period_jump_sum - sum;
+        // Up: the edges rounded down the most first; down: the reverse.
+        real.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        if d < 0 {
+            real.reverse();
+        }
+        let step = d.signum();
+        let mut at = 0;
+        while d != 0 {
+            let (f, e) = s.edges[real[at % real.len()].1];
+            p[f][e] += step;
+            d -= step;
+            at += 1;
+        }
+        for &(f, e) in &s.edges {
+            used.insert(key(f, e));
+            if let Some((g, ge)) = topology.across(f, e) {
+                p[g][ge] = -p[f][e];
+            }
+        }
+    }
 }
 
 /// Per face: the quarter turns k nearest θ_f − θ_target (soft constraints).
@@ -706,6 +919,7 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     // the lower E_smooth after rounding wins.
     let free = has_free_component(&r);
     let starts: &[bool] = if free { &[false, true] } else { &[false] };
+    let sectors = corner_sectors(input, &reference, &kappa, &fixed);
     let system = RelaxedSystem::new(&r)?;
     let mut best: Option<(f64, Vec<f64>, Vec<[i32; 3]>)> = None;
     let mut angles: Option<AngleSystem> = None;
@@ -721,7 +935,7 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
                 (&system.var, &system.pattern),
             )?),
         };
-        let (theta, p) = round_and_resolve(&r, angles, theta)?;
+        let (theta, p) = round_and_resolve(&r, angles, &sectors, theta)?;
         let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
         if best.as_ref().is_none_or(|b| energy < b.0) {
             best = Some((energy, theta, p));

@@ -100,11 +100,19 @@ pub struct Params {
     /// curves at least one target edge long are feature curves: their
     /// faces' crosses contain them and they lie on integer isolines
     /// (Bommes et al. 2009 §4, as Ebke §5 keeps them). 0 turns it off.
-    /// Default 0 (off): at 60° fandisk's misalignment falls 25.2° → 5.3°,
-    /// but without cones placed at the curves' corners the map folds
-    /// (flipped triangles fandisk 5 → 144, rocker-arm 26 → 40, bunny
-    /// 76 → 105, cow 694 → 1067; at 40° fandisk 314 and 4 integer
-    /// conflicts on the cow).
+    /// At every vertex of the curves the cross field's sectors between
+    /// them get whole quarter turns, so corners are cones of the index
+    /// their angles ask for (`cross_field::corner_sectors`; on fandisk
+    /// the plain rounding put 5 of its 23 corner cones one or two rings
+    /// away). Default 0 (off): at 60° fandisk's misalignment falls
+    /// 25.2° → 4.3° (shear 5.66° → 6.44°), but the map still folds more
+    /// (flipped triangles at the default target fandisk 5 → 116, 144
+    /// before the corner cones; rocker-arm 26 → 66, 40 before: its 60°
+    /// curves are short scan ridges whose sliver sectors of 7°–42° become
+    /// cones; with feature-vertex alignment fandisk 13 → 63, 418 before;
+    /// bunny 76 → 149, 105 before, and cow 694 → 969, 1067 before: their
+    /// sharp edges are scan noise, whose forced corner indices add cones,
+    /// 38 → 66 on the bunny).
     pub feature_curve_degrees: f64,
     /// Campen §4.3's topology constraints: around every boundary loop of a
     /// filtered cyclic smooth region with turning number zero (only with
@@ -390,6 +398,7 @@ pub fn cross_field_of(
         constraints: &constraints,
         soft_constraints: &soft,
         soft_weight: params.region_cross_weight.unwrap_or(0.0),
+        feature_edges: &p.feature_edges,
     })
     .ok_or(ParamError::Solve("cross field"))
 }
