@@ -742,10 +742,12 @@ pub fn fix_wide_corners(
                     .map(|&h| face_normal(&g.pos, &faces[h]))
                     .collect();
                 // The widest corner of v's faces, or None when one of them
-                // folds against its normal before the move or, with an
-                // input, strays further from it than before the move plus
-                // a tenth of the mean edge (a vertex moved across a crease
-                // cuts it: its faces' centroids leave the input).
+                // turns over against its normal before the move, or when,
+                // with an input, their centroids stray further from it than
+                // before the move plus a tenth of the longest distance from
+                // v to a corner of its faces (a vertex moved across a crease
+                // cuts it: its faces' centroids leave the input), or the old
+                // position ends further than that from the moved faces.
                 let deviation = |pos: &[DVec3]| -> f64 {
                     surface.map_or(0.0, |s| {
                         vf[v]
