@@ -668,31 +668,50 @@ fn regular_targets(pos: &[DVec3], f: &[u32], normal: DVec3) -> Vec<DVec3> {
 /// quads on spot, the bunny and the cow (212–281°): not kept.
 pub fn split_reflex_quads(faces: &mut Vec<Vec<u32>>, g: &Graph, max_degrees: f64) -> usize {
     let limit = max_degrees.to_radians();
-    let mut edges: std::collections::HashSet<(u32, u32)> = faces
-        .iter()
-        .flat_map(|f| (0..f.len()).map(move |k| key(f[k], f[(k + 1) % f.len()])))
-        .collect();
+    let mut edges = edge_set(faces);
     let mut splits = 0;
     let mut out = Vec::with_capacity(faces.len());
     for f in faces.drain(..) {
-        if f.len() != 4 {
+        if let Some([t1, t2]) = split_at_widest_corner(&f, &g.pos, limit, &mut edges) {
+            out.push(t1);
+            out.push(t2);
+            splits += 1;
+        } else {
             out.push(f);
-            continue;
         }
-        let p: [DVec3; 4] = std::array::from_fn(|i| g.pos[f[i] as usize]);
-        let a = crate::metrics::quad_corner_angles(&p);
-        let i = (0..4).max_by(|&x, &y| a[x].total_cmp(&a[y])).unwrap_or(0);
-        let c = |k: usize| f[(i + k) % 4];
-        if a[i] <= limit || c(0) == c(2) || !edges.insert(key(c(0), c(2))) {
-            out.push(f);
-            continue;
-        }
-        out.push(vec![c(0), c(1), c(2)]);
-        out.push(vec![c(0), c(2), c(3)]);
-        splits += 1;
     }
     *faces = out;
     splits
+}
+
+/// Every edge of `faces`, as sorted vertex pairs.
+fn edge_set(faces: &[Vec<u32>]) -> std::collections::HashSet<(u32, u32)> {
+    faces
+        .iter()
+        .flat_map(|f| (0..f.len()).map(move |k| key(f[k], f[(k + 1) % f.len()])))
+        .collect()
+}
+
+/// The two triangles of quad `f` through its widest corner, when that
+/// corner is above `limit` (radians) and the diagonal that halves it is no
+/// edge yet (it is then added to `edges`).
+fn split_at_widest_corner(
+    f: &[u32],
+    pos: &[DVec3],
+    limit: f64,
+    edges: &mut std::collections::HashSet<(u32, u32)>,
+) -> Option<[Vec<u32>; 2]> {
+    if f.len() != 4 {
+        return None;
+    }
+    let p: [DVec3; 4] = std::array::from_fn(|i| pos[f[i] as usize]);
+    let a = crate::metrics::quad_corner_angles(&p);
+    let i = (0..4).max_by(|&x, &y| a[x].total_cmp(&a[y])).unwrap_or(0);
+    let c = |k: usize| f[(i + k) % 4];
+    if a[i] <= limit || c(0) == c(2) || !edges.insert(key(c(0), c(2))) {
+        return None;
+    }
+    Some([vec![c(0), c(1), c(2)], vec![c(0), c(2), c(3)]])
 }
 
 /// Deviation (not in the thesis): the quality issue's bar that no quad has
@@ -719,13 +738,12 @@ pub fn fix_wide_corners(
     surface: Option<&SurfaceIndex>,
 ) -> (usize, usize) {
     let limit = max_degrees.to_radians();
-    let widest = widest_quad_corner;
     let n = g.len();
     let vf = vertex_faces(n, faces);
     let mut moved = vec![false; n];
     for _ in 0..3 {
         let wide: Vec<usize> = (0..faces.len())
-            .filter(|&f| widest(&g.pos, &faces[f]) > limit)
+            .filter(|&f| widest_quad_corner(&g.pos, &faces[f]) > limit)
             .collect();
         if wide.is_empty() {
             break;
@@ -789,7 +807,7 @@ pub fn fix_wide_corners(
                         if face_normal(pos, &faces[h]).dot(n0) <= 0.0 {
                             return None;
                         }
-                        w = w.max(widest(pos, &faces[h]));
+                        w = w.max(widest_quad_corner(pos, &faces[h]));
                     }
                     (deviation(pos) <= allowed && retraction(pos) <= 0.1 * edge).then_some(w)
                 };
@@ -870,17 +888,13 @@ fn split_wide_quads(
     limit: f64,
     budget_percent: f64,
 ) -> usize {
-    let widest = |f: &[u32]| widest_quad_corner(&g.pos, f);
     // The widest first, while the odd faces stay within the budget.
     let mut wide: Vec<(f64, usize)> = (0..faces.len())
-        .map(|f| (widest(&faces[f]), f))
+        .map(|f| (widest_quad_corner(&g.pos, &faces[f]), f))
         .filter(|&(w, _)| w > limit)
         .collect();
     wide.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let mut edges: std::collections::HashSet<(u32, u32)> = faces
-        .iter()
-        .flat_map(|f| (0..f.len()).map(move |k| key(f[k], f[(k + 1) % f.len()])))
-        .collect();
+    let mut edges = edge_set(faces);
     let mut odd = faces.iter().filter(|f| f.len() != 4).count();
     let mut splits = 0;
     for (_, fi) in wide {
@@ -888,18 +902,12 @@ fn split_wide_quads(
         if 100.0 * (odd + 2) as f64 > budget_percent * total as f64 {
             break;
         }
-        let f = faces[fi].clone();
-        let p: [DVec3; 4] = std::array::from_fn(|i| g.pos[f[i] as usize]);
-        let a = crate::metrics::quad_corner_angles(&p);
-        let i = (0..4).max_by(|&x, &y| a[x].total_cmp(&a[y])).unwrap_or(0);
-        let c = |k: usize| f[(i + k) % 4];
-        if c(0) == c(2) || !edges.insert(key(c(0), c(2))) {
-            continue;
+        if let Some([t1, t2]) = split_at_widest_corner(&faces[fi], &g.pos, limit, &mut edges) {
+            faces[fi] = t1;
+            faces.push(t2);
+            odd += 2;
+            splits += 1;
         }
-        faces[fi] = vec![c(0), c(1), c(2)];
-        faces.push(vec![c(0), c(2), c(3)]);
-        odd += 2;
-        splits += 1;
     }
     splits
 }
