@@ -45,6 +45,8 @@ IM_EQUIVALENT = {
     "field": {"filtered_normals": False, "split_long_edges": True, "scale_consistency": 0},
     "extraction": {
         "thesis_quad_score": False,
+        "triangulation_pairs": True,
+        "bridge_fragments": False,
         "max_hole": 6,
         "fan_large_holes": False,
         "vertex_count_correction": False,
@@ -75,6 +77,11 @@ ROWS = {
     "-split long edges": {"field": {"split_long_edges": False}},
     "-snapping": {"extraction": {"snap": False}},
     "+thesis quad score": {"extraction": {"thesis_quad_score": True}},
+    # The repair's non-manifold pairs: only non-manifold edges, not the
+    # diagonals some triangulation would make non-manifold (thesis §3.6).
+    "-triangulation pairs": {"extraction": {"triangulation_pairs": False}},
+    # Closed fragments joined by a tube instead of dropped.
+    "+fragment bridges": {"extraction": {"bridge_fragments": True}},
     "+hole filling (30 corners and fans)": {"extraction": {"max_hole": 30, "fan_large_holes": True}},
     "+count correction and restarts": {"extraction": {"vertex_count_correction": True, "restarts": 3}},
     "+T-vertices": {"extraction": {"post": {"t_vertices": True}}},
@@ -100,6 +107,8 @@ ROWS = {
     # Thin parts: the length capped at pi x shape diameter / edges around.
     "default + thin parts (3 edges)": ("default", {"sizing": {"thin_part_edges": 3}}),
     "default + thin parts (5 edges)": ("default", {"sizing": {"thin_part_edges": 5}}),
+    "default - triangulation pairs": ("default", {"extraction": {"triangulation_pairs": False}}),
+    "default - fragment bridges": ("default", {"extraction": {"bridge_fragments": False}}),
     "default - diagonal collapses": ("default", {"extraction": {"post": {"collapse_diagonals": False}}}),
     "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
     "default - non-quad budget (pair all)": ("default", {"extraction": {"post": {"non_quad_budget_percent": 0}}}),
@@ -182,7 +191,7 @@ def run_tool(args, tool, src, stem, target):
 # for every tool.
 ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default",
               "default - scale consistency", "default + feature-vertex constraints",
-              "default + thin parts (5 edges)", "default - wide-corner fix")
+              "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges")
 
 
 def reordered_copy(src, dst, seed):
@@ -211,6 +220,16 @@ def reordered_copy(src, dst, seed):
             out.write("f " + " ".join(str(new[(i - 1) if i > 0 else n + i] + 1) for i in face) + "\n")
 
 
+def limit_in(after):
+    """The fitted limit surface's other direction (input vertices → limit
+    surface) and the two-sided mean (the mean of both directions' means).
+    Limit → input alone does not see input parts the limit surface leaves
+    out (a dropped handle, a rounded crease): a surface covering half the
+    input can have a small one-sided mean."""
+    a, b = after.get("stats", {}).get("mean"), after.get("reference_to_limit", {}).get("mean")
+    return {"limit_in": b, "limit2": 0.5 * (a + b) if a is not None and b is not None else None}
+
+
 def cells(row):
     """The table cells of one measured row (None where not measured)."""
     m = row.get("metrics", {})
@@ -224,7 +243,7 @@ def cells(row):
             "corner": q["corner_angle_deviation_degrees"], "distorted": q.get("distorted_quad_percent"),
             "maxcorner": q.get("max_corner_angle_degrees"),
             "hausdorff": d["hausdorff"], "out_in": d["output_to_input_mean"], "in_out": d["input_to_output_mean"],
-            "limit": after.get("stats", {}).get("mean"), "loops": tp["boundary_loops"],
+            "limit": after.get("stats", {}).get("mean"), **limit_in(after), "loops": tp["boundary_loops"],
             "manifold": tp["nonmanifold_edges"] == 0 and tp["nonmanifold_vertices"] == 0,
             "genus": tp.get("genus"), "time": row.get("time_ms"),
         }
@@ -234,7 +253,8 @@ def cells(row):
         return {"V": m.get("vertices"), "nonquad": m.get("non_quad_percent"), "hausdorff": m.get("hausdorff"),
                 "ev": m.get("extraordinary_vertex_percent"), "corner": q.get("corner_angle_deviation_degrees"),
                 "distorted": q.get("distorted_quad_percent"), "maxcorner": q.get("max_corner_angle_degrees"),
-                "limit": after.get("stats", {}).get("mean"), "manifold": False, "time": row.get("time_ms"),
+                "limit": after.get("stats", {}).get("mean"), **limit_in(after), "manifold": False,
+                "time": row.get("time_ms"),
                 "loops": None}
     return None
 
@@ -244,26 +264,27 @@ def f(x, spec):
 
 
 HEADER = ("| configuration | V | non-quad % | EV % | corner dev ° | quads outside 45–135° % | max corner ° "
-          "| Hausdorff | mean out→in | mean in→out | limit mean after fit | boundary loops in/out | time ms |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| Hausdorff | mean out→in | mean in→out | limit mean after fit | limit in→out | boundary loops in/out "
+          "| time ms |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def mesh_table(name, entry):
     lines = [f"### {name} (target {entry['target']} V, input boundary loops {entry['input_loops']})", "", HEADER]
     for label, row in entry["rows"].items():
         if "error" in row:
-            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 11)
+            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 12)
             continue
         c = cells(row)
         if c is None:
-            lines.append(f"| {label} | metrics failed |" + " – |" * 11)
+            lines.append(f"| {label} | metrics failed |" + " – |" * 12)
             continue
         note = "" if c.get("manifold", True) else " (non-manifold)"
         lines.append(
             f"| {label}{note} | {f(c['V'], 'd')} | {f(c['nonquad'], '.1f')} | {f(c.get('ev'), '.1f')} "
             f"| {f(c.get('corner'), '.1f')} | {f(c.get('distorted'), '.1f')} | {f(c.get('maxcorner'), '.0f')} "
             f"| {f(c['hausdorff'], '.2e')} | {f(c.get('out_in'), '.2e')} | {f(c.get('in_out'), '.2e')} "
-            f"| {f(c['limit'], '.2e')} | {entry['input_loops']}/{f(c['loops'], 'd')} | {f(c['time'], '.0f')} |")
+            f"| {f(c['limit'], '.2e')} | {f(c.get('limit_in'), '.2e')} | {entry['input_loops']}/{f(c['loops'], 'd')} | {f(c['time'], '.0f')} |")
     return lines
 
 
@@ -271,7 +292,7 @@ def ratio_table(results):
     """Default and im-equivalent against Instant Meshes, per mesh: the
     acceptance ratios of the quality issue."""
     lines = ["| mesh | configuration | EV % / IM | corner dev / IM | mean out→in / IM | Hausdorff / IM "
-             "| limit after fit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|"]
+             "| limit after fit / IM | two-sided limit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|---|"]
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
         for label in ("im-equivalent", "default"):
@@ -284,7 +305,7 @@ def ratio_table(results):
                 a, b = c.get(k), im.get(k)
                 return f"{a / b:.2f}" if a is not None and b else "–"
             lines.append(f"| {name} | {label} | {r('ev')} | {r('corner')} | {r('out_in')} | {r('hausdorff')} "
-                         f"| {r('limit')} | {f(c['nonquad'], '.1f')} |")
+                         f"| {r('limit')} | {r('limit2')} | {f(c['nonquad'], '.1f')} |")
     return lines
 
 
@@ -297,15 +318,16 @@ def median(xs):
 
 
 ORDER_KEYS = (("ev", "EV %", ".1f"), ("corner", "corner dev °", ".2f"), ("nonquad", "non-quad %", ".1f"),
-              ("out_in", "mean out→in", ".2e"), ("hausdorff", "Hausdorff", ".2e"), ("limit", "limit after fit", ".2e"))
+              ("out_in", "mean out→in", ".2e"), ("hausdorff", "Hausdorff", ".2e"), ("limit", "limit after fit", ".2e"),
+              ("limit2", "two-sided limit", ".2e"))
 
 
 def order_table(results):
     """Medians over the re-ordered inputs, and their ratios to Instant
     Meshes' median."""
     lines = ["| mesh | row | runs | " + " | ".join(f"{h} (min–max)" for _, h, _ in ORDER_KEYS)
-             + " | EV / IM | corner / IM | mean out→in / IM | Hausdorff / IM | limit / IM |",
-             "|---|---|---|" + "---|" * (len(ORDER_KEYS) + 5)]
+             + " | EV / IM | corner / IM | mean out→in / IM | Hausdorff / IM | limit / IM | two-sided limit / IM |",
+             "|---|---|---|" + "---|" * (len(ORDER_KEYS) + 6)]
     for name, entry in results["meshes"].items():
         samples = entry.get("orders", {})
         med = {label: {k: median([c.get(k) for c in cs]) for k, _, _ in ORDER_KEYS} for label, cs in samples.items()}
@@ -318,23 +340,33 @@ def order_table(results):
             for k, _, spec in ORDER_KEYS:
                 vals = [c.get(k) for c in cs if c.get(k) is not None]
                 row.append(f"{f(med[label][k], spec)} ({f(min(vals), spec)}–{f(max(vals), spec)})" if vals else "–")
-            for k in ("ev", "corner", "out_in", "hausdorff", "limit"):
+            for k in ("ev", "corner", "out_in", "hausdorff", "limit", "limit2"):
                 a, b = med[label].get(k), im.get(k)
                 row.append(f"{a / b:.2f}" if label != "instant-meshes" and a is not None and b else "–")
             lines.append("| " + " | ".join(row) + " |")
     return lines
 
 
-def write_doc(args, results):
+def stamp():
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip()
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    return now, commit
+
+
+def write_doc(args, results, rewritten=None):
+    now, commit = results.get("generated") or stamp()
     lines = [
         "# Remeshing quality: the ablation table",
         "",
         f"Generated by `make quality` (`scripts/quality.py`) on {now} at commit `{commit}` "
         f"({platform.machine()}); every number below was measured by that run. Regenerate with `make quality`.",
         "",
+    ]
+    if rewritten:
+        lines += [f"Rewritten from that run's files by `scripts/quality.py --redoc` on {rewritten[0]} at commit "
+                  f"`{rewritten[1]}` (columns added since are read from the same runs' fit files).", ""]
+    lines += [
         f"Each mesh at {'its default target (input vertices / 16)' if args.divisor == 16 else f'input vertices / {args.divisor}'}. Rows: Instant Meshes (pyinstantmeshes, "
         "quad-dominant, extrinsic, deterministic) and QuadriFlow (pyQuadriFlow), then Quadrille in an "
         "**Instant-Meshes-equivalent configuration** (uniform sizing, no orientation constraints, the input's "
@@ -355,6 +387,11 @@ def write_doc(args, results):
         "## Against Instant Meshes (ratios; the quality issue asks EV ≤ 2×, corner ≤ 1.5×, distances ≤ 1×, "
         "limit ≤ 0.8×, non-quad ≤ 5 %)",
         "",
+        "The limit surface is measured both ways: *limit after fit* is the mean distance of the limit "
+        "surface's samples to the input (the issue's figure), *limit in→out* the mean distance of the input's "
+        "vertices to the limit surface, and the *two-sided limit* the mean of the two. The first alone does not "
+        "see input parts the limit surface leaves out (a dropped handle, a rounded-off crease, a hole).",
+        "",
     ]
     lines += ratio_table(results)
     if any(entry.get("orders") for entry in results["meshes"].values()):
@@ -371,6 +408,42 @@ def write_doc(args, results):
         lines += mesh_table(name, entry) + [""]
     with open(args.doc, "w") as out:
         out.write("\n".join(lines))
+
+
+def stem_of(out, name, label, order=0):
+    clean = "".join(ch if ch.isalnum() else "_" for ch in (label if order else label.strip("+-")))
+    return os.path.join(out, f"{name}-order{order}-{clean}" if order else f"{name}-{clean}")
+
+
+def redoc(args):
+    """The doc again from a finished run's files: the rows' cells are
+    recomputed from quality.json, the re-ordered runs' cells gain what
+    their fit files hold (so a new column needs no new run)."""
+    results = json.load(open(os.path.join(args.out, "quality.json")))
+    for name, entry in results["meshes"].items():
+        for label, cs in entry.get("orders", {}).items():
+            base = cells(entry["rows"][label])
+            fixed = [base] if base else []
+            for k, c in enumerate(cs[1:], start=1):
+                try:
+                    fit = json.load(open(stem_of(args.out, name, label, k) + "-fit.json")).get("fit", {})
+                except (OSError, ValueError):
+                    fit = {}
+                after = fit.get("after", {})
+                got = after.get("stats", {}).get("mean")
+                if c.get("limit") is not None and got is not None and abs(got - c["limit"]) > 1e-12:
+                    sys.exit(f"quality: {name} order {k} {label}: the fit file is from another run")
+                fixed.append({**c, **limit_in(after)})
+            entry["orders"][label] = fixed
+    if "generated" not in results:
+        # A run from before the stamp was kept: the old doc's header says.
+        import re
+        old = re.search(r"on (\S+ \S+ UTC) at commit `(\w+)`", open(args.doc).read()) if os.path.exists(args.doc) else None
+        if not old:
+            sys.exit(f"quality: {args.out}/quality.json does not say which run made it")
+        results["generated"] = (old.group(1), old.group(2))
+    write_doc(args, results, rewritten=stamp())
+    print(f"quality: rewrote {args.doc} from {args.out}", file=sys.stderr)
 
 
 def main():
@@ -390,7 +463,12 @@ def main():
                     help="target = input vertices / DIVISOR (16 is the default target)")
     ap.add_argument("--orders", type=int, default=5,
                     help="runs of instant-meshes, im-equivalent and default on re-ordered inputs (1 = input only)")
+    ap.add_argument("--redoc", action="store_true",
+                    help="rewrite the doc from OUT/quality.json and the runs' files in OUT without running anything")
     args = ap.parse_args()
+    if args.redoc:
+        redoc(args)
+        return
     rows = [r for r in args.rows.split(",") if r]
     for r in rows:
         if r not in ROWS and r not in compare.TOOLS:
@@ -400,7 +478,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     tools = [r for r in rows if r in compare.TOOLS]
     status = compare.ensure_venv(tools) if tools else {}
-    results = {"meshes": {}}
+    results = {"meshes": {}, "generated": stamp()}
     for name in args.names.split(","):
         src = os.path.abspath(os.path.join(args.meshes, name + ".obj"))
         if not os.path.exists(src):
@@ -411,7 +489,7 @@ def main():
         target = max(1, nv // args.divisor)
         entry = {"target": target, "input_loops": topo.get("boundary_loops", "–"), "rows": {}}
         for label in rows:
-            stem = os.path.join(args.out, f"{name}-{''.join(ch if ch.isalnum() else '_' for ch in label.strip('+-'))}")
+            stem = stem_of(args.out, name, label)
             if label in compare.TOOLS:
                 row = {"error": status[label]} if status.get(label) else run_tool(args, label, src, stem, target)
             else:
@@ -426,7 +504,7 @@ def main():
             copy = os.path.join(args.out, f"{name}-order{k}-input.obj")
             reordered_copy(src, copy, k)
             for label in entry["orders"]:
-                stem = os.path.join(args.out, f"{name}-order{k}-{''.join(ch if ch.isalnum() else '_' for ch in label)}")
+                stem = stem_of(args.out, name, label, k)
                 if label in compare.TOOLS:
                     row = run_tool(args, label, copy, stem, target)
                 else:

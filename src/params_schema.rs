@@ -143,6 +143,8 @@ pub fn schema() -> Vec<ParamDoc> {
         num("extraction.min_cluster_fraction", 0.0, 1.0, "Clusters smaller than this fraction of the average are dropped (thesis: 1/10–1/20)."),
         flag("extraction.snap", "Snap thin triangles during extraction (thesis §3.5.2)."),
         flag("extraction.thesis_quad_score", "Split long faces by the thesis' quad score (the quad's own corners) instead of Instant Meshes'."),
+        flag("extraction.triangulation_pairs", "The non-manifold repair also removes face diagonals that another face uses (thesis §3.6), not only non-manifold edges."),
+        flag("extraction.bridge_fragments", "Join closed fragments of the face tracing (a thin part's tip) to the mesh by a tube instead of dropping them."),
         int("extraction.max_hole", 3.0, 1000.0, "Holes up to this many corners are filled."),
         flag("extraction.fan_large_holes", "Close larger holes that are not the input's with a centroid fan."),
         flag("extraction.vertex_count_correction", "Solve position + extraction again with corrected spacing when the vertex count misses the target."),

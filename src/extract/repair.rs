@@ -9,7 +9,8 @@
 //! 2. *non-manifold vertex pairs*: an edge with more than two faces, two
 //!    faces using an edge in the same direction, or a pair of vertices that
 //!    is a diagonal of one face and an edge or diagonal of another (so some
-//!    triangulation would be non-manifold). The thesis' repair: remove every
+//!    triangulation would be non-manifold; with `triangulation_pairs`,
+//!    default on, as in the thesis). The thesis' repair: remove every
 //!    vertex of the two faces, other than the pair, that lies on at most two
 //!    faces; if there is none, delete the face holding the pair as a
 //!    diagonal, else the later face (the thesis deletes a random one);
@@ -25,8 +26,9 @@
 //! closed with a centroid fan when `fan_large_holes` is on (the thesis
 //! leaves them; we promise closed output). A hole loop stays open as the
 //! input's own by [`is_input_hole`]. Fragments, components of fewer than 12
-//! faces and a tenth of the largest, are dropped ([`drop_fragments`], a
-//! deviation). Last, a guard loop asks
+//! faces and a tenth of the largest, are joined to the rest by a tube when
+//! they are closed ([`bridge_fragments`]) and dropped otherwise
+//! ([`drop_fragments`]); both deviations. Last, a guard loop asks
 //! `PolyMesh::from_faces` and fixes whatever it refuses (deleting the face,
 //! splitting the vertex) until it accepts, so this step cannot fail.
 
@@ -57,9 +59,18 @@ pub struct RepairReport {
     pub guard_fixes: usize,
     /// Faces of dropped fragments (tiny components, see [`drop_fragments`]).
     pub fragment_faces: usize,
+    /// Closed fragments joined to the mesh by a tube (see
+    /// [`bridge_fragments`]) instead of being dropped.
+    pub bridged_fragments: usize,
 }
 
 pub struct HoleRules<'a> {
+    /// Step 2 also repairs pairs that only some triangulation of a face
+    /// would make non-manifold (a diagonal of one face that is an edge or
+    /// diagonal of another; the thesis' rule), not only non-manifold edges.
+    pub triangulation_pairs: bool,
+    /// Closed fragments are joined to the mesh ([`bridge_fragments`]).
+    pub bridge_fragments: bool,
     pub max_hole: usize,
     pub fan_large_holes: bool,
     /// Split holes by the thesis' quad score (see [`fill_polygon`]).
@@ -103,8 +114,11 @@ fn clean(faces: &mut Vec<Vec<u32>>) {
 /// A face's use of a vertex pair: (face, is an edge of it, forward).
 type PairUse = (u32, bool, bool);
 
-/// Pairs of vertices that some triangulation would make non-manifold.
-fn conflicts(faces: &[Vec<u32>]) -> Vec<(u32, u32, Vec<u32>)> {
+/// Pairs of vertices that make the mesh non-manifold (an edge of more than
+/// two faces, or of two faces running it the same way); with
+/// `triangulation_pairs` also those some triangulation would make
+/// non-manifold (a diagonal of a face that another face uses).
+fn conflicts(faces: &[Vec<u32>], triangulation_pairs: bool) -> Vec<(u32, u32, Vec<u32>)> {
     // pair -> (face, is_edge, forward)
     let mut pairs: HashMap<(u32, u32), Vec<PairUse>> = HashMap::new();
     for (fi, f) in faces.iter().enumerate() {
@@ -124,7 +138,10 @@ fn conflicts(faces: &[Vec<u32>]) -> Vec<(u32, u32, Vec<u32>)> {
     }
     let mut out: Vec<(u32, u32, Vec<u32>)> = pairs
         .into_iter()
-        .filter_map(|(k, list)| {
+        .filter_map(|(k, mut list)| {
+            if !triangulation_pairs {
+                list.retain(|u| u.1);
+            }
             let bad = if list.len() > 2 {
                 true
             } else if list.len() == 2 {
@@ -151,10 +168,15 @@ fn face_counts(n: usize, faces: &[Vec<u32>]) -> Vec<u32> {
 }
 
 /// Resolves non-manifold pairs (step 2). Returns whether anything changed.
-fn fix_pairs(faces: &mut Vec<Vec<u32>>, n: usize, report: &mut RepairReport) -> bool {
+fn fix_pairs(
+    faces: &mut Vec<Vec<u32>>,
+    n: usize,
+    triangulation_pairs: bool,
+    report: &mut RepairReport,
+) -> bool {
     let mut changed = false;
     for _round in 0..32 {
-        let list = conflicts(faces);
+        let list = conflicts(faces, triangulation_pairs);
         if list.is_empty() {
             break;
         }
@@ -530,12 +552,17 @@ fn fill_holes(
 }
 
 /// One repair pass (steps 1–4).
-fn pass(faces: &mut Vec<Vec<u32>>, g: &mut Graph, report: &mut RepairReport) {
+fn pass(
+    faces: &mut Vec<Vec<u32>>,
+    g: &mut Graph,
+    rules: &HoleRules<'_>,
+    report: &mut RepairReport,
+) {
     clean(faces);
     orient(faces, g, report);
-    fix_pairs(faces, g.len(), report);
+    fix_pairs(faces, g.len(), rules.triangulation_pairs, report);
     orient(faces, g, report);
-    fix_pairs(faces, g.len(), report);
+    fix_pairs(faces, g.len(), rules.triangulation_pairs, report);
     split_vertices(faces, g, report);
 }
 
@@ -548,12 +575,15 @@ pub fn repair(
     rules: &HoleRules<'_>,
     report: &mut RepairReport,
 ) -> (PolyMesh, Vec<u32>) {
-    pass(&mut faces, g, report);
+    pass(&mut faces, g, rules, report);
     for _ in 0..8 {
         if !fill_holes(&mut faces, g, rules, report) {
             break;
         }
-        pass(&mut faces, g, report);
+        pass(&mut faces, g, rules, report);
+    }
+    if rules.bridge_fragments {
+        report.bridged_fragments += bridge_fragments(&mut faces, g);
     }
     report.fragment_faces += drop_fragments(&mut faces, g);
     // Guard: whatever from_faces still refuses is fixed directly.
@@ -565,7 +595,7 @@ pub fn repair(
                 if refills < 4 && !mesh.boundary_loops().is_empty() {
                     refills += 1;
                     if fill_holes(&mut faces, g, rules, report) {
-                        pass(&mut faces, g, report);
+                        pass(&mut faces, g, rules, report);
                         continue;
                     }
                 }
@@ -627,28 +657,9 @@ pub fn repair(
 /// 0.19 on two of five vertex orders).
 /// Returns the number of dropped faces.
 fn drop_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
-    let n = faces
-        .iter()
-        .flatten()
-        .map(|&v| v as usize + 1)
-        .max()
-        .unwrap_or(0);
-    let mut sets = UnionFind::new(n);
-    for f in faces.iter() {
-        for w in f.windows(2) {
-            sets.union(w[0], w[1]);
-        }
-    }
-    let mut count: HashMap<u32, usize> = HashMap::new();
-    let roots: Vec<u32> = faces
-        .iter()
-        .map(|f| f.first().map_or(0, |&v| sets.find(v)))
-        .collect();
-    for &r in &roots {
-        *count.entry(r).or_default() += 1;
-    }
+    let (roots, count) = face_components(faces);
     let largest = count.values().copied().max().unwrap_or(0);
-    let small = |c: usize| c < 12 && c * 10 < largest;
+    let small = |c: usize| is_fragment(c, largest);
     if !count.values().any(|&c| small(c)) {
         return 0;
     }
@@ -677,6 +688,170 @@ fn drop_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
         !small(count[&r]) || best[&input_component(f)].1 == r
     });
     before - faces.len()
+}
+
+/// The face components (faces linked through shared vertices): per face
+/// its component's root, and each root's face count.
+fn face_components(faces: &[Vec<u32>]) -> (Vec<u32>, HashMap<u32, usize>) {
+    let n = faces
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut sets = UnionFind::new(n);
+    for f in faces {
+        for w in f.windows(2) {
+            sets.union(w[0], w[1]);
+        }
+    }
+    let roots: Vec<u32> = faces
+        .iter()
+        .map(|f| f.first().map_or(0, |&v| sets.find(v)))
+        .collect();
+    let mut count: HashMap<u32, usize> = HashMap::new();
+    for &r in &roots {
+        *count.entry(r).or_default() += 1;
+    }
+    (roots, count)
+}
+
+/// Whether a component is small enough to be a fragment of the extraction
+/// (fewer than 12 faces and a tenth of the largest component).
+fn is_fragment(faces: usize, largest: usize) -> bool {
+    faces < 12 && faces * 10 < largest
+}
+
+/// Deviation (no counterpart in the thesis): a thin part near the
+/// target's resolution (a leg, a horn: a tube three or four edges around)
+/// often comes out of the face tracing as a closed fragment at its tip,
+/// disjoint from the rest, which closes itself over the part further up;
+/// dropping the fragment cuts the part off (the cow's four hooves: 0.15 of
+/// the bounding box). Instead, a closed fragment is joined to the rest: the
+/// nearest pair of faces, one on each, that face each other within three
+/// edge lengths, are removed and their loops zipped by a tube of quads
+/// (triangles where the loops differ in length). Returns the fragments
+/// joined.
+fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
+    let (roots, count) = face_components(faces);
+    let largest = count.values().copied().max().unwrap_or(0);
+    let mut fragments: Vec<u32> = count
+        .iter()
+        .filter(|&(_, &c)| is_fragment(c, largest))
+        .map(|(&r, _)| r)
+        .collect();
+    if fragments.is_empty() {
+        return 0;
+    }
+    fragments.sort_unstable();
+    let by_edge = edge_faces(faces);
+    let centroid = |f: &[u32]| f.iter().map(|&v| g.pos[v as usize]).sum::<DVec3>() / f.len() as f64;
+    let mean_edge = |f: &[u32]| {
+        (0..f.len())
+            .map(|k| g.pos[f[k] as usize].distance(g.pos[f[(k + 1) % f.len()] as usize]))
+            .sum::<f64>()
+            / f.len() as f64
+    };
+    let rest: Vec<usize> = (0..faces.len())
+        .filter(|&f| !is_fragment(count[&roots[f]], largest))
+        .collect();
+    let mut dead = vec![false; faces.len()];
+    let mut new_faces: Vec<Vec<u32>> = Vec::new();
+    let mut joined = 0;
+    for root in fragments {
+        let members: Vec<usize> = (0..faces.len()).filter(|&f| roots[f] == root).collect();
+        // Closed: each of its edges has exactly two faces, both its own.
+        let closed = members.iter().all(|&f| {
+            let face = &faces[f];
+            (0..face.len()).all(|k| {
+                let e = key(face[k], face[(k + 1) % face.len()]);
+                by_edge
+                    .get(&e)
+                    .is_some_and(|fs| fs.len() == 2 && fs.iter().all(|&x| roots[x] == root))
+            })
+        });
+        if !closed {
+            continue;
+        }
+        let mut best: Option<(f64, usize, usize)> = None;
+        for &f1 in &members {
+            let (c1, n1) = (centroid(&faces[f1]), face_newell_normal(&g.pos, &faces[f1]));
+            let l1 = mean_edge(&faces[f1]);
+            for &f2 in &rest {
+                if dead[f2] {
+                    continue;
+                }
+                let c2 = centroid(&faces[f2]);
+                let d = c1.distance(c2);
+                if d > 3.0 * l1.max(mean_edge(&faces[f2])) || best.is_some_and(|b| d >= b.0) {
+                    continue;
+                }
+                let n2 = face_newell_normal(&g.pos, &faces[f2]);
+                // Facing each other: each lies on the other's outer side.
+                if (c1 - c2).dot(n2) > 0.0 && (c2 - c1).dot(n1) > 0.0 {
+                    best = Some((d, f1, f2));
+                }
+            }
+        }
+        let Some((_, f1, f2)) = best else {
+            continue;
+        };
+        dead[f1] = true;
+        dead[f2] = true;
+        zip_loops(&g.pos, &faces[f2], &faces[f1], &mut new_faces);
+        joined += 1;
+    }
+    if joined > 0 {
+        let mut k = 0;
+        faces.retain(|_| {
+            k += 1;
+            !dead[k - 1]
+        });
+        faces.extend(new_faces);
+    }
+    joined
+}
+
+/// The faces of a tube between the loops of two removed faces `a` and `b`
+/// (each as its face ran it, so the tube takes over their edges in their
+/// directions): `a` runs forwards, `b` backwards, quads while both advance
+/// and triangles for the longer one's extra edges, spread evenly; `b`'s
+/// start is the rotation with the shortest connecting edges.
+fn zip_loops(pos: &[DVec3], a: &[u32], b: &[u32], out: &mut Vec<Vec<u32>>) {
+    let (n, m) = (a.len(), b.len());
+    let steps = n.max(m);
+    // Step t advances a (b) when the evenly spread counter says so.
+    let advances = |len: usize, t: usize| (t + 1) * len / steps > t * len / steps;
+    let bb = |start: usize, k: usize| b[(start + m - k % m) % m];
+    let mut best = (f64::INFINITY, 0);
+    for start in 0..m {
+        let (mut i, mut k, mut cost) = (0, 0, 0.0);
+        for t in 0..steps {
+            cost += pos[a[i % n] as usize].distance_squared(pos[bb(start, k) as usize]);
+            i += advances(n, t) as usize;
+            k += advances(m, t) as usize;
+        }
+        if cost < best.0 {
+            best = (cost, start);
+        }
+    }
+    let start = best.1;
+    let (mut i, mut k) = (0, 0);
+    for t in 0..steps {
+        let (ai, bk) = (a[i % n], bb(start, k));
+        let (step_a, step_b) = (advances(n, t), advances(m, t));
+        let mut face = vec![ai];
+        if step_a {
+            face.push(a[(i + 1) % n]);
+        }
+        if step_b {
+            face.push(bb(start, k + 1));
+        }
+        face.push(bk);
+        out.push(face);
+        i += step_a as usize;
+        k += step_b as usize;
+    }
 }
 
 /// Dense positions and faces over the used vertices, with the map from
@@ -734,5 +909,103 @@ mod tests {
         assert!(faces.contains(&vec![29, 32, 37]));
         assert!(!faces.contains(&vec![25, 26, 27, 28]));
         assert!(!faces.contains(&vec![33, 34, 35, 36]));
+    }
+
+    /// The quads of an axis-aligned box's surface, `n` per edge of a cube
+    /// of side `side` at `origin`, outward oriented; vertices appended to
+    /// `pos` (shared along the box's edges).
+    fn boxed(pos: &mut Vec<DVec3>, origin: DVec3, side: f64, n: u32) -> Vec<Vec<u32>> {
+        let mut id: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut vertex = |p: [u32; 3], pos: &mut Vec<DVec3>| {
+            *id.entry(p).or_insert_with(|| {
+                pos.push(
+                    origin + DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64) * (side / n as f64),
+                );
+                (pos.len() - 1) as u32
+            })
+        };
+        let mut faces = Vec::new();
+        for a in 0..3 {
+            for high in [false, true] {
+                let (b, c) = if high {
+                    ((a + 1) % 3, (a + 2) % 3)
+                } else {
+                    ((a + 2) % 3, (a + 1) % 3)
+                };
+                for u in 0..n {
+                    for v in 0..n {
+                        let corner = |du: u32, dv: u32| {
+                            let mut p = [0u32; 3];
+                            p[a] = if high { n } else { 0 };
+                            p[b] = u + du;
+                            p[c] = v + dv;
+                            p
+                        };
+                        let quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+                        faces.push(quad.iter().map(|&p| vertex(p, pos)).collect());
+                    }
+                }
+            }
+        }
+        faces
+    }
+
+    /// A closed box of 96 quads and, one edge below its bottom, a closed
+    /// cube of 6 quads (the tip of a thin part cut off by the tracing):
+    /// the cube is joined by a tube of 4 quads, the result one closed
+    /// component of Euler characteristic 2 that keeps every vertex; with
+    /// the bridges off the cube is dropped.
+    #[test]
+    fn a_closed_fragment_is_joined_by_a_tube_not_dropped() {
+        for bridge in [true, false] {
+            let mut pos = Vec::new();
+            let mut faces = boxed(&mut pos, DVec3::ZERO, 4.0, 4);
+            let main_vertices = pos.len();
+            faces.extend(boxed(&mut pos, DVec3::new(1.5, 1.5, -2.0), 1.0, 1));
+            let normal = pos
+                .iter()
+                .enumerate()
+                .map(|(v, p)| {
+                    let centre = if v < main_vertices {
+                        DVec3::splat(2.0)
+                    } else {
+                        DVec3::new(2.0, 2.0, -1.5)
+                    };
+                    (*p - centre).normalize()
+                })
+                .collect();
+            let n = pos.len();
+            let mut g = Graph {
+                pos,
+                normal,
+                scale: vec![1.0; n],
+                component: vec![0; n],
+                ..Default::default()
+            };
+            let rules = HoleRules {
+                triangulation_pairs: false,
+                bridge_fragments: bridge,
+                max_hole: 30,
+                fan_large_holes: true,
+                thesis_quad_score: true,
+                surface: None,
+            };
+            let mut report = RepairReport::default();
+            let (mesh, _) = repair(faces, &mut g, &rules, &mut report);
+            assert!(mesh.boundary_loops().is_empty());
+            let edges = mesh.halfedge_count() / 2;
+            let euler = mesh.vertex_count() as i64 - edges as i64 + mesh.face_count() as i64;
+            assert_eq!(euler, 2, "bridge {bridge}");
+            if bridge {
+                assert_eq!(report.bridged_fragments, 1);
+                assert_eq!(report.fragment_faces, 0);
+                assert_eq!(mesh.vertex_count(), n);
+                assert_eq!(mesh.face_count(), 96 + 6 - 2 + 4);
+                assert!((0..mesh.face_count() as u32).all(|f| mesh.face_vertices(f).count() == 4));
+            } else {
+                assert_eq!(report.fragment_faces, 6);
+                assert_eq!(mesh.vertex_count(), main_vertices);
+            }
+        }
     }
 }
