@@ -728,8 +728,9 @@ fn is_fragment(faces: usize, largest: usize) -> bool {
 /// disjoint from the rest, which closes itself over the part further up;
 /// dropping the fragment cuts the part off (the cow's four hooves: 0.15 of
 /// the bounding box). Instead, a closed fragment is joined to the rest: the
-/// nearest pair of faces, one on each, that face each other within three
-/// edge lengths, are removed and their loops zipped by a tube of quads
+/// nearest pair of faces, one on each, in the same input component, that
+/// face each other within three edge lengths, are removed and their loops
+/// zipped by a tube of quads
 /// (triangles where the loops differ in length). Returns the fragments
 /// joined.
 fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
@@ -752,6 +753,7 @@ fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
             .sum::<f64>()
             / f.len() as f64
     };
+    let component = |f: &[u32]| f.first().and_then(|&v| g.component.get(v as usize)).copied();
     let rest: Vec<usize> = (0..faces.len())
         .filter(|&f| !is_fragment(count[&roots[f]], largest))
         .collect();
@@ -778,7 +780,9 @@ fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
             let (c1, n1) = (centroid(&faces[f1]), face_newell_normal(&g.pos, &faces[f1]));
             let l1 = mean_edge(&faces[f1]);
             for &f2 in &rest {
-                if dead[f2] {
+                // Only within one input component: a small part of the
+                // input of its own (an eye next to a head) is not a tip.
+                if dead[f2] || component(&faces[f2]) != component(&faces[f1]) {
                     continue;
                 }
                 let c2 = centroid(&faces[f2]);
