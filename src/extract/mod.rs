@@ -50,21 +50,23 @@ pub struct ExtractionParams {
     /// face uses as non-manifold (thesis §3.6: "manifoldness is ensured for
     /// arbitrary triangulations"), not only non-manifold edges. Default on:
     /// without it the repair keeps the flaps it would remove, and the
-    /// valences and corners suffer (`make quality`, medians over 3 vertex
-    /// orders, on → off; EV %, corner °): cow 29.0 → 40.7, 14.98 → 20.19
+    /// valences and corners suffer (`scripts/quality.py --orders 3`,
+    /// medians, on → off; EV %, corner °): cow 29.0 → 40.7, 14.98 → 20.19
     /// (Hausdorff 0.113 → 0.086), suzanne 50.0 → 65.6, 21.0 → 23.9, spot
     /// corner 12.27 → 13.59; bunny, fandisk, rocker-arm within 0.6 of EV.
     pub triangulation_pairs: bool,
     /// Closed fragments of the face tracing (fewer than 12 faces) are
     /// joined to the nearest facing face of the rest by a tube instead of
     /// being dropped (see `repair::bridge_fragments`). Default on: the
-    /// cow's hooves are no longer cut off (`make quality`, medians over 3
-    /// vertex orders, off → on: Hausdorff 0.154 → 0.113, Instant Meshes
-    /// 0.115; two-sided limit distance after the fit 7.86e-3 → 5.68e-3),
-    /// at a cost in regularity there (EV 24.3 → 29.0 %, corner 13.07 →
-    /// 14.98°, odd faces 5.6 → 7.4 %: the fragments' triangles and
-    /// pentagons stay); teapot odd faces 3.0 → 4.7 %; fandisk, rocker-arm,
-    /// spot, bunny, beetle, suzanne unchanged (nothing to join).
+    /// cow's hooves are no longer cut off (`make quality`, medians over 5
+    /// vertex orders, off → on: Hausdorff 0.166 → 0.113, Instant Meshes
+    /// 0.115; two-sided limit distance after the fit 7.86e-3 → 6.39e-3), at
+    /// a cost in regularity there (EV 24.3 → 28.7 %, corner 13.07 →
+    /// 14.98°, odd faces 5.6 → 7.8 %: the fragments' triangles and
+    /// pentagons stay; the one-sided limit → input mean 1.06e-3 → 1.20e-3,
+    /// it did not see the missing hooves); beetle odd faces 4.5 → 2.1 %,
+    /// teapot EV 36.8 → 37.8 %, corner 9.37 → 8.78°; fandisk, rocker-arm,
+    /// spot, bunny, suzanne unchanged (nothing to join).
     pub bridge_fragments: bool,
     /// Holes up to this many corners are filled (thesis: 30).
     pub max_hole: usize,

@@ -753,7 +753,11 @@ fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
             .sum::<f64>()
             / f.len() as f64
     };
-    let component = |f: &[u32]| f.first().and_then(|&v| g.component.get(v as usize)).copied();
+    let component = |f: &[u32]| {
+        f.first()
+            .and_then(|&v| g.component.get(v as usize))
+            .copied()
+    };
     let rest: Vec<usize> = (0..faces.len())
         .filter(|&f| !is_fragment(count[&roots[f]], largest))
         .collect();
