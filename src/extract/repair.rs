@@ -730,9 +730,8 @@ fn is_fragment(faces: usize, largest: usize) -> bool {
 /// the bounding box). Instead, a closed fragment is joined to the rest: the
 /// nearest pair of faces, one on each, in the same input component, that
 /// face each other within three edge lengths, are removed and their loops
-/// zipped by a tube of quads
-/// (triangles where the loops differ in length). Returns the fragments
-/// joined.
+/// zipped by a tube of quads (triangles where the loops differ in length).
+/// Returns the fragments joined.
 fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
     let (roots, count) = face_components(faces);
     let largest = count.values().copied().max().unwrap_or(0);
