@@ -16,8 +16,14 @@
 //! re-solve.
 //!
 //! With filtered smooth regions, Campen et al. 2016 §4.2's term
-//! w·A_f·(∇g_c · a_min)² (w = 5 inside the regions) is added for the
-//! coordinate c whose cross axis is transversal to a_min. Campen §4.3's
+//! w·A_f·(∇g_c · ŵ)² (w = 5 inside the regions) is added for the
+//! coordinate c whose cross axis is transversal to a_min, ŵ the unit
+//! (projected) cross axis nearest a_min: Campen's equivalent anisotropic
+//! norm ‖∇u − u‖²_{1,w+1} in the cross frame. Campen writes a_min, which
+//! is ŵ under his hard cross-field constraint (§4.1); our region
+//! constraint is soft ([`super::Params::region_cross_weight`]), and where
+//! the field leaves a_min (next to the regions' boundaries) a_min would
+//! pull ∇g_c against E_orient's own target. Campen §4.3's
 //! topology constraints: around every zero-turning boundary loop of a
 //! cyclic region one component of the loop's holonomy translation is 0
 //! (isolines close there; no helix).
@@ -111,7 +117,8 @@ pub struct MapInput<'a> {
     /// Fraction of the remaining integer variables fixed per re-solve.
     pub batch_fraction: f64,
     /// Campen §4.2's {0, w} alignment: per face the unit a_min where the
-    /// weight applies (filtered smooth regions), and w.
+    /// weight applies (filtered smooth regions; it picks the cross axis
+    /// the weight strengthens), and w.
     pub region_alignment: Option<(&'a [Option<DVec3>], f64)>,
     /// Per face edge: a feature curve, which lies on an integer isoline
     /// like the boundary (empty: none).
@@ -463,14 +470,17 @@ fn energy_rows(
         }
         if let Some((dirs, weight)) = input.region_alignment {
             if let Some(a) = dirs.get(f).copied().flatten() {
-                // E_align: ∇g_c · a_min = 0 for the coordinate c whose
-                // cross axis is transversal to a_min.
+                // E_align for the coordinate c whose cross axis is
+                // transversal to a_min: ∇g_c · ŵ = 0 along the field's
+                // axis ŵ nearest a_min (Campen's anisotropic norm in the
+                // cross frame; ŵ = a_min where the field follows a_min).
                 let a = a.reject_from_normalized(n);
-                let comp = usize::from(frames[f][0].dot(a).abs() < frames[f][1].dot(a).abs());
-                let comp = 1 - comp;
+                let along = usize::from(frames[f][0].dot(a).abs() < frames[f][1].dot(a).abs());
+                let comp = 1 - along;
+                let axis = frames[f][along].normalize_or_zero();
                 let wa = (weight.max(0.0) * projected).sqrt();
                 let terms = (0..3)
-                    .map(|i| (lay.w(c.wedge[f][i], comp), wa * grad[i].dot(a)))
+                    .map(|i| (lay.w(c.wedge[f][i], comp), wa * grad[i].dot(axis)))
                     .collect();
                 rows.push((terms, 0.0));
             }
