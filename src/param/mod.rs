@@ -113,15 +113,18 @@ pub struct Params {
     /// them get whole quarter turns, so corners are cones of the index
     /// their angles ask for (`cross_field::corner_sectors`; on fandisk
     /// the plain rounding put 5 of its 23 corner cones one or two rings
-    /// away). Default 0 (off): at 60° fandisk's misalignment falls
-    /// 25.2° → 4.3° (shear 5.66° → 6.44°), but the map still folds more
-    /// (flipped triangles at the default target fandisk 5 → 116, 144
-    /// before the corner cones; rocker-arm 26 → 66, 40 before: its 60°
-    /// curves are short scan ridges whose sliver sectors of 7°–42° become
-    /// cones; with feature-vertex alignment fandisk 13 → 63, 418 before;
-    /// bunny 76 → 149, 105 before, and cow 694 → 969, 1067 before: their
-    /// sharp edges are scan noise, whose forced corner indices add cones,
-    /// 38 → 66 on the bunny).
+    /// away); of two feature edges less than 45° apart around a vertex
+    /// one is dropped (`drop_sliver_sectors`: such a sector would get a
+    /// quarter turn). Default 0 (off): at 60° fandisk's misalignment
+    /// falls 25.7° → 4.2°, but the map still folds more. Flipped
+    /// triangles without features → with 60° (before the sliver rule) at
+    /// the default target and at 1000 vertices: fandisk 6 → 124 (192), 7
+    /// → 40 (46) — the rest mostly next to corners and at a ±¼ cone pair
+    /// a quarter edge apart; rocker-arm 7 → 16 (27), 6 → 15 (25), whose
+    /// 60° curves are short scan ridges; bunny 77 → 114 (129), 116 → 139
+    /// (150), cones 38 → 54 (66) at the default: its sharp edges are scan
+    /// noise; with feature-vertex alignment fandisk 10 → 59 (264),
+    /// rocker-arm 22 → 34 (56).
     pub feature_curve_degrees: f64,
     /// Campen §4.3's topology constraints: around every boundary loop of a
     /// filtered cyclic smooth region with turning number zero (only with
@@ -285,6 +288,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
     let feature_edges = feature_curves(
         mesh,
         &topology,
+        &fans,
         &analysis.face_normals,
         &face_sizing,
         params,
@@ -308,6 +312,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
 fn feature_curves(
     mesh: &TriMesh,
     topology: &EdgeTopology,
+    fans: &[Option<Fan>],
     face_normals: &[DVec3],
     face_sizing: &[f64],
     params: &Params,
@@ -327,8 +332,11 @@ fn feature_curves(
         if topology.across(f, e) != Some((g, ge)) {
             continue;
         }
-        curves.union(s.a, s.b);
         edges.push((f, e, g, ge, s.a, s.b));
+    }
+    drop_sliver_sectors(mesh, fans, &mut edges);
+    for &(_, _, _, _, a, b) in &edges {
+        curves.union(a, b);
     }
     let mut length = vec![0.0; mesh.vertex_count()];
     let mut sizing = vec![(0.0, 0.0); mesh.vertex_count()];
@@ -346,6 +354,84 @@ fn feature_curves(
         }
     }
     sharp
+}
+
+/// A feature edge as (face, local edge, face across, its local edge, end
+/// vertices).
+type FeatureEdge = (usize, usize, usize, usize, u32, u32);
+
+/// Feature edges less than 45° apart around a vertex bound a sector that
+/// rounds to no quarter turn; the integer grid can only give it one (90°:
+/// a 19° dart on fandisk became a −¼ cone with a +¼ cone a quarter edge
+/// away, and the strip between them and along the curve folded). Of the
+/// two edges of such a sector, the one whose other end has fewer feature
+/// edges (the end of a curve), then the shorter, stops being a feature
+/// edge, until no sector is that narrow.
+fn drop_sliver_sectors(mesh: &TriMesh, fans: &[Option<Fan>], edges: &mut Vec<FeatureEdge>) {
+    loop {
+        let mut degree = vec![0u32; mesh.vertex_count()];
+        let mut at: std::collections::HashMap<(usize, usize), usize> =
+            std::collections::HashMap::new();
+        for (k, &(f, e, g, ge, a, b)) in edges.iter().enumerate() {
+            degree[a as usize] += 1;
+            degree[b as usize] += 1;
+            at.insert((f, e), k);
+            at.insert((g, ge), k);
+        }
+        let mut drop = None;
+        'vertices: for (v, fan) in fans.iter().enumerate() {
+            let Some(fan) = fan.as_ref().filter(|f| f.closed && degree[v] >= 2) else {
+                continue;
+            };
+            // Corner angles between consecutive feature edges, starting
+            // after one (crossing j leaves corner j over its edge i + 2).
+            let corners = &fan.corners;
+            let m = corners.len();
+            let Some(start) = (0..m).find(|&j| {
+                let (f, i) = corners[j];
+                at.contains_key(&(f as usize, (i as usize + 2) % 3))
+            }) else {
+                continue;
+            };
+            let mut angle = 0.0;
+            let mut first = at[&(
+                corners[start].0 as usize,
+                (corners[start].1 as usize + 2) % 3,
+            )];
+            for k in 1..=m {
+                let (f, i) = corners[(start + k) % m];
+                let (f, i) = (f as usize, i as usize);
+                let p = |c: usize| mesh.positions[mesh.triangles[f][c] as usize];
+                angle += (p((i + 1) % 3) - p(i)).angle_between(p((i + 2) % 3) - p(i));
+                if let Some(&second) = at.get(&(f, (i + 2) % 3)) {
+                    if angle < std::f64::consts::FRAC_PI_4 && first != second {
+                        let other = |k: usize| {
+                            let (_, _, _, _, a, b) = edges[k];
+                            let o = if a as usize == v { b } else { a };
+                            let len =
+                                mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+                            (degree[o as usize], len)
+                        };
+                        let (d1, d2) = (other(first), other(second));
+                        drop = Some(if d1.0 < d2.0 || (d1.0 == d2.0 && d1.1 <= d2.1) {
+                            first
+                        } else {
+                            second
+                        });
+                        break 'vertices;
+                    }
+                    angle = 0.0;
+                    first = second;
+                }
+            }
+        }
+        match drop {
+            Some(k) => {
+                edges.swap_remove(k);
+            }
+            None => return,
+        }
+    }
 }
 
 /// Per face: the direction its cross must contain — the boundary edge on
@@ -552,6 +638,57 @@ pub fn run_with_progress(
 mod tests {
     use super::*;
     use crate::pipeline::AlignmentMode;
+
+    /// A flat fan around the origin with spokes at the given angles (°),
+    /// and the feature edges of the spokes `marked` as [`feature_curves`]
+    /// lists them.
+    fn fan_with_features(spokes: &[f64], marked: &[usize]) -> (TriMesh, Vec<FeatureEdge>) {
+        let mut positions = vec![DVec3::ZERO];
+        positions.extend(spokes.iter().map(|a| {
+            let a = a.to_radians();
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        }));
+        let n = spokes.len() as u32;
+        let triangles = (0..n).map(|k| [0, 1 + k, 1 + (k + 1) % n]).collect();
+        let mesh = TriMesh {
+            positions,
+            triangles,
+        };
+        let topology = EdgeTopology::new(&mesh);
+        let mut edges = Vec::new();
+        for &k in marked {
+            // Spoke k is local edge 2 (vertex 2 → 0) of face k − 1 and
+            // local edge 0 (0 → 1) of face k.
+            let f = k;
+            let (g, ge) = topology.across(f, 0).expect("an interior spoke");
+            edges.push((f, 0, g, ge, 0, 1 + k as u32));
+        }
+        (mesh, edges)
+    }
+
+    /// Two feature edges 20° apart at a vertex bound a sector no quarter
+    /// turn fits: one of them goes (the one ending in the curve's end,
+    /// here the shorter spoke, as both ends are curve ends); 90° apart
+    /// both stay, and so do three at 120°.
+    #[test]
+    fn sliver_sectors_between_feature_edges_are_dropped() {
+        let spokes = [0.0, 20.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0];
+        let (mut mesh, mut edges) = fan_with_features(&spokes, &[0, 1]);
+        mesh.positions[2] *= 0.5;
+        let fans = vertex_fans(&mesh, &EdgeTopology::new(&mesh));
+        drop_sliver_sectors(&mesh, &fans, &mut edges);
+        assert_eq!(edges.len(), 1);
+        assert_eq!(edges[0].5, 1, "the shorter spoke (to vertex 2) is dropped");
+        let (mesh, mut edges) = fan_with_features(&spokes, &[0, 2]);
+        let fans = vertex_fans(&mesh, &EdgeTopology::new(&mesh));
+        drop_sliver_sectors(&mesh, &fans, &mut edges);
+        assert_eq!(edges.len(), 2);
+        let spokes = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0];
+        let (mesh, mut edges) = fan_with_features(&spokes, &[0, 2, 4]);
+        let fans = vertex_fans(&mesh, &EdgeTopology::new(&mesh));
+        drop_sliver_sectors(&mesh, &fans, &mut edges);
+        assert_eq!(edges.len(), 3);
+    }
 
     /// The page's alignment mode, smooth-region threshold and §4.2 weight
     /// reach the map; parameters the map does not read (the local path's
