@@ -95,15 +95,16 @@ pub struct Params {
     /// it soft, w · A(f) · (θ_f − θ(a_min))² modulo quarter turns next to
     /// E_smooth (areas normalised to mean 1, E_smooth's edges weigh 1), so
     /// the field need not jump where neighbouring regions' a_min disagree.
-    /// Default 1. Smooth regions against feature-vertex alignment, shear
-    /// and misalignment (°) at the default target, 1000 and 3000 vertices:
-    /// fandisk hard 9.15/7.49, 9.31/6.10, 5.92/3.97 → soft 6.45/5.68,
-    /// 6.64/4.92, 6.47/4.28 (feature vertices 9.17/8.25, 6.38/6.92,
-    /// 5.61/6.02); rocker-arm hard 8.54/5.69, 7.51/5.35, 7.13/5.01 → soft
-    /// 8.21/5.96, 6.29/4.79, 5.72/4.48 (feature vertices 7.03/7.55,
-    /// 7.09/7.49, 6.11/6.61). Flipped triangles at the default target:
-    /// fandisk 27 → 12, rocker-arm 51 → 97 (worse). w = 0.3 or 10 are
-    /// worse on rocker-arm; w = 100 is the hard result.
+    /// Default 1. Smooth regions, shear / misalignment (°) at the default
+    /// target, 1000 and 3000 vertices: fandisk hard 8.15/5.21, 6.79/5.08,
+    /// 5.65/3.93 → soft 6.21/4.79, 6.06/4.50, 5.60/3.96 (feature vertices
+    /// 7.64/7.92, 6.91/7.34, 5.30/6.05); rocker-arm hard 7.09/5.11,
+    /// 5.60/4.33, 5.91/4.21 → soft 6.37/4.93, 5.79/4.35, 5.15/4.10
+    /// (feature vertices 6.11/7.41, 5.72/6.90, 5.71/6.43). Flipped
+    /// triangles at the default target: fandisk 21 → 8, rocker-arm 41 →
+    /// 32. (The soft constraint's weight against E_smooth depends on the
+    /// input's face density, not on the target edge: at the default
+    /// target, input vertices / 16, S² ≈ 32 mean face areas.)
     pub region_cross_weight: Option<f64>,
     /// Sharp edges (face normals more than this many degrees apart) on
     /// curves at least one target edge long are feature curves: their
@@ -132,14 +133,12 @@ pub struct Params {
     /// value through the transitions, so isolines close there (no
     /// helix). Default true: on a capsule the closure error (the smaller
     /// holonomy component around the loops) is 4 without and 0 with it
-    /// (tests/param.rs); with smooth-region alignment, rocker-arm's
-    /// misalignment falls 6.09° → 5.69° and shear 9.13° → 8.54°, flips
-    /// 44 → 51; spot's 15.64° → 13.64°, 19.84° → 17.12°, flips 734 → 918;
-    /// fandisk has no cyclic region and is unchanged (these with hard
-    /// region constraints, `region_cross_weight` None). With the soft
-    /// default: rocker-arm misalignment 6.32° → 5.96°, shear 8.14° →
-    /// 8.21°, flips 34 → 97; spot misalignment 13.87° → 14.76°, shear
-    /// 16.87° → 20.85°, flips 237 → 726.
+    /// (tests/param.rs). They cost distortion where they act (fandisk has
+    /// no cyclic region): misalignment / shear (°) / flipped triangles
+    /// without → with, rocker-arm 4.57/5.51/38 → 4.93/6.37/32 at the
+    /// default target, 4.41/5.70/16 → 4.35/5.79/19 at 1000 vertices,
+    /// 4.38/5.52/17 → 4.10/5.15/16 at 3000; spot 12.23/13.23/143 →
+    /// 11.35/14.96/269, at 1000 vertices 8.50/9.37/21 → 8.14/11.19/200.
     pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
