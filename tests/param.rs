@@ -297,22 +297,27 @@ fn cli_writes_split_texture_coordinates_and_stats() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Campen et al. 2016 §5: with the filtered smooth regions ({0, ∞} cross
-/// field constraints and the {0, 5} parametrization weight) the map is
-/// better aligned with the principal directions than with feature-vertex
-/// constraints. (Shear: lower on fandisk, higher on rocker-arm here; not
-/// asserted.)
+/// Campen et al. 2016 §5 (Fig. 9): with the filtered smooth regions ({0, ∞}
+/// cross field constraints — soft here — and the {0, 5} parametrization
+/// weight) the map is better aligned with the principal directions and
+/// less sheared than with feature-vertex constraints. As in Campen's
+/// comparison, without the topology constraints of §4.3 ("for plain
+/// comparison of the weight field quality, the topological constraints
+/// have not been used here"): with them rocker-arm's shear is 6.37°
+/// against 6.11° with feature vertices (printed, not asserted).
 #[test]
-fn smooth_regions_lower_misalignment_on_fandisk_and_rocker_arm() {
+fn smooth_regions_lower_misalignment_and_shear_on_fandisk_and_rocker_arm() {
     for name in ["fandisk.obj", "rocker-arm.obj"] {
         let mesh = common::mesh(name);
         let mut measured = Vec::new();
-        for alignment in [
-            param::Alignment::FeatureVertices,
-            param::Alignment::SmoothRegions,
+        for (alignment, cyclic) in [
+            (param::Alignment::FeatureVertices, false),
+            (param::Alignment::SmoothRegions, false),
+            (param::Alignment::SmoothRegions, true),
         ] {
             let params = Params {
                 alignment,
+                cyclic_constraints: cyclic,
                 ..Params::default()
             };
             let r = param::run(&mesh, &params, &|| 0.0).expect("a map");
@@ -320,17 +325,22 @@ fn smooth_regions_lower_misalignment_on_fandisk_and_rocker_arm() {
             assert!(r.measures.translation_integrality < 1e-9);
             measured.push(r.measures);
         }
-        let (fv, sr) = (&measured[0], &measured[1]);
+        let (fv, sr, cyclic) = (&measured[0], &measured[1], &measured[2]);
         println!(
-            "{name}: misalignment {:.2}° → {:.2}°, shear {:.2}° → {:.2}°, cones {} → {}",
+            "{name}: misalignment {:.2}° → {:.2}°, shear {:.2}° → {:.2}°, cones {} → {}; \
+             with the topology constraints {:.2}°, {:.2}°",
             fv.misalignment_degrees,
             sr.misalignment_degrees,
             fv.shear_degrees,
             sr.shear_degrees,
             fv.cones,
-            sr.cones
+            sr.cones,
+            cyclic.misalignment_degrees,
+            cyclic.shear_degrees
         );
         assert!(sr.misalignment_degrees < fv.misalignment_degrees);
+        assert!(sr.shear_degrees < fv.shear_degrees);
+        assert!(cyclic.misalignment_degrees < fv.misalignment_degrees);
     }
 }
 

@@ -79,22 +79,32 @@ pub struct Params {
     pub alignment: Alignment,
     /// Smooth-region significance threshold (default 70°).
     pub smooth_regions: SmoothRegionParams,
-    /// Campen §4.2's w in the {0, w} weight field. Default 5.
+    /// Campen §4.2's w in the {0, w} weight field, on the cross axis
+    /// nearest a_min (see `seamless`). Default 5. Smooth regions, shear /
+    /// misalignment (°) with w = 0 → 5 at the default target and at 1000
+    /// vertices: fandisk 7.88/5.87 → 6.21/4.79, 7.03/5.47 → 6.06/4.50;
+    /// rocker-arm 6.67/5.44 → 6.37/4.93, 6.00/4.64 → 5.79/4.35; spot
+    /// 18.30/14.02 → 14.96/11.35, 12.96/9.53 → 11.19/8.14; bunny
+    /// 8.82/8.68 → 8.71/8.49, 9.58/9.17 → 9.85/8.64. With a_min itself
+    /// as the axis (Campen's literal term; our cross-field constraint is
+    /// soft) w = 5 gave 6.24/4.77, 6.76/4.51; 6.28/5.07, 5.71/4.45;
+    /// 15.89/12.30, 11.92/8.23; 9.25/8.53, 9.95/8.55.
     pub region_weight: f64,
     /// The smooth regions' cross-field constraint: None fixes the region
     /// faces' crosses to a_min (Campen §4.1's ∞ weight); a weight w makes
     /// it soft, w · A(f) · (θ_f − θ(a_min))² modulo quarter turns next to
     /// E_smooth (areas normalised to mean 1, E_smooth's edges weigh 1), so
     /// the field need not jump where neighbouring regions' a_min disagree.
-    /// Default 1. Smooth regions against feature-vertex alignment, shear
-    /// and misalignment (°) at the default target, 1000 and 3000 vertices:
-    /// fandisk hard 9.15/7.49, 9.31/6.10, 5.92/3.97 → soft 6.45/5.68,
-    /// 6.64/4.92, 6.47/4.28 (feature vertices 9.17/8.25, 6.38/6.92,
-    /// 5.61/6.02); rocker-arm hard 8.54/5.69, 7.51/5.35, 7.13/5.01 → soft
-    /// 8.21/5.96, 6.29/4.79, 5.72/4.48 (feature vertices 7.03/7.55,
-    /// 7.09/7.49, 6.11/6.61). Flipped triangles at the default target:
-    /// fandisk 27 → 12, rocker-arm 51 → 97 (worse). w = 0.3 or 10 are
-    /// worse on rocker-arm; w = 100 is the hard result.
+    /// Default 1. Smooth regions, shear / misalignment (°) at the default
+    /// target, 1000 and 3000 vertices: fandisk hard 8.15/5.21, 6.79/5.08,
+    /// 5.65/3.93 → soft 6.21/4.79, 6.06/4.50, 5.60/3.96 (feature vertices
+    /// 7.64/7.92, 6.91/7.34, 5.30/6.05); rocker-arm hard 7.09/5.11,
+    /// 5.60/4.33, 5.91/4.21 → soft 6.37/4.93, 5.79/4.35, 5.15/4.10
+    /// (feature vertices 6.11/7.41, 5.72/6.90, 5.71/6.43). Flipped
+    /// triangles at the default target: fandisk 21 → 8, rocker-arm 41 →
+    /// 32. (The soft constraint's weight against E_smooth depends on the
+    /// input's face density, not on the target edge: at the default
+    /// target, input vertices / 16, S² ≈ 32 mean face areas.)
     pub region_cross_weight: Option<f64>,
     /// Sharp edges (face normals more than this many degrees apart) on
     /// curves at least one target edge long are feature curves: their
@@ -104,15 +114,18 @@ pub struct Params {
     /// them get whole quarter turns, so corners are cones of the index
     /// their angles ask for (`cross_field::corner_sectors`; on fandisk
     /// the plain rounding put 5 of its 23 corner cones one or two rings
-    /// away). Default 0 (off): at 60° fandisk's misalignment falls
-    /// 25.2° → 4.3° (shear 5.66° → 6.44°), but the map still folds more
-    /// (flipped triangles at the default target fandisk 5 → 116, 144
-    /// before the corner cones; rocker-arm 26 → 66, 40 before: its 60°
-    /// curves are short scan ridges whose sliver sectors of 7°–42° become
-    /// cones; with feature-vertex alignment fandisk 13 → 63, 418 before;
-    /// bunny 76 → 149, 105 before, and cow 694 → 969, 1067 before: their
-    /// sharp edges are scan noise, whose forced corner indices add cones,
-    /// 38 → 66 on the bunny).
+    /// away); of two feature edges less than 45° apart around a vertex
+    /// one is dropped (`drop_sliver_sectors`: such a sector would get a
+    /// quarter turn). Default 0 (off): at 60° fandisk's misalignment
+    /// falls 25.7° → 4.2°, but the map still folds more. Flipped
+    /// triangles without features → with 60° (before the sliver rule) at
+    /// the default target and at 1000 vertices: fandisk 6 → 124 (192), 7
+    /// → 40 (46) — the rest mostly next to corners and at a ±¼ cone pair
+    /// a quarter edge apart; rocker-arm 7 → 16 (27), 6 → 15 (25), whose
+    /// 60° curves are short scan ridges; bunny 77 → 114 (129), 116 → 139
+    /// (150), cones 38 → 54 (66) at the default: its sharp edges are scan
+    /// noise; with feature-vertex alignment fandisk 10 → 59 (264),
+    /// rocker-arm 22 → 34 (56).
     pub feature_curve_degrees: f64,
     /// Campen §4.3's topology constraints: around every boundary loop of a
     /// filtered cyclic smooth region with turning number zero (only with
@@ -120,20 +133,29 @@ pub struct Params {
     /// value through the transitions, so isolines close there (no
     /// helix). Default true: on a capsule the closure error (the smaller
     /// holonomy component around the loops) is 4 without and 0 with it
-    /// (tests/param.rs); with smooth-region alignment, rocker-arm's
-    /// misalignment falls 6.09° → 5.69° and shear 9.13° → 8.54°, flips
-    /// 44 → 51; spot's 15.64° → 13.64°, 19.84° → 17.12°, flips 734 → 918;
-    /// fandisk has no cyclic region and is unchanged (these with hard
-    /// region constraints, `region_cross_weight` None). With the soft
-    /// default: rocker-arm misalignment 6.32° → 5.96°, shear 8.14° →
-    /// 8.21°, flips 34 → 97; spot misalignment 13.87° → 14.76°, shear
-    /// 16.87° → 20.85°, flips 237 → 726.
+    /// (tests/param.rs). They cost distortion where they act (fandisk has
+    /// no cyclic region): misalignment / shear (°) / flipped triangles
+    /// without → with, rocker-arm 4.57/5.51/38 → 4.93/6.37/32 at the
+    /// default target, 4.41/5.70/16 → 4.35/5.79/19 at 1000 vertices,
+    /// 4.38/5.52/17 → 4.10/5.15/16 at 3000; spot 12.23/13.23/143 →
+    /// 11.35/14.96/269, at 1000 vertices 8.50/9.37/21 → 8.14/11.19/200.
     pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
     pub round: bool,
-    /// Fraction of the remaining integer variables rounded per re-solve.
-    /// Default 0.5 (1 would round all at once). The re-solves are small
+    /// Fraction of the remaining integer variables rounded per re-solve,
+    /// the cone coordinates first (a fraction of them, nearest to an
+    /// integer first), then the rest. Default 0.5 (1 would round all at
+    /// once). Rounding every cone coordinate in the first step instead
+    /// (as before) gave E_orient / flipped triangles / shear (°) at the
+    /// default target, against now: fandisk 15.06/3/5.45 → 14.19/6/5.61,
+    /// with feature vertices 34.63/11/8.00 → 21.23/10/7.64, smooth
+    /// regions 36.26/10/6.42 → 29.19/8/6.24; rocker-arm 37.55/26/7.28 →
+    /// 21.41/7/7.50, 43.95/39/7.03 → 41.45/22/6.11, 92.08/51/8.36 →
+    /// 66.94/37/6.28; spot 60.69/135/13.61 → 17.66/67/9.38,
+    /// 150.72/1050/23.07 → 22.62/84/11.06, 110.50/393/19.94 →
+    /// 73.72/332/15.89; bunny 109.05/76/6.38 → 97.93/77/6.15 (no extra
+    /// time: the re-solves are small dense ones). The re-solves are small
     /// dense ones on the condensed system, so MIQ's one at a time costs
     /// about the same: on the bunny 0.001 takes 113 re-solves instead of
     /// 9 in the same parametrization time, E_orient 109.05 → 106.56,
@@ -265,6 +287,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
     let feature_edges = feature_curves(
         mesh,
         &topology,
+        &fans,
         &analysis.face_normals,
         &face_sizing,
         params,
@@ -288,6 +311,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
 fn feature_curves(
     mesh: &TriMesh,
     topology: &EdgeTopology,
+    fans: &[Option<Fan>],
     face_normals: &[DVec3],
     face_sizing: &[f64],
     params: &Params,
@@ -307,8 +331,11 @@ fn feature_curves(
         if topology.across(f, e) != Some((g, ge)) {
             continue;
         }
-        curves.union(s.a, s.b);
         edges.push((f, e, g, ge, s.a, s.b));
+    }
+    drop_sliver_sectors(mesh, fans, &mut edges);
+    for &(_, _, _, _, a, b) in &edges {
+        curves.union(a, b);
     }
     let mut length = vec![0.0; mesh.vertex_count()];
     let mut sizing = vec![(0.0, 0.0); mesh.vertex_count()];
@@ -326,6 +353,84 @@ fn feature_curves(
         }
     }
     sharp
+}
+
+/// A feature edge as (face, local edge, face across, its local edge, end
+/// vertices).
+type FeatureEdge = (usize, usize, usize, usize, u32, u32);
+
+/// Feature edges less than 45° apart around a vertex bound a sector that
+/// rounds to no quarter turn; the integer grid can only give it one (90°:
+/// a 19° dart on fandisk became a −¼ cone with a +¼ cone a quarter edge
+/// away, and the strip between them and along the curve folded). Of the
+/// two edges of such a sector, the one whose other end has fewer feature
+/// edges (the end of a curve), then the shorter, stops being a feature
+/// edge, until no sector is that narrow.
+fn drop_sliver_sectors(mesh: &TriMesh, fans: &[Option<Fan>], edges: &mut Vec<FeatureEdge>) {
+    loop {
+        let mut degree = vec![0u32; mesh.vertex_count()];
+        let mut at: std::collections::HashMap<(usize, usize), usize> =
+            std::collections::HashMap::new();
+        for (k, &(f, e, g, ge, a, b)) in edges.iter().enumerate() {
+            degree[a as usize] += 1;
+            degree[b as usize] += 1;
+            at.insert((f, e), k);
+            at.insert((g, ge), k);
+        }
+        let mut drop = None;
+        'vertices: for (v, fan) in fans.iter().enumerate() {
+            let Some(fan) = fan.as_ref().filter(|f| f.closed && degree[v] >= 2) else {
+                continue;
+            };
+            // Corner angles between consecutive feature edges, starting
+            // after one (crossing j leaves corner j over its edge i + 2).
+            let corners = &fan.corners;
+            let m = corners.len();
+            let Some(start) = (0..m).find(|&j| {
+                let (f, i) = corners[j];
+                at.contains_key(&(f as usize, (i as usize + 2) % 3))
+            }) else {
+                continue;
+            };
+            let mut angle = 0.0;
+            let mut first = at[&(
+                corners[start].0 as usize,
+                (corners[start].1 as usize + 2) % 3,
+            )];
+            for k in 1..=m {
+                let (f, i) = corners[(start + k) % m];
+                let (f, i) = (f as usize, i as usize);
+                let p = |c: usize| mesh.positions[mesh.triangles[f][c] as usize];
+                angle += (p((i + 1) % 3) - p(i)).angle_between(p((i + 2) % 3) - p(i));
+                if let Some(&second) = at.get(&(f, (i + 2) % 3)) {
+                    if angle < std::f64::consts::FRAC_PI_4 && first != second {
+                        let other = |k: usize| {
+                            let (_, _, _, _, a, b) = edges[k];
+                            let o = if a as usize == v { b } else { a };
+                            let len =
+                                mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+                            (degree[o as usize], len)
+                        };
+                        let (d1, d2) = (other(first), other(second));
+                        drop = Some(if d1.0 < d2.0 || (d1.0 == d2.0 && d1.1 <= d2.1) {
+                            first
+                        } else {
+                            second
+                        });
+                        break 'vertices;
+                    }
+                    angle = 0.0;
+                    first = second;
+                }
+            }
+        }
+        match drop {
+            Some(k) => {
+                edges.swap_remove(k);
+            }
+            None => return,
+        }
+    }
 }
 
 /// Per face: the direction its cross must contain — the boundary edge on
@@ -532,6 +637,57 @@ pub fn run_with_progress(
 mod tests {
     use super::*;
     use crate::pipeline::AlignmentMode;
+
+    /// A flat fan around the origin with spokes at the given angles (°),
+    /// and the feature edges of the spokes `marked` as [`feature_curves`]
+    /// lists them.
+    fn fan_with_features(spokes: &[f64], marked: &[usize]) -> (TriMesh, Vec<FeatureEdge>) {
+        let mut positions = vec![DVec3::ZERO];
+        positions.extend(spokes.iter().map(|a| {
+            let a = a.to_radians();
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        }));
+        let n = spokes.len() as u32;
+        let triangles = (0..n).map(|k| [0, 1 + k, 1 + (k + 1) % n]).collect();
+        let mesh = TriMesh {
+            positions,
+            triangles,
+        };
+        let topology = EdgeTopology::new(&mesh);
+        let mut edges = Vec::new();
+        for &k in marked {
+            // Spoke k is local edge 2 (vertex 2 → 0) of face k − 1 and
+            // local edge 0 (0 → 1) of face k.
+            let f = k;
+            let (g, ge) = topology.across(f, 0).expect("an interior spoke");
+            edges.push((f, 0, g, ge, 0, 1 + k as u32));
+        }
+        (mesh, edges)
+    }
+
+    /// Two feature edges 20° apart at a vertex bound a sector no quarter
+    /// turn fits: one of them goes (the one ending in the curve's end,
+    /// here the shorter spoke, as both ends are curve ends); 90° apart
+    /// both stay, and so do three at 120°.
+    #[test]
+    fn sliver_sectors_between_feature_edges_are_dropped() {
+        let spokes = [0.0, 20.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0];
+        let (mut mesh, mut edges) = fan_with_features(&spokes, &[0, 1]);
+        mesh.positions[2] *= 0.5;
+        let fans = vertex_fans(&mesh, &EdgeTopology::new(&mesh));
+        drop_sliver_sectors(&mesh, &fans, &mut edges);
+        assert_eq!(edges.len(), 1);
+        assert_eq!(edges[0].5, 1, "the shorter spoke (to vertex 2) is dropped");
+        let (mesh, mut edges) = fan_with_features(&spokes, &[0, 2]);
+        let fans = vertex_fans(&mesh, &EdgeTopology::new(&mesh));
+        drop_sliver_sectors(&mesh, &fans, &mut edges);
+        assert_eq!(edges.len(), 2);
+        let spokes = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0];
+        let (mesh, mut edges) = fan_with_features(&spokes, &[0, 2, 4]);
+        let fans = vertex_fans(&mesh, &EdgeTopology::new(&mesh));
+        drop_sliver_sectors(&mesh, &fans, &mut edges);
+        assert_eq!(edges.len(), 3);
+    }
 
     /// The page's alignment mode, smooth-region threshold and §4.2 weight
     /// reach the map; parameters the map does not read (the local path's

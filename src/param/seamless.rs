@@ -11,12 +11,19 @@
 //! projected from the filtered plane onto the face along n̂ (non-orthonormal
 //! where n ≠ n̂) and A(f̂) the face's area projected into the filtered plane.
 //! Integer rounding (MIQ's greedy scheme, batched): cone coordinates first,
-//! then translations and boundary isolines in order of their distance to
-//! an integer, a fraction per re-solve.
+//! then translations and boundary isolines, each group in order of the
+//! distance to an integer, a fraction of the group's open quantities per
+//! re-solve.
 //!
 //! With filtered smooth regions, Campen et al. 2016 §4.2's term
-//! w·A_f·(∇g_c · a_min)² (w = 5 inside the regions) is added for the
-//! coordinate c whose cross axis is transversal to a_min. Campen §4.3's
+//! w·A_f·(∇g_c · ŵ)² (w = 5 inside the regions) is added for the
+//! coordinate c whose cross axis is transversal to a_min, ŵ the unit
+//! (projected) cross axis nearest a_min: Campen's equivalent anisotropic
+//! norm ‖∇u − u‖²_{1,w+1} in the cross frame. Campen writes a_min, which
+//! is ŵ under his hard cross-field constraint (§4.1); our region
+//! constraint is soft ([`super::Params::region_cross_weight`]), and where
+//! the field leaves a_min (next to the regions' boundaries) a_min would
+//! pull ∇g_c against E_orient's own target. Campen §4.3's
 //! topology constraints: around every zero-turning boundary loop of a
 //! cyclic region one component of the loop's holonomy translation is 0
 //! (isolines close there; no helix).
@@ -110,7 +117,8 @@ pub struct MapInput<'a> {
     /// Fraction of the remaining integer variables fixed per re-solve.
     pub batch_fraction: f64,
     /// Campen §4.2's {0, w} alignment: per face the unit a_min where the
-    /// weight applies (filtered smooth regions), and w.
+    /// weight applies (filtered smooth regions; it picks the cross axis
+    /// the weight strengthens), and w.
     pub region_alignment: Option<(&'a [Option<DVec3>], f64)>,
     /// Per face edge: a feature curve, which lies on an integer isoline
     /// like the boundary (empty: none).
@@ -230,7 +238,7 @@ fn combed_frames(mesh: &TriMesh, field: &CrossField, c: &Cut) -> Vec<[DVec3; 2]>
 /// The linear functionals that must become integers, cones first.
 struct Integers {
     quantities: Vec<Vec<(usize, f64)>>,
-    /// Leading quantities rounded in the first batch.
+    /// The leading quantities (cone coordinates) are rounded before the rest.
     first: usize,
 }
 
@@ -462,14 +470,17 @@ fn energy_rows(
         }
         if let Some((dirs, weight)) = input.region_alignment {
             if let Some(a) = dirs.get(f).copied().flatten() {
-                // E_align: ∇g_c · a_min = 0 for the coordinate c whose
-                // cross axis is transversal to a_min.
+                // E_align for the coordinate c whose cross axis is
+                // transversal to a_min: ∇g_c · ŵ = 0 along the field's
+                // axis ŵ nearest a_min (Campen's anisotropic norm in the
+                // cross frame; ŵ = a_min where the field follows a_min).
                 let a = a.reject_from_normalized(n);
-                let comp = usize::from(frames[f][0].dot(a).abs() < frames[f][1].dot(a).abs());
-                let comp = 1 - comp;
+                let along = usize::from(frames[f][0].dot(a).abs() < frames[f][1].dot(a).abs());
+                let comp = 1 - along;
+                let axis = frames[f][along].normalize_or_zero();
                 let wa = (weight.max(0.0) * projected).sqrt();
                 let terms = (0..3)
-                    .map(|i| (lay.w(c.wedge[f][i], comp), wa * grad[i].dot(a)))
+                    .map(|i| (lay.w(c.wedge[f][i], comp), wa * grad[i].dot(axis)))
                     .collect();
                 rows.push((terms, 0.0));
             }
@@ -799,10 +810,13 @@ fn round(
                 continue;
             }
             let value = sys.value(&e, &y);
+            // Cone coordinates before the rest, each group nearest to an
+            // integer first.
+            let distance = (value - value.round()).abs();
             let priority = if q < ints.first {
-                -1.0
+                distance - 1.0
             } else {
-                (value - value.round()).abs()
+                distance
             };
             open.push((priority, q, value, e));
         }
@@ -822,12 +836,14 @@ fn round(
             return Ok((x, energy, steps, missed, 1));
         }
         open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // The same fraction of the open cone coordinates, or once they
+        // are integer of the rest, per re-solve: rounding every cone at
+        // once (each to its nearest integer with none of the others'
+        // shifts seen) raised E_orient by a fifth to a half more than this
+        // on fandisk, rocker-arm, spot and the bunny.
         let cones = open.iter().filter(|o| o.0 < 0.0).count();
-        let batch = if cones > 0 {
-            cones
-        } else {
-            ((open.len() as f64 * fraction).ceil() as usize).max(1)
-        };
+        let pool = if cones > 0 { cones } else { open.len() };
+        let batch = ((pool as f64 * fraction).ceil() as usize).clamp(1, pool);
         for (_, q, value, _) in open.iter().take(batch) {
             done[*q] = true;
             // The reduction again: earlier ones of this batch changed it.
