@@ -69,7 +69,9 @@
 //!   direction is given per vertex ([`LoopEngine::set_covered`]) or taken
 //!   from a loop's tangent within a band ([`LoopEngine::cover_loop`]).
 
+#[cfg(test)]
 use std::cmp::Reverse;
+#[cfg(test)]
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
@@ -264,7 +266,9 @@ struct BoundaryField {
     dist: Vec<f32>,
     parent: Vec<u32>,
     settled: Vec<bool>,
-    heap: BinaryHeap<Reverse<u64>>,
+    heap: RadixHeap,
+    /// Every node closer than this is settled (∞ once the heap is empty).
+    radius: f32,
 }
 
 impl BoundaryField {
@@ -285,9 +289,7 @@ impl BoundaryField {
         if self.settled[n] {
             self.dist[n]
         } else {
-            self.heap.peek().map_or(f32::INFINITY, |&Reverse(k)| {
-                f32::from_bits((k >> 32) as u32)
-            })
+            self.radius
         }
     }
 }
@@ -1283,19 +1285,18 @@ impl LoopEngine {
             ws.dist[st] = 0.0;
             ws.heap.push(0f32.to_bits(), st as u32);
         }
-        let mut effort = 0u64;
-        while let Some((k, st)) = ws.heap.pop() {
+        let LayeredWorkspace {
+            dist, state, heap, ..
+        } = &mut *ws;
+        let mut bound = bound;
+        self.ws.effort += settle(heap, &mut bound, false, |st, heap, _| {
             let st = st as usize;
-            if ws.state[st] == settled {
-                continue;
+            if state[st] == settled {
+                return false;
             }
-            if f32::from_bits(k) >= bound {
-                break;
-            }
-            ws.state[st] = settled;
-            effort += 1;
+            state[st] = settled;
             let (l, x) = (st / nodes, st % nodes);
-            let d = ws.dist[st];
+            let d = dist[st];
             let base = l * nodes;
             let pass = (l < last && g.target[x] == pass_vertex[l]).then(|| &passes[l]);
             graph.for_each_arc(x, |y, w| {
@@ -1304,10 +1305,10 @@ impl LoopEngine {
                 }
                 let nd = d + w;
                 let mut relax = |t: usize| {
-                    if ws.state[t] < reached || nd < ws.dist[t] {
-                        ws.state[t] = reached;
-                        ws.dist[t] = nd;
-                        ws.heap.push(nd.to_bits(), t as u32);
+                    if state[t] < reached || nd < dist[t] {
+                        state[t] = reached;
+                        dist[t] = nd;
+                        heap.push(nd.to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
@@ -1315,8 +1316,8 @@ impl LoopEngine {
                     relax(base + nodes + y);
                 }
             });
-        }
-        self.ws.effort += effort;
+            true
+        });
         read.iter()
             .map(|&r| {
                 if r == NONE {
@@ -1395,22 +1396,27 @@ impl LoopEngine {
             }
         }
         let mut best = (bound, NONE);
-        let mut effort = 0u64;
-        while let Some((k, st)) = ws.heap.pop() {
+        let disabled = &self.disabled;
+        let LayeredWorkspace {
+            dist,
+            parent,
+            label,
+            state,
+            heap,
+            ..
+        } = &mut *ws;
+        let mut cap = bound;
+        self.ws.effort += settle(heap, &mut cap, false, |st, heap, cap| {
             let st = st as usize;
-            if ws.state[st] == settled {
-                continue;
+            if state[st] == settled {
+                return false;
             }
-            if f32::from_bits(k) >= best.0 {
-                break;
-            }
-            ws.state[st] = settled;
-            effort += 1;
+            state[st] = settled;
             let (l, x) = (st / nodes, st % nodes);
-            let d = ws.dist[st];
+            let d = dist[st];
             if l == last {
                 let total = match end {
-                    LayeredEnd::Closed if x == ws.label[st] as usize => d,
+                    LayeredEnd::Closed if x == label[st] as usize => d,
                     LayeredEnd::Open(leave) => layers[order[n - 1]]
                         .iter()
                         .position(|&a| a as usize == x)
@@ -1419,14 +1425,14 @@ impl LoopEngine {
                 };
                 if total < best.0 {
                     best = (total, st as u32);
+                    *cap = total;
                 }
-                continue;
+                return true;
             }
             let next = order[(l + 1) % n];
             let at_goal = g.target[x] as usize == goals[l];
-            let disabled = &self.disabled;
-            let label = ws.label[st];
-            let only = (closed && l + 1 == last).then_some(label);
+            let source = label[st];
+            let only = (closed && l + 1 == last).then_some(source);
             let base = l * nodes;
             graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
@@ -1434,12 +1440,12 @@ impl LoopEngine {
                 }
                 let nd = d + w;
                 let mut relax = |t: usize| {
-                    if ws.state[t] < reached || nd < ws.dist[t] {
-                        ws.state[t] = reached;
-                        ws.dist[t] = nd;
-                        ws.parent[t] = st as u32;
-                        ws.label[t] = label;
-                        ws.heap.push((nd + h(t)).to_bits(), t as u32);
+                    if state[t] < reached || nd < dist[t] {
+                        state[t] = reached;
+                        dist[t] = nd;
+                        parent[t] = st as u32;
+                        label[t] = source;
+                        heap.push((nd + h(t)).to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
@@ -1451,8 +1457,8 @@ impl LoopEngine {
                     relax(base + nodes + y);
                 }
             });
-        }
-        self.ws.effort += effort;
+            true
+        });
         let (cost, end_state) = best;
         if end_state == NONE {
             return None;
@@ -2096,7 +2102,8 @@ impl LoopEngine {
                 dist: vec![f32::INFINITY; nodes],
                 parent: vec![NONE; nodes],
                 settled: vec![false; nodes],
-                heap: BinaryHeap::new(),
+                heap: RadixHeap::default(),
+                radius: 0.0,
             };
             for e in 0..nodes {
                 if self.disabled[e] {
@@ -2108,25 +2115,32 @@ impl LoopEngine {
                 // are the last nodes.
                 if g.boundary[g.source[e] as usize] && !g.boundary[g.target[e] as usize] {
                     f.dist[e] = 0.0;
-                    f.heap.push(Reverse(key(0.0, e as u32)));
+                    f.heap.push(0f32.to_bits(), e as u32);
                 }
             }
             f
         });
-        while let Some(&Reverse(k)) = field.heap.peek() {
-            if f32::from_bits((k >> 32) as u32) >= bound {
-                break;
+        let disabled = &self.disabled;
+        let graph = &self.graph;
+        let BoundaryField {
+            dist,
+            parent,
+            settled,
+            heap,
+            radius,
+        } = field;
+        if bound <= *radius {
+            return;
+        }
+        let mut cap = bound;
+        settle(heap, &mut cap, true, |x, heap, _| {
+            let x = x as usize;
+            if settled[x] {
+                return false;
             }
-            field.heap.pop();
-            let x = (k & 0xffff_ffff) as usize;
-            if field.settled[x] {
-                continue;
-            }
-            field.settled[x] = true;
-            let d = field.dist[x];
-            let disabled = &self.disabled;
-            let (dist, parent, heap) = (&mut field.dist, &mut field.parent, &mut field.heap);
-            self.graph.for_each_arc(x, |y, w| {
+            settled[x] = true;
+            let d = dist[x];
+            graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
                     return;
                 }
@@ -2134,10 +2148,16 @@ impl LoopEngine {
                 if nd < dist[y] {
                     dist[y] = nd;
                     parent[y] = x as u32;
-                    heap.push(Reverse(key(nd, y as u32)));
+                    heap.push(nd.to_bits(), y as u32);
                 }
             });
-        }
+            true
+        });
+        *radius = if heap.is_empty() {
+            f32::INFINITY
+        } else {
+            bound
+        };
     }
 
     /// Seed … `node` along the boundary field's parents.
@@ -2397,6 +2417,7 @@ enum Kind {
     Open(u32),
 }
 
+#[cfg(test)]
 #[inline]
 fn key(cost: f32, node: u32) -> u64 {
     ((cost.max(0.0).to_bits() as u64) << 32) | node as u64
