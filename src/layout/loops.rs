@@ -51,14 +51,22 @@
 //!   layered search per start of the first anchor but, per start a₀, two
 //!   half-searches meeting at the second anchor's candidates y: d(a₀ → y)
 //!   forward and d(y → a₀) as the forward search from reverse(a₀), both A*
-//!   with exact heuristics (the distances to and from the second anchor's
-//!   candidates, one growing Dijkstra each per query); their sum bounds
-//!   each start's loop from below, so the starts run cheapest bound first
-//!   and stop at the best loop. With three or more positional anchors the
-//!   same kind of bound orders and prunes the per-start layered searches.
-//!   Exact (tested against one layered search per start). The hover query settles the distances
+//!   guided by ONE field, the distances from the second anchor's
+//!   candidates (F(reverse(x)) bounds the distance from x to the anchor),
+//!   settled only as far as the searches read it. F(reverse(a₀)) + F(a₀)
+//!   bounds each start's loop from below; everything is pruned by a level
+//!   1 % above the smallest bound, growing by 2 % until a loop below it
+//!   exists. The dual curve through both is one A* from the first anchor's
+//!   candidates at their distances from ∂, guided by F and by the distance
+//!   to ∂. With three or more positional anchors the same kind of bound
+//!   orders and prunes the per-start layered searches, which are also
+//!   guided by one such field per anchor (settled to half the first loop's
+//!   cost). Exact (tested against one layered search per start and the
+//!   layered dual-curve search). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
+//! - Every best-first search of the engine but the hover's two runs one
+//!   settle loop ([`settle`]).
 //! - Alternatives of a single anchor are de-duplicated by direction: a
 //!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
 //!   same "direction class" and dropped; proposals above 6 × the best cost
@@ -94,6 +102,9 @@ const BOUNDARY_RADIUS: f32 = 0.25;
 /// The factor by which the pruning level of the two-anchor search grows
 /// while no loop below it exists.
 const LEVEL_GROWTH: f32 = 1.02;
+/// The fields guiding a loop through three or more anchors are settled up
+/// to this share of the first loop's cost (beyond it they read it).
+const FIELD_SHARE: f32 = 0.5;
 /// … and by at least this much (normalised cost).
 const LEVEL_STEP: f32 = 0.01 * BOUNDARY_RADIUS;
 
@@ -322,6 +333,9 @@ struct PairWorkspace {
     /// bounds the distances of the forward and of the reversed searches).
     field: GrowingField,
     side: LayeredWorkspace,
+    /// Per anchor of a loop through three or more positional anchors, the
+    /// same kind of field from its candidates ([`LoopEngine::multi_start_cycle`]).
+    fields: Vec<GrowingField>,
 }
 
 /// The one settle loop of the engine's best-first searches: pops `heap` in
@@ -797,6 +811,7 @@ impl LoopEngine {
                     &enter,
                     LayeredEnd::Open(&leave),
                     bound,
+                    false,
                 ) {
                     let (b0, last) = (nodes[0], nodes[nodes.len() - 1]);
                     let mut full = self.boundary_path(b0);
@@ -853,11 +868,7 @@ impl LoopEngine {
         let open = open && self.has_boundary;
         let nodes = self.graph.node_count();
         let v1 = verts[1] as u32;
-        let sources: Vec<u32> = layers[1]
-            .iter()
-            .copied()
-            .filter(|&y| !self.disabled[y as usize])
-            .collect();
+        let sources = self.field_sources(verts[1]);
         self.pair.field.reset(nodes, &sources);
         let starts: Vec<u32> = layers[0]
             .iter()
@@ -909,6 +920,21 @@ impl LoopEngine {
             }
         }
         Some(best.0.is_finite().then_some(best))
+    }
+
+    /// The sources of a field from a positional anchor at `v`: every
+    /// out-edge of `v` that is enabled or whose reverse is (so that
+    /// F(reverse(x)) is 0 wherever x arrives at `v` in either search
+    /// direction, and F bounds both).
+    fn field_sources(&self, v: usize) -> Vec<u32> {
+        let g = &self.graph.g;
+        g.out_edges(v)
+            .filter(|&z| {
+                let r = g.reverse[z];
+                !self.disabled[z] || (r != NONE && !self.disabled[r as usize])
+            })
+            .map(|z| z as u32)
+            .collect()
     }
 
     /// The closed loops of [`Self::two_anchor_loop`] at one level: every
@@ -1133,7 +1159,8 @@ impl LoopEngine {
         let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
         let run = |engine: &mut Self,
                    sources: &[(u32, f32)],
-                   best: &mut Option<(f32, Vec<u32>, bool)>| {
+                   best: &mut Option<(f32, Vec<u32>, bool)>,
+                   guided: bool| {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
             if let Some((cost, mut nodes, starts)) = engine.layered_search(
                 verts,
@@ -1143,6 +1170,7 @@ impl LoopEngine {
                 sources,
                 LayeredEnd::Closed,
                 bound,
+                guided,
             ) {
                 // Start the loop at anchor 0's candidate, as the pairwise
                 // method does.
@@ -1151,9 +1179,25 @@ impl LoopEngine {
                 *best = Some((cost, nodes, true));
             }
         };
-        run(self, &all, best);
+        run(self, &all, best, false);
         if all.len() > 1 {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            // With positional anchors only, the per-start searches are also
+            // guided by each anchor's field (its distances from the anchor's
+            // candidates, settled below the best loop so far).
+            let positional = close.iter().all(|c| !c.is_finite())
+                && (0..n).all(|k| verts[k] != verts[(k + 1) % n]);
+            self.pair.fields.truncate(0);
+            if positional && bound.is_finite() {
+                let nodes = self.graph.node_count();
+                let mut fields = std::mem::take(&mut self.pair.fields);
+                fields.resize_with(n, GrowingField::default);
+                for (f, &v) in fields.iter_mut().zip(verts) {
+                    f.reset(nodes, &self.field_sources(v));
+                    self.ws.effort += f.grow(&self.graph, &self.disabled, FIELD_SHARE * bound);
+                }
+                self.pair.fields = fields;
+            }
             // Then one exact search per start, cheapest lower bound first,
             // skipping the starts whose bound reaches the best loop so far
             // (without bounds: every start).
@@ -1174,8 +1218,9 @@ impl LoopEngine {
                 if lb * (1.0 - 1e-4) >= bound {
                     break;
                 }
-                run(self, &[(a0, 0.0)], best);
+                run(self, &[(a0, 0.0)], best, true);
             }
+            self.pair.fields.truncate(0);
         }
     }
 
@@ -1348,6 +1393,7 @@ impl LoopEngine {
         sources: &[(u32, f32)],
         end: LayeredEnd<'_>,
         bound: f32,
+        guided: bool,
     ) -> Option<(f32, Vec<u32>, Vec<usize>)> {
         let n = order.len();
         let graph = &self.graph;
@@ -1375,9 +1421,38 @@ impl LoopEngine {
         for l in (0..last).rev() {
             rest[l] = rest[l + 1] + if l + 1 < last { seg_lb[l + 1] } else { 0.0 };
         }
+        // Guided: also the fields of the anchors (F(reverse(x)) of the next
+        // anchor's field, 0 on its out-edges), with their own bounds of the
+        // later segments; the larger of both heuristics.
+        let guided = guided && self.pair.fields.len() == n;
+        let fields = &self.pair.fields;
+        let fh = |l: usize, x: usize| -> f32 {
+            if g.source[x] as usize == goals[l] {
+                0.0
+            } else {
+                fields[order[(l + 1) % n]].value_of_reverse(g, x)
+            }
+        };
+        let mut rest_f = vec![0.0f32; last + 1];
+        if guided {
+            for l in (0..last.saturating_sub(1)).rev() {
+                let seg = layers[order[l + 1]]
+                    .iter()
+                    .map(|&a| fh(l + 1, a as usize))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0);
+                rest_f[l] = rest_f[l + 1] + seg;
+            }
+        }
         let h = |state: usize| -> f32 {
             let (l, x) = (state / nodes, state % nodes);
-            if l >= last { 0.0 } else { hs[l](x) + rest[l] }
+            if l >= last {
+                0.0
+            } else if guided {
+                (hs[l](x) + rest[l]).max(fh(l, x) + rest_f[l])
+            } else {
+                hs[l](x) + rest[l]
+            }
         };
         let ws = &mut self.layered;
         let now = ws.start(nodes * (last + 1));
@@ -2764,6 +2839,7 @@ mod tests {
                                 &[(a, 0.0)],
                                 LayeredEnd::Closed,
                                 f32::INFINITY,
+                                false,
                             ) {
                                 reference = reference.min(c);
                             }
@@ -2791,6 +2867,7 @@ mod tests {
                                     &enter,
                                     LayeredEnd::Open(&leave),
                                     f32::INFINITY,
+                                    false,
                                 )
                                 .map_or(f32::INFINITY, |x| x.0);
                             let either = reference.min(open);
