@@ -65,8 +65,10 @@
 //!   layered dual-curve search). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
-//! - Every best-first search of the engine but the hover's two runs one
-//!   settle loop ([`settle`]).
+//! - The fields, the searches through anchors and the distances from ∂ run
+//!   one settle loop ([`settle`]); the hover query's two bidirectional
+//!   searches (stopping at twice the key) and the tests' references keep
+//!   their own.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
 //!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
 //!   same "direction class" and dropped; proposals above 6 × the best cost
