@@ -534,7 +534,7 @@ fn astar(
     }
     for &(source, c) in sources {
         let src = source as usize;
-        if source == NONE || blocked(src) || !(c < bound) {
+        if source == NONE || blocked(src) || c.is_nan() || c >= bound {
             continue;
         }
         if ws.state[src] < reached || c < ws.dist[src] {
@@ -579,6 +579,40 @@ fn astar(
         });
         true
     })
+}
+
+/// The path of a layered search ([`LoopEngine::layered_search`]) to state
+/// `end` (`nodes` per layer, `n` anchors; for a closed loop without the
+/// closing state): its g′ nodes and the position where each layer begins.
+fn layered_path_to(
+    ws: &LayeredWorkspace,
+    end: u32,
+    nodes: usize,
+    n: usize,
+    closed: bool,
+) -> (Vec<u32>, Vec<usize>) {
+    let mut states = Vec::new();
+    let mut st = end;
+    while st != NONE && states.len() <= ws.parent.len() {
+        states.push(st);
+        st = ws.parent[st as usize];
+    }
+    states.reverse();
+    if closed {
+        states.pop();
+    }
+    let mut starts = vec![0usize; n];
+    for (i, w) in states.windows(2).enumerate() {
+        let (la, lb) = (w[0] as usize / nodes, w[1] as usize / nodes);
+        if lb != la && lb < n {
+            starts[lb] = i + 1;
+        }
+    }
+    let path = states
+        .iter()
+        .map(|&s| (s as usize % nodes) as u32)
+        .collect();
+    (path, starts)
 }
 
 /// How a layered search ends: back at the node its path started from
@@ -1540,27 +1574,7 @@ impl LoopEngine {
         if end_state == NONE {
             return None;
         }
-        let mut states = Vec::new();
-        let mut st = end_state;
-        while st != NONE && states.len() <= ws.parent.len() {
-            states.push(st);
-            st = ws.parent[st as usize];
-        }
-        states.reverse();
-        if closed {
-            states.pop();
-        }
-        let mut starts = vec![0usize; n];
-        for (i, w) in states.windows(2).enumerate() {
-            let (la, lb) = (w[0] as usize / nodes, w[1] as usize / nodes);
-            if lb != la && lb < n {
-                starts[lb] = i + 1;
-            }
-        }
-        let path = states
-            .iter()
-            .map(|&s| (s as usize % nodes) as u32)
-            .collect();
+        let (path, starts) = layered_path_to(ws, end_state, nodes, n, closed);
         Some((cost, path, starts))
     }
 
