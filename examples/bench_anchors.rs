@@ -18,7 +18,9 @@
 //!
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
 //! per case (mesh, trial, case, cost) for comparing loop energies between
-//! versions; `BENCH_EFFORT=1` also prints the g′ states settled per case.
+//! versions; `BENCH_EFFORT=1` also prints the g′ states settled per case;
+//! `BENCH_CASES=apart2,apart3` runs only the named cases (the anchors are
+//! placed as in a full run).
 
 use std::time::Instant;
 
@@ -71,20 +73,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
         let mut times: [Vec<f64>; 5] = Default::default();
+        let cases = std::env::var("BENCH_CASES").ok();
+        let wanted = |case: &str| {
+            cases
+                .as_ref()
+                .is_none_or(|c| c.split(',').any(|x| x == case))
+        };
         for trial in 0..trials {
             let v = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
             let click = [Anchor::positional(p)];
-            let (first, ms) = timed(&mut engine, &click);
-            report(
-                &mut lines,
-                &label,
-                trial,
-                "click",
-                &first,
-                ms,
-                &mut times[0],
-            );
+            if wanted("click") {
+                let (first, ms) = timed(&mut engine, &click);
+                report(
+                    &mut lines,
+                    &label,
+                    trial,
+                    "click",
+                    &first,
+                    ms,
+                    &mut times[0],
+                );
+            }
             // Later anchors are placed along the hover loop (the same code in
             // every version), so the cases compare across versions.
             let Some(first) = engine.best_loop(p) else {
@@ -94,8 +104,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let n = normal_at(&mesh, &engine, q);
             let across = n.cross(tq).normalize_or_zero();
             let drag = [click[0], Anchor::directional(q, across)];
-            let (l, ms) = timed(&mut engine, &drag);
-            report(&mut lines, &label, trial, "drag", &l, ms, &mut times[1]);
+            if wanted("drag") {
+                let (l, ms) = timed(&mut engine, &drag);
+                report(&mut lines, &label, trial, "drag", &l, ms, &mut times[1]);
+            }
             let (r, tr) = along(&first, 2.0 / 3.0);
             let n = normal_at(&mesh, &engine, r);
             let off = r + n.cross(tr).normalize_or_zero() * 0.03 * engine.graph.g.diagonal;
@@ -104,18 +116,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 Anchor::positional(q),
                 Anchor::positional(snap(&engine, off)),
             ];
-            let (l, ms) = timed(&mut engine, &grab);
-            report(&mut lines, &label, trial, "grab", &l, ms, &mut times[2]);
+            if wanted("grab") {
+                let (l, ms) = timed(&mut engine, &grab);
+                report(&mut lines, &label, trial, "grab", &l, ms, &mut times[2]);
+            }
             // Anchors apart, as the page's clicks place them: a second and a
             // third anchor at independent random vertices.
             let w = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let two = [click[0], Anchor::positional(mesh.positions[w])];
-            let (l, ms) = timed(&mut engine, &two);
-            report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
+            if wanted("apart2") {
+                let (l, ms) = timed(&mut engine, &two);
+                report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
+            }
             let u = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let three = [two[0], two[1], Anchor::positional(mesh.positions[u])];
-            let (l, ms) = timed(&mut engine, &three);
-            report(&mut lines, &label, trial, "apart3", &l, ms, &mut times[4]);
+            if wanted("apart3") {
+                let (l, ms) = timed(&mut engine, &three);
+                report(&mut lines, &label, trial, "apart3", &l, ms, &mut times[4]);
+            }
         }
         for (case, t) in ["click", "drag", "grab", "apart2", "apart3"]
             .iter()

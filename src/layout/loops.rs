@@ -51,14 +51,24 @@
 //!   layered search per start of the first anchor but, per start a₀, two
 //!   half-searches meeting at the second anchor's candidates y: d(a₀ → y)
 //!   forward and d(y → a₀) as the forward search from reverse(a₀), both A*
-//!   with exact heuristics (the distances to and from the second anchor's
-//!   candidates, one growing Dijkstra each per query); their sum bounds
-//!   each start's loop from below, so the starts run cheapest bound first
-//!   and stop at the best loop. With three or more positional anchors the
-//!   same kind of bound orders and prunes the per-start layered searches.
-//!   Exact (tested against one layered search per start). The hover query settles the distances
+//!   guided by ONE field, the distances from the second anchor's
+//!   candidates (F(reverse(x)) bounds the distance from x to the anchor),
+//!   settled only as far as the searches read it. F(reverse(a₀)) + F(a₀)
+//!   bounds each start's loop from below; everything is pruned by a level
+//!   1 % above the smallest bound, growing by 2 % until a loop below it
+//!   exists. The dual curve through both is one A* from the first anchor's
+//!   candidates at their distances from ∂, guided by F and by the distance
+//!   to ∂. With three or more positional anchors the same kind of bound
+//!   orders and prunes the per-start layered searches, which are also
+//!   guided by one such field per anchor (settled to half the first loop's
+//!   cost). Exact (tested against one layered search per start and the
+//!   layered dual-curve search). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
+//! - The fields, the searches through anchors and the distances from ∂ run
+//!   one settle loop ([`settle`]); the hover query's two bidirectional
+//!   searches (stopping at twice the key) and the tests' references keep
+//!   their own.
 //! - Alternatives of a single anchor are de-duplicated by direction: a
 //!   proposal within 25° (mod 180°) of a cheaper one's at the anchor is the
 //!   same "direction class" and dropped; proposals above 6 × the best cost
@@ -69,7 +79,9 @@
 //!   direction is given per vertex ([`LoopEngine::set_covered`]) or taken
 //!   from a loop's tangent within a band ([`LoopEngine::cover_loop`]).
 
+#[cfg(test)]
 use std::cmp::Reverse;
+#[cfg(test)]
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
@@ -89,6 +101,14 @@ const REFINE_RATIO: f32 = 1.25;
 /// The first radius (normalised cost) to which the hover query settles the
 /// distances from ∂ before looking for dual curves; it doubles as needed.
 const BOUNDARY_RADIUS: f32 = 0.25;
+/// The factor by which the pruning level of the two-anchor search grows
+/// while no loop below it exists.
+const LEVEL_GROWTH: f32 = 1.02;
+/// The fields guiding a loop through three or more anchors are settled up
+/// to this share of the first loop's cost (beyond it they read it).
+const FIELD_SHARE: f32 = 0.5;
+/// … and by at least this much (normalised cost).
+const LEVEL_STEP: f32 = 0.01 * BOUNDARY_RADIUS;
 
 /// A constraint point φ = (p, d) of §5.4: the loop passes near `position`,
 /// and, when `direction` is non-zero, with its tangent parallel to it.
@@ -259,7 +279,9 @@ struct BoundaryField {
     dist: Vec<f32>,
     parent: Vec<u32>,
     settled: Vec<bool>,
-    heap: BinaryHeap<Reverse<u64>>,
+    heap: RadixHeap,
+    /// Every node closer than this is settled (∞ once the heap is empty).
+    radius: f32,
 }
 
 impl BoundaryField {
@@ -271,6 +293,16 @@ impl BoundaryField {
             self.dist[n]
         } else {
             f32::INFINITY
+        }
+    }
+
+    /// The settled distance from ∂, or the settled radius (a lower bound).
+    fn lower_bound(&self, node: u32) -> f32 {
+        let n = node as usize;
+        if self.settled[n] {
+            self.dist[n]
+        } else {
+            self.radius
         }
     }
 }
@@ -289,22 +321,51 @@ pub struct LoopEngine {
     ws: Workspace,
     /// The state of [`LoopEngine::layered_cycle`]'s search.
     layered: LayeredWorkspace,
-    /// The state of [`LoopEngine::two_anchor_cycle`]'s searches.
+    /// The state of [`LoopEngine::two_anchor_loop`]'s searches.
     pair: PairWorkspace,
 }
 
-/// [`LoopEngine::two_anchor_cycle`]: the distances to and from the second
-/// anchor's candidates (kept across the searches of one query) and the
-/// second half-search's state.
+/// [`LoopEngine::two_anchor_loop`]: the distances from the second anchor's
+/// candidates (kept across the searches of one query) and the second
+/// half-search's state.
 #[derive(Debug, Clone, Default)]
 struct PairWorkspace {
-    /// `to.value(z)`: the distance from `reverse(z)` to any candidate of
-    /// the second anchor (a search over the reversed paths).
-    to: GrowingField,
-    /// `from.value(x)`: the distance from any candidate of the second
-    /// anchor to x.
-    from: GrowingField,
+    /// F(x): the distance from any candidate of the second anchor to x, over
+    /// the nodes that are enabled or whose reverse is (so that F(reverse(·))
+    /// bounds the distances of the forward and of the reversed searches).
+    field: GrowingField,
     side: LayeredWorkspace,
+    /// Per anchor of a loop through three or more positional anchors, the
+    /// same kind of field from its candidates ([`LoopEngine::multi_start_cycle`]).
+    fields: Vec<GrowingField>,
+}
+
+/// The one settle loop of the engine's best-first searches: pops `heap` in
+/// key order and stops at the first key at or above `*bound` (put back when
+/// `keep`, so that the search can be resumed); every other entry goes to
+/// `visit(node, heap, bound)`, which returns whether it settled the node
+/// (false: a stale entry) and may lower `*bound`. Returns the number of
+/// nodes settled.
+fn settle(
+    heap: &mut RadixHeap,
+    bound: &mut f32,
+    keep: bool,
+    mut visit: impl FnMut(u32, &mut RadixHeap, &mut f32) -> bool,
+) -> u64 {
+    let mut effort = 0u64;
+    while let Some((k, x)) = heap.pop() {
+        if f32::from_bits(k) >= *bound || bound.is_nan() {
+            if keep {
+                // At the last popped key: still a valid entry.
+                heap.push(k, x);
+            }
+            break;
+        }
+        if visit(x, heap, bound) {
+            effort += 1;
+        }
+    }
+    effort
 }
 
 /// A multi-source Dijkstra over g′ settled up to a radius that grows on
@@ -316,57 +377,44 @@ struct GrowingField {
     heap: RadixHeap,
     /// Every node closer than this is settled (∞ once the heap is empty).
     radius: f32,
-    /// Over reversed paths: node z blocked when `reverse(z)` is disabled.
-    reversed: bool,
 }
 
 impl GrowingField {
     /// Starts a new field from `sources` (at distance 0).
-    fn reset(&mut self, nodes: usize, sources: &[u32], reversed: bool) {
+    fn reset(&mut self, nodes: usize, sources: &[u32]) {
         self.dist.clear();
         self.dist.resize(nodes, f32::INFINITY);
         self.done.clear();
         self.done.resize(nodes, false);
         self.heap.clear();
         self.radius = 0.0;
-        self.reversed = reversed;
         for &z in sources {
             self.dist[z as usize] = 0.0;
             self.heap.push(0f32.to_bits(), z);
         }
     }
 
-    /// Settles every node closer than `radius`; returns how many it settled.
+    /// Settles every node closer than `radius`, skipping the nodes that are
+    /// disabled and whose reverse is disabled too; returns how many it
+    /// settled.
     fn grow(&mut self, graph: &ElasticaGraph, disabled: &[bool], radius: f32) -> u64 {
         if radius <= self.radius {
             return 0;
         }
         let g = &graph.g;
-        let reversed = self.reversed;
         let blocked = |z: usize| -> bool {
-            if reversed {
-                let r = g.reverse[z];
-                r == NONE || disabled[r as usize]
-            } else {
-                disabled[z]
-            }
+            let r = g.reverse[z];
+            disabled[z] && (r == NONE || disabled[r as usize])
         };
-        let mut effort = 0u64;
-        while let Some((k, x)) = self.heap.pop() {
-            if f32::from_bits(k) >= radius {
-                // Kept for the next step (at the last popped key: valid).
-                self.heap.push(k, x);
-                self.radius = radius;
-                return effort;
-            }
+        let (dist, done) = (&mut self.dist, &mut self.done);
+        let mut bound = radius;
+        let effort = settle(&mut self.heap, &mut bound, true, |x, heap, _| {
             let x = x as usize;
-            if self.done[x] {
-                continue;
+            if done[x] {
+                return false;
             }
-            self.done[x] = true;
-            effort += 1;
-            let d = self.dist[x];
-            let (dist, heap) = (&mut self.dist, &mut self.heap);
+            done[x] = true;
+            let d = dist[x];
             graph.for_each_arc(x, |y, w| {
                 if blocked(y) {
                     return;
@@ -377,8 +425,13 @@ impl GrowingField {
                     heap.push(nd.to_bits(), y as u32);
                 }
             });
-        }
-        self.radius = f32::INFINITY;
+            true
+        });
+        self.radius = if self.heap.is_empty() {
+            f32::INFINITY
+        } else {
+            radius
+        };
         effort
     }
 
@@ -389,6 +442,17 @@ impl GrowingField {
             self.dist[x]
         } else {
             self.radius
+        }
+    }
+
+    /// [`Self::value`] of `reverse(x)` (0 where x has no reverse).
+    #[inline]
+    fn value_of_reverse(&self, g: &SurfaceGraph, x: usize) -> f32 {
+        let r = g.reverse[x];
+        if r == NONE {
+            0.0
+        } else {
+            self.value(r as usize)
         }
     }
 }
@@ -449,78 +513,106 @@ fn path_to(ws: &LayeredWorkspace, x: u32) -> Vec<u32> {
     path
 }
 
-/// One A* over g′ from `source` (single layer), pruned at `bound`, with
-/// the heuristic `heur.value(reverse(x))` (a distance field over the
-/// reversed paths; 0 where x has no reverse). `reversed`: a search over reversed
-/// paths, node z blocked when `reverse(z)` is disabled. Returns the
-/// number of nodes settled.
-fn half_search(
+/// One A* over g′ (a single layer) from `sources` (node, initial cost),
+/// skipping the `blocked` nodes, with the consistent heuristic `h`, pruned
+/// at `bound`; `on_settle(x, d, bound)` sees every settled node and may
+/// lower the bound. Parents and distances stay in `ws` ([`settled_dist`],
+/// [`path_to`]). Returns the number of nodes settled.
+fn astar(
     graph: &ElasticaGraph,
-    disabled: &[bool],
     ws: &mut LayeredWorkspace,
-    source: u32,
-    reversed: bool,
-    heur: &GrowingField,
+    sources: &[(u32, f32)],
+    blocked: impl Fn(usize) -> bool,
+    h: impl Fn(usize) -> f32,
     bound: f32,
+    mut on_settle: impl FnMut(usize, f32, &mut f32),
 ) -> u64 {
-    let g = &graph.g;
-    let nodes = graph.node_count();
-    let blocked = |z: usize| -> bool {
-        if reversed {
-            let r = g.reverse[z];
-            r == NONE || disabled[r as usize]
-        } else {
-            disabled[z]
-        }
-    };
-    let h = |z: usize| -> f32 {
-        let r = g.reverse[z];
-        if r == NONE {
-            0.0
-        } else {
-            heur.value(r as usize)
-        }
-    };
-    let now = ws.start(nodes);
+    let now = ws.start(graph.node_count());
     let (reached, settled) = (2 * now, 2 * now + 1);
-    let src = source as usize;
-    if source == NONE || blocked(src) || bound.is_nan() || bound <= 0.0 {
+    if bound.is_nan() || bound <= 0.0 {
         return 0;
     }
-    ws.state[src] = reached;
-    ws.dist[src] = 0.0;
-    ws.parent[src] = NONE;
-    ws.heap.push(h(src).to_bits(), source);
-    let mut effort = 0u64;
-    while let Some((k, x)) = ws.heap.pop() {
-        let x = x as usize;
-        if ws.state[x] == settled {
+    for &(source, c) in sources {
+        let src = source as usize;
+        if source == NONE || blocked(src) || c.is_nan() || c >= bound {
             continue;
         }
-        if f32::from_bits(k) >= bound {
-            break;
+        if ws.state[src] < reached || c < ws.dist[src] {
+            ws.state[src] = reached;
+            ws.dist[src] = c;
+            ws.parent[src] = NONE;
+            ws.heap.push((c + h(src)).to_bits(), source);
         }
-        ws.state[x] = settled;
-        effort += 1;
-        let d = ws.dist[x];
+    }
+    let LayeredWorkspace {
+        dist,
+        parent,
+        state,
+        heap,
+        ..
+    } = ws;
+    let mut bound = bound;
+    settle(heap, &mut bound, false, |x, heap, bound| {
+        let x = x as usize;
+        if state[x] == settled {
+            return false;
+        }
+        state[x] = settled;
+        let d = dist[x];
+        on_settle(x, d, bound);
+        let cap = *bound;
         graph.for_each_arc(x, |y, w| {
             if blocked(y) {
                 return;
             }
             let nd = d + w;
-            if ws.state[y] < reached || nd < ws.dist[y] {
+            if state[y] < reached || nd < dist[y] {
                 let key = nd + h(y);
-                if key.is_nan() || key >= bound {
+                if key.is_nan() || key >= cap {
                     return;
                 }
-                ws.state[y] = reached;
-                ws.dist[y] = nd;
-                ws.parent[y] = x as u32;
-                ws.heap.push(key.to_bits(), y as u32);
+                state[y] = reached;
+                dist[y] = nd;
+                parent[y] = x as u32;
+                heap.push(key.to_bits(), y as u32);
             }
         });
+        true
+    })
+}
+
+/// The path of a layered search ([`LoopEngine::layered_search`]) to state
+/// `end` (`nodes` per layer, `n` anchors; for a closed loop without the
+/// closing state): its g′ nodes and the position where each layer begins.
+fn layered_path_to(
+    ws: &LayeredWorkspace,
+    end: u32,
+    nodes: usize,
+    n: usize,
+    closed: bool,
+) -> (Vec<u32>, Vec<usize>) {
+    let mut states = Vec::new();
+    let mut st = end;
+    while st != NONE && states.len() <= ws.parent.len() {
+        states.push(st);
+        st = ws.parent[st as usize];
     }
-    effort
+    states.reverse();
+    if closed {
+        states.pop();
+    }
+    let mut starts = vec![0usize; n];
+    for (i, w) in states.windows(2).enumerate() {
+        let (la, lb) = (w[0] as usize / nodes, w[1] as usize / nodes);
+        if lb != la && lb < n {
+            starts[lb] = i + 1;
+        }
+    }
+    let path = states
+        .iter()
+        .map(|&s| (s as usize % nodes) as u32)
+        .collect();
+    (path, starts)
 }
 
 /// How a layered search ends: back at the node its path started from
@@ -698,7 +790,7 @@ impl LoopEngine {
     /// at most its `close` limit), the arc also leads to (y, l + 1). The
     /// closed loop runs from (a₀, 0) to (a₀, n) for each a₀ of the smallest
     /// layer ([`Self::multi_start_cycle`]; for two positional anchors
-    /// [`Self::two_anchor_cycle`] instead); the dual curve
+    /// [`Self::two_anchor_loop`] instead); the dual curve
     /// from every (b, 0) at its distance from ∂ to some (a, n − 1) plus a's
     /// distance to ∂. The same optimum as the metagraph of all pairwise
     /// searches (tested against it), without searching every pair.
@@ -717,14 +809,14 @@ impl LoopEngine {
         }
         let s = (0..n).min_by_key(|&i| (layers[i].len(), i)).unwrap_or(0);
         let rotated: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
-        let mut best: Option<(f32, Vec<u32>, bool)> = None;
-        // The closed loop: two positional anchors by half-searches, any
-        // other anchors by layered searches from the starts.
-        if let Some(found) = self.two_anchor_cycle(verts, layers, close, &rotated) {
-            best = found;
-        } else {
-            self.multi_start_cycle(verts, layers, close, s, &rotated, &mut best);
+        // Two positional anchors: the loop or dual curve by half-searches.
+        if let Some(found) = self.two_anchor_loop(verts, layers, close, true) {
+            return found;
         }
+        // Any other anchors: the closed loop by layered searches from the
+        // starts, then the dual curve bounded by it.
+        let mut best: Option<(f32, Vec<u32>, bool)> = None;
+        self.multi_start_cycle(verts, layers, close, s, &rotated, &mut best);
         if self.has_boundary {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
             // A dual curve cheaper than `bound` has both ends closer to ∂.
@@ -755,6 +847,7 @@ impl LoopEngine {
                     &enter,
                     LayeredEnd::Open(&leave),
                     bound,
+                    false,
                 ) {
                     let (b0, last) = (nodes[0], nodes[nodes.len() - 1]);
                     let mut full = self.boundary_path(b0);
@@ -772,153 +865,316 @@ impl LoopEngine {
         best
     }
 
-    /// The closed loop through two positional anchors on distinct vertices
-    /// (`None` for any other anchor set): the loop through a start a₀ of
-    /// the first anchor is min over the second anchor's candidates y of
-    /// d(a₀ → y) + d(y → a₀), and d(y → a₀) = d(reverse(a₀) → reverse(y))
-    /// (g′ weights are reversal-symmetric), so each start needs two
-    /// half-searches, from a₀ and from reverse(a₀), both A* with exact
-    /// heuristics: the distances to and from the second anchor's
-    /// candidates, one search each per query. Their sum is also a lower
-    /// bound of each start's loop: the starts run cheapest bound first and
-    /// stop when the bound reaches the best loop; each half-search is
-    /// pruned by the best loop minus the other half's bound. The same
-    /// optimum as one layered search per start (tested against it); the
-    /// halves settle only the states within the bounds' slack of the
-    /// cheapest paths.
+    /// The loop through two positional anchors on distinct vertices (`None`
+    /// for any other anchor set): the cheapest closed loop and, when `open`
+    /// and the mesh has a boundary, the cheapest dual curve (§5.7) if that
+    /// is cheaper. Returns what [`Self::layered_cycle`] returns.
+    ///
+    /// The closed loop through a start a₀ of the first anchor is min over
+    /// the second anchor's candidates y of d(a₀ → y) + d(y → a₀), and
+    /// d(y → a₀) = d(reverse(a₀) → reverse(y)) (g′ weights are
+    /// reversal-symmetric): two half-searches per start, from a₀ and from
+    /// reverse(a₀), both A* guided by ONE field F, the distances from the
+    /// second anchor's candidates (F(reverse(x)) bounds the distance from x
+    /// to the anchor, exactly up to its last arc, and is the exact distance
+    /// of the reversed half). F(reverse(a₀)) + F(a₀) bounds each start's
+    /// loop from below. F is settled only as far as the searches read it
+    /// (beyond its radius it reads the radius, still a lower bound): about
+    /// the longer half of the loop, not the whole loop.
+    ///
+    /// Everything is pruned by a level C that starts 1 % above the smallest
+    /// of these bounds and grows by 2 %, 4 %, 8 % … until a loop at most C
+    /// is found: at each level the starts whose bound is below C run
+    /// (cheapest first, pruned by min(best, C)), and the dual curve ∂ → ξ₀
+    /// → ξ₁ → ∂ is one A* from ξ₀ at its distances from ∂ to ξ₁ plus their
+    /// distances to ∂, guided by F too. Exact: a loop or curve cheaper than
+    /// the final level is found in it (tested against one layered search
+    /// per start and the layered dual-curve search).
     #[allow(clippy::type_complexity)]
-    fn two_anchor_cycle(
+    fn two_anchor_loop(
         &mut self,
         verts: &[usize],
         layers: &[Vec<u32>],
         close: &[f32],
-        order: &[usize],
+        open: bool,
     ) -> Option<Option<(f32, Vec<u32>, bool)>> {
         if layers.len() != 2 || close.iter().any(|c| c.is_finite()) || verts[0] == verts[1] {
             return None;
         }
-        let (s, t) = (order[0], order[1]);
+        let open = open && self.has_boundary;
         let nodes = self.graph.node_count();
-        // The distances to (reversed) and from the second anchor.
-        let reverse = &self.graph.g.reverse;
-        let to_sources: Vec<u32> = layers[t]
-            .iter()
-            .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
-            .map(|&y| reverse[y as usize])
-            .collect();
-        self.pair.to.reset(nodes, &to_sources, true);
-        let from_sources: Vec<u32> = layers[t]
+        let v1 = verts[1] as u32;
+        let sources = self.field_sources(verts[1]);
+        self.pair.field.reset(nodes, &sources);
+        let starts: Vec<u32> = layers[0]
             .iter()
             .copied()
-            .filter(|&y| !self.disabled[y as usize])
+            .filter(|&a| !self.disabled[a as usize] && self.graph.g.reverse[a as usize] != NONE)
             .collect();
-        self.pair.from.reset(nodes, &from_sources, false);
-        let mut best: (f32, Vec<u32>) = (f32::INFINITY, Vec::new());
-        // Everything is pruned by a radius R, at first a little above a
-        // lower bound of any loop through both (there and back at 0.9 × the
-        // straight distance, as the A* heuristic), doubling while no loop
-        // below it is found: the fields are settled up to R (beyond it
-        // they read R, still a lower bound), the half-searches pruned by
-        // min(best, R).
+        // The smallest lower bound of a loop (and of a dual curve: its
+        // distance from ∂ to a₀ plus F(reverse(a₀))) over the starts.
+        let smallest = |engine: &Self| -> f32 {
+            let (g, f) = (&engine.graph.g, &engine.pair.field);
+            let bf = engine.boundary_field.as_ref().filter(|_| open);
+            starts
+                .iter()
+                .map(|&a| {
+                    let to = f.value_of_reverse(g, a as usize);
+                    let closed = to + f.value(a as usize);
+                    bf.map_or(closed, |bf| closed.min(bf.lower_bound(a) + to))
+                })
+                .fold(f32::INFINITY, f32::min)
+        };
+        // F (and the distances from ∂) first up to about the straight-line
+        // distance, then as far as each level's searches read them.
         let p = &self.graph.g.mesh.positions;
         let apart = p[verts[0]].distance(p[verts[1]]) as f32;
-        let mut radius = 2.0 * (2.0 * 0.9 * apart) + BOUNDARY_RADIUS;
+        let r = 1.8 * apart + 0.5 * BOUNDARY_RADIUS;
+        self.ws.effort += self.pair.field.grow(&self.graph, &self.disabled, r);
+        if open {
+            self.settle_boundary(r);
+        }
+        let mut best: (f32, Vec<u32>, bool) = (f32::INFINITY, Vec::new(), true);
+        let mut level = 0.0f32;
         loop {
-            let graph = &self.graph;
-            self.ws.effort += self.pair.to.grow(graph, &self.disabled, radius);
-            self.ws.effort += self.pair.from.grow(graph, &self.disabled, radius);
-            let reverse = &graph.g.reverse;
-            let (to, from) = (&self.pair.to, &self.pair.from);
-            let mut starts: Vec<(f32, u32)> = layers[s]
-                .iter()
-                .filter(|&&a| !self.disabled[a as usize] && reverse[a as usize] != NONE)
-                .map(|&a| {
-                    (
-                        to.value(reverse[a as usize] as usize) + from.value(a as usize),
-                        a,
-                    )
-                })
-                .filter(|e| e.0.is_finite())
-                .collect();
-            starts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            for &(lb, a0) in &starts {
-                let cap = best.0.min(radius);
-                // The bounds sum reversed searches: rounding may put them a
-                // little above the forward costs.
-                if lb * (1.0 - 1e-4) >= cap {
-                    break;
-                }
-                let back = self.pair.from.value(a0 as usize);
-                let graph = &self.graph;
-                let reverse = &graph.g.reverse;
-                self.ws.effort += half_search(
-                    graph,
-                    &self.disabled,
-                    &mut self.layered,
-                    a0,
-                    false,
-                    &self.pair.to,
-                    cap - back,
-                );
-                let ws1 = &self.layered;
-                let d1: Vec<f32> = layers[t].iter().map(|&y| settled_dist(ws1, y)).collect();
-                let min1 = d1.iter().copied().fold(f32::INFINITY, f32::min);
-                if min1 + back >= cap {
-                    continue;
-                }
-                self.ws.effort += half_search(
-                    graph,
-                    &self.disabled,
-                    &mut self.pair.side,
-                    reverse[a0 as usize],
-                    true,
-                    &self.pair.from,
-                    cap - min1,
-                );
-                let ws2 = &self.pair.side;
-                let mut found: Option<(f32, u32)> = None;
-                for (&y, &d) in layers[t].iter().zip(&d1) {
-                    let r = reverse[y as usize];
-                    if !d.is_finite() || r == NONE {
-                        continue;
-                    }
-                    let total = d + settled_dist(ws2, r);
-                    if total < found.map_or(cap, |f| f.0) {
-                        found = Some((total, y));
-                    }
-                }
-                if let Some((cost, y)) = found {
-                    // a₀ … y, then y … a₀ from the reversed half, without its
-                    // ends (y is there already; a₀ closes the loop).
-                    let mut loop_nodes = path_to(ws1, y);
-                    let back_path = path_to(ws2, reverse[y as usize]);
-                    let inner = back_path.len().saturating_sub(1);
-                    loop_nodes.extend(
-                        back_path[1..inner]
-                            .iter()
-                            .rev()
-                            .map(|&z| reverse[z as usize]),
-                    );
-                    if s != 0 {
-                        // Start at anchor 0's candidate, y.
-                        let at = loop_nodes.iter().position(|&x| x == y).unwrap_or(0);
-                        loop_nodes.rotate_left(at);
-                    }
-                    best = (cost, loop_nodes);
-                }
-            }
-            if best.0 <= radius || !radius.is_finite() {
+            let lowest = smallest(self);
+            if !lowest.is_finite() && !best.0.is_finite() {
                 break;
             }
-            radius = if best.0.is_finite() {
-                best.0
-            } else if radius > 1e4 {
+            level = (level * LEVEL_GROWTH)
+                .max(lowest * 1.01)
+                .max(level + LEVEL_STEP);
+            if level > 1e4 {
+                level = f32::INFINITY;
+            }
+            self.two_anchor_closed(verts, layers, &starts, level, &mut best);
+            if open {
+                self.two_anchor_open(layers, v1, level, &mut best);
+            }
+            if best.0 <= level || !level.is_finite() {
+                break;
+            }
+        }
+        Some(best.0.is_finite().then_some(best))
+    }
+
+    /// The sources of a field from a positional anchor at `v`: every
+    /// out-edge of `v` that is enabled or whose reverse is (so that
+    /// F(reverse(x)) is 0 wherever x arrives at `v` in either search
+    /// direction, and F bounds both).
+    fn field_sources(&self, v: usize) -> Vec<u32> {
+        let g = &self.graph.g;
+        g.out_edges(v)
+            .filter(|&z| {
+                let r = g.reverse[z];
+                !self.disabled[z] || (r != NONE && !self.disabled[r as usize])
+            })
+            .map(|z| z as u32)
+            .collect()
+    }
+
+    /// The closed loops of [`Self::two_anchor_loop`] at one level: every
+    /// start whose lower bound is below min(best, `level`), cheapest first,
+    /// by its two half-searches; improves `best`.
+    fn two_anchor_closed(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        starts: &[u32],
+        level: f32,
+        best: &mut (f32, Vec<u32>, bool),
+    ) {
+        let v1 = verts[1] as u32;
+        let lower = |engine: &Self, a: u32| -> (f32, f32) {
+            let f = &engine.pair.field;
+            (
+                f.value(a as usize),
+                f.value_of_reverse(&engine.graph.g, a as usize),
+            )
+        };
+        let mut order: Vec<(f32, u32)> = starts
+            .iter()
+            .map(|&a| {
+                let (back, to) = lower(self, a);
+                (back + to, a)
+            })
+            .filter(|e| e.0.is_finite())
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for &(lb, a0) in &order {
+            let cap = best.0.min(level);
+            // The bounds sum reversed searches: rounding may put them a
+            // little above the forward costs.
+            if lb * (1.0 - 1e-4) >= cap {
+                break;
+            }
+            // F exact wherever this start's searches read it below the cap.
+            let (back, to) = lower(self, a0);
+            let need = cap - back.min(to);
+            self.ws.effort += self.pair.field.grow(&self.graph, &self.disabled, need);
+            let (back, to) = lower(self, a0);
+            if (back + to) * (1.0 - 1e-4) >= cap {
+                continue;
+            }
+            let graph = &self.graph;
+            let g = &graph.g;
+            let (disabled, field) = (&self.disabled, &self.pair.field);
+            // d(a₀ → y): towards the second anchor, F(reverse(x)) bounding
+            // the rest (0 on its candidates).
+            let h1 = |x: usize| -> f32 {
+                if g.source[x] == v1 {
+                    0.0
+                } else {
+                    field.value_of_reverse(g, x)
+                }
+            };
+            self.ws.effort += astar(
+                graph,
+                &mut self.layered,
+                &[(a0, 0.0)],
+                |z| disabled[z],
+                h1,
+                cap - back,
+                |_, _, _| {},
+            );
+            let ws1 = &self.layered;
+            let d1: Vec<f32> = layers[1].iter().map(|&y| settled_dist(ws1, y)).collect();
+            let min1 = d1.iter().copied().fold(f32::INFINITY, f32::min);
+            if min1 + back >= cap {
+                continue;
+            }
+            // d(reverse(a₀) → reverse(y)) over the reversed paths, F(reverse(z))
+            // its exact heuristic.
+            let blocked2 = |z: usize| -> bool {
+                let r = g.reverse[z];
+                r == NONE || disabled[r as usize]
+            };
+            self.ws.effort += astar(
+                graph,
+                &mut self.pair.side,
+                &[(g.reverse[a0 as usize], 0.0)],
+                blocked2,
+                |z| field.value_of_reverse(g, z),
+                cap - min1,
+                |_, _, _| {},
+            );
+            let ws2 = &self.pair.side;
+            let mut found: Option<(f32, u32)> = None;
+            for (&y, &d) in layers[1].iter().zip(&d1) {
+                let r = g.reverse[y as usize];
+                if !d.is_finite() || r == NONE {
+                    continue;
+                }
+                let total = d + settled_dist(ws2, r);
+                if total < found.map_or(cap, |f| f.0) {
+                    found = Some((total, y));
+                }
+            }
+            if let Some((cost, y)) = found {
+                // a₀ … y, then y … a₀ from the reversed half, without its
+                // ends (y is there already; a₀ closes the loop).
+                let mut loop_nodes = path_to(ws1, y);
+                let back_path = path_to(ws2, g.reverse[y as usize]);
+                let inner = back_path.len().saturating_sub(1);
+                loop_nodes.extend(
+                    back_path[1..inner]
+                        .iter()
+                        .rev()
+                        .map(|&z| g.reverse[z as usize]),
+                );
+                *best = (cost, loop_nodes, true);
+            }
+        }
+    }
+
+    /// The dual curve of [`Self::two_anchor_loop`] at one level: ∂ → ξ₀ →
+    /// ξ₁ → ∂ cheaper than min(best, `level`), by one A* from ξ₀ (at the
+    /// distances from ∂) guided by F, ending on ξ₁ plus the distance to ∂;
+    /// improves `best`.
+    fn two_anchor_open(
+        &mut self,
+        layers: &[Vec<u32>],
+        v1: u32,
+        level: f32,
+        best: &mut (f32, Vec<u32>, bool),
+    ) {
+        let cap = best.0.min(level);
+        // A dual curve cheaper than the cap has both ends closer to ∂.
+        self.settle_boundary(cap);
+        let Some(bf) = self.boundary_field.as_ref() else {
+            return;
+        };
+        let graph = &self.graph;
+        let g = &graph.g;
+        let enter: Vec<(u32, f32)> = layers[0]
+            .iter()
+            .map(|&b| (b, bf.distance(b)))
+            .filter(|e| e.1 < cap)
+            .collect();
+        if enter.is_empty() {
+            return;
+        }
+        // The rest of a curve from x: on to ξ₁ (F(reverse(x)), 0 on ξ₁),
+        // then to ∂ (at least the cheapest exit of ξ₁); also at least x's
+        // own distance to ∂. Both consistent, so is their maximum.
+        let exit = |y: u32| -> f32 {
+            let r = g.reverse[y as usize];
+            if r == NONE {
                 f32::INFINITY
             } else {
-                2.0 * radius
-            };
+                bf.distance(r)
+            }
+        };
+        let cheapest_exit = layers[1]
+            .iter()
+            .map(|&y| exit(y))
+            .fold(f32::INFINITY, f32::min);
+        if !cheapest_exit.is_finite() {
+            return;
         }
-        Some(best.0.is_finite().then_some((best.0, best.1, true)))
+        let (disabled, field) = (&self.disabled, &self.pair.field);
+        let h = |x: usize| -> f32 {
+            let to = if g.source[x] == v1 {
+                0.0
+            } else {
+                field.value_of_reverse(g, x)
+            };
+            let r = g.reverse[x];
+            let out = if r == NONE { 0.0 } else { bf.lower_bound(r) };
+            (to + cheapest_exit).max(out)
+        };
+        let mut end: Option<(f32, u32)> = None;
+        self.ws.effort += astar(
+            graph,
+            &mut self.layered,
+            &enter,
+            |z| disabled[z],
+            h,
+            cap,
+            |x, d, bound| {
+                if g.source[x] != v1 || !layers[1].contains(&(x as u32)) {
+                    return;
+                }
+                let total = d + exit(x as u32);
+                if total < *bound {
+                    *bound = total;
+                    end = Some((total, x as u32));
+                }
+            },
+        );
+        let Some((cost, last)) = end else {
+            return;
+        };
+        let nodes = path_to(&self.layered, last);
+        let mut full = self.boundary_path(nodes[0]);
+        full.pop();
+        full.extend(nodes);
+        let mut tail = self.reversed_boundary_path(last);
+        if !tail.is_empty() {
+            tail.remove(0);
+        }
+        full.extend(tail);
+        *best = (cost, full, false);
     }
 
     /// The closed loop of [`Self::layered_cycle`] by layered searches: one
@@ -939,7 +1195,8 @@ impl LoopEngine {
         let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
         let run = |engine: &mut Self,
                    sources: &[(u32, f32)],
-                   best: &mut Option<(f32, Vec<u32>, bool)>| {
+                   best: &mut Option<(f32, Vec<u32>, bool)>,
+                   guided: bool| {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
             if let Some((cost, mut nodes, starts)) = engine.layered_search(
                 verts,
@@ -949,6 +1206,7 @@ impl LoopEngine {
                 sources,
                 LayeredEnd::Closed,
                 bound,
+                guided,
             ) {
                 // Start the loop at anchor 0's candidate, as the pairwise
                 // method does.
@@ -957,9 +1215,25 @@ impl LoopEngine {
                 *best = Some((cost, nodes, true));
             }
         };
-        run(self, &all, best);
+        run(self, &all, best, false);
         if all.len() > 1 {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            // With positional anchors only, the per-start searches are also
+            // guided by each anchor's field (its distances from the anchor's
+            // candidates, settled below the best loop so far).
+            let positional = close.iter().all(|c| !c.is_finite())
+                && (0..n).all(|k| verts[k] != verts[(k + 1) % n]);
+            self.pair.fields.truncate(0);
+            if positional && bound.is_finite() {
+                let nodes = self.graph.node_count();
+                let mut fields = std::mem::take(&mut self.pair.fields);
+                fields.resize_with(n, GrowingField::default);
+                for (f, &v) in fields.iter_mut().zip(verts) {
+                    f.reset(nodes, &self.field_sources(v));
+                    self.ws.effort += f.grow(&self.graph, &self.disabled, FIELD_SHARE * bound);
+                }
+                self.pair.fields = fields;
+            }
             // Then one exact search per start, cheapest lower bound first,
             // skipping the starts whose bound reaches the best loop so far
             // (without bounds: every start).
@@ -980,8 +1254,9 @@ impl LoopEngine {
                 if lb * (1.0 - 1e-4) >= bound {
                     break;
                 }
-                run(self, &[(a0, 0.0)], best);
+                run(self, &[(a0, 0.0)], best, true);
             }
+            self.pair.fields.truncate(0);
         }
     }
 
@@ -1091,19 +1366,18 @@ impl LoopEngine {
             ws.dist[st] = 0.0;
             ws.heap.push(0f32.to_bits(), st as u32);
         }
-        let mut effort = 0u64;
-        while let Some((k, st)) = ws.heap.pop() {
+        let LayeredWorkspace {
+            dist, state, heap, ..
+        } = &mut *ws;
+        let mut bound = bound;
+        self.ws.effort += settle(heap, &mut bound, false, |st, heap, _| {
             let st = st as usize;
-            if ws.state[st] == settled {
-                continue;
+            if state[st] == settled {
+                return false;
             }
-            if f32::from_bits(k) >= bound {
-                break;
-            }
-            ws.state[st] = settled;
-            effort += 1;
+            state[st] = settled;
             let (l, x) = (st / nodes, st % nodes);
-            let d = ws.dist[st];
+            let d = dist[st];
             let base = l * nodes;
             let pass = (l < last && g.target[x] == pass_vertex[l]).then(|| &passes[l]);
             graph.for_each_arc(x, |y, w| {
@@ -1112,10 +1386,10 @@ impl LoopEngine {
                 }
                 let nd = d + w;
                 let mut relax = |t: usize| {
-                    if ws.state[t] < reached || nd < ws.dist[t] {
-                        ws.state[t] = reached;
-                        ws.dist[t] = nd;
-                        ws.heap.push(nd.to_bits(), t as u32);
+                    if state[t] < reached || nd < dist[t] {
+                        state[t] = reached;
+                        dist[t] = nd;
+                        heap.push(nd.to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
@@ -1123,8 +1397,8 @@ impl LoopEngine {
                     relax(base + nodes + y);
                 }
             });
-        }
-        self.ws.effort += effort;
+            true
+        });
         read.iter()
             .map(|&r| {
                 if r == NONE {
@@ -1155,6 +1429,7 @@ impl LoopEngine {
         sources: &[(u32, f32)],
         end: LayeredEnd<'_>,
         bound: f32,
+        guided: bool,
     ) -> Option<(f32, Vec<u32>, Vec<usize>)> {
         let n = order.len();
         let graph = &self.graph;
@@ -1182,9 +1457,38 @@ impl LoopEngine {
         for l in (0..last).rev() {
             rest[l] = rest[l + 1] + if l + 1 < last { seg_lb[l + 1] } else { 0.0 };
         }
+        // Guided: also the fields of the anchors (F(reverse(x)) of the next
+        // anchor's field, 0 on its out-edges), with their own bounds of the
+        // later segments; the larger of both heuristics.
+        let guided = guided && self.pair.fields.len() == n;
+        let fields = &self.pair.fields;
+        let fh = |l: usize, x: usize| -> f32 {
+            if g.source[x] as usize == goals[l] {
+                0.0
+            } else {
+                fields[order[(l + 1) % n]].value_of_reverse(g, x)
+            }
+        };
+        let mut rest_f = vec![0.0f32; last + 1];
+        if guided {
+            for l in (0..last.saturating_sub(1)).rev() {
+                let seg = layers[order[l + 1]]
+                    .iter()
+                    .map(|&a| fh(l + 1, a as usize))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0);
+                rest_f[l] = rest_f[l + 1] + seg;
+            }
+        }
         let h = |state: usize| -> f32 {
             let (l, x) = (state / nodes, state % nodes);
-            if l >= last { 0.0 } else { hs[l](x) + rest[l] }
+            if l >= last {
+                0.0
+            } else if guided {
+                (hs[l](x) + rest[l]).max(fh(l, x) + rest_f[l])
+            } else {
+                hs[l](x) + rest[l]
+            }
         };
         let ws = &mut self.layered;
         let now = ws.start(nodes * (last + 1));
@@ -1203,22 +1507,27 @@ impl LoopEngine {
             }
         }
         let mut best = (bound, NONE);
-        let mut effort = 0u64;
-        while let Some((k, st)) = ws.heap.pop() {
+        let disabled = &self.disabled;
+        let LayeredWorkspace {
+            dist,
+            parent,
+            label,
+            state,
+            heap,
+            ..
+        } = &mut *ws;
+        let mut cap = bound;
+        self.ws.effort += settle(heap, &mut cap, false, |st, heap, cap| {
             let st = st as usize;
-            if ws.state[st] == settled {
-                continue;
+            if state[st] == settled {
+                return false;
             }
-            if f32::from_bits(k) >= best.0 {
-                break;
-            }
-            ws.state[st] = settled;
-            effort += 1;
+            state[st] = settled;
             let (l, x) = (st / nodes, st % nodes);
-            let d = ws.dist[st];
+            let d = dist[st];
             if l == last {
                 let total = match end {
-                    LayeredEnd::Closed if x == ws.label[st] as usize => d,
+                    LayeredEnd::Closed if x == label[st] as usize => d,
                     LayeredEnd::Open(leave) => layers[order[n - 1]]
                         .iter()
                         .position(|&a| a as usize == x)
@@ -1227,14 +1536,14 @@ impl LoopEngine {
                 };
                 if total < best.0 {
                     best = (total, st as u32);
+                    *cap = total;
                 }
-                continue;
+                return true;
             }
             let next = order[(l + 1) % n];
             let at_goal = g.target[x] as usize == goals[l];
-            let disabled = &self.disabled;
-            let label = ws.label[st];
-            let only = (closed && l + 1 == last).then_some(label);
+            let source = label[st];
+            let only = (closed && l + 1 == last).then_some(source);
             let base = l * nodes;
             graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
@@ -1242,12 +1551,12 @@ impl LoopEngine {
                 }
                 let nd = d + w;
                 let mut relax = |t: usize| {
-                    if ws.state[t] < reached || nd < ws.dist[t] {
-                        ws.state[t] = reached;
-                        ws.dist[t] = nd;
-                        ws.parent[t] = st as u32;
-                        ws.label[t] = label;
-                        ws.heap.push((nd + h(t)).to_bits(), t as u32);
+                    if state[t] < reached || nd < dist[t] {
+                        state[t] = reached;
+                        dist[t] = nd;
+                        parent[t] = st as u32;
+                        label[t] = source;
+                        heap.push((nd + h(t)).to_bits(), t as u32);
                     }
                 };
                 relax(base + y);
@@ -1259,33 +1568,13 @@ impl LoopEngine {
                     relax(base + nodes + y);
                 }
             });
-        }
-        self.ws.effort += effort;
+            true
+        });
         let (cost, end_state) = best;
         if end_state == NONE {
             return None;
         }
-        let mut states = Vec::new();
-        let mut st = end_state;
-        while st != NONE && states.len() <= ws.parent.len() {
-            states.push(st);
-            st = ws.parent[st as usize];
-        }
-        states.reverse();
-        if closed {
-            states.pop();
-        }
-        let mut starts = vec![0usize; n];
-        for (i, w) in states.windows(2).enumerate() {
-            let (la, lb) = (w[0] as usize / nodes, w[1] as usize / nodes);
-            if lb != la && lb < n {
-                starts[lb] = i + 1;
-            }
-        }
-        let path = states
-            .iter()
-            .map(|&s| (s as usize % nodes) as u32)
-            .collect();
+        let (path, starts) = layered_path_to(ws, end_state, nodes, n, closed);
         Some((cost, path, starts))
     }
 
@@ -1904,7 +2193,8 @@ impl LoopEngine {
                 dist: vec![f32::INFINITY; nodes],
                 parent: vec![NONE; nodes],
                 settled: vec![false; nodes],
-                heap: BinaryHeap::new(),
+                heap: RadixHeap::default(),
+                radius: 0.0,
             };
             for e in 0..nodes {
                 if self.disabled[e] {
@@ -1916,25 +2206,32 @@ impl LoopEngine {
                 // are the last nodes.
                 if g.boundary[g.source[e] as usize] && !g.boundary[g.target[e] as usize] {
                     f.dist[e] = 0.0;
-                    f.heap.push(Reverse(key(0.0, e as u32)));
+                    f.heap.push(0f32.to_bits(), e as u32);
                 }
             }
             f
         });
-        while let Some(&Reverse(k)) = field.heap.peek() {
-            if f32::from_bits((k >> 32) as u32) >= bound {
-                break;
+        let disabled = &self.disabled;
+        let graph = &self.graph;
+        let BoundaryField {
+            dist,
+            parent,
+            settled,
+            heap,
+            radius,
+        } = field;
+        if bound <= *radius {
+            return;
+        }
+        let mut cap = bound;
+        settle(heap, &mut cap, true, |x, heap, _| {
+            let x = x as usize;
+            if settled[x] {
+                return false;
             }
-            field.heap.pop();
-            let x = (k & 0xffff_ffff) as usize;
-            if field.settled[x] {
-                continue;
-            }
-            field.settled[x] = true;
-            let d = field.dist[x];
-            let disabled = &self.disabled;
-            let (dist, parent, heap) = (&mut field.dist, &mut field.parent, &mut field.heap);
-            self.graph.for_each_arc(x, |y, w| {
+            settled[x] = true;
+            let d = dist[x];
+            graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
                     return;
                 }
@@ -1942,10 +2239,16 @@ impl LoopEngine {
                 if nd < dist[y] {
                     dist[y] = nd;
                     parent[y] = x as u32;
-                    heap.push(Reverse(key(nd, y as u32)));
+                    heap.push(nd.to_bits(), y as u32);
                 }
             });
-        }
+            true
+        });
+        *radius = if heap.is_empty() {
+            f32::INFINITY
+        } else {
+            bound
+        };
     }
 
     /// Seed … `node` along the boundary field's parents.
@@ -2205,6 +2508,7 @@ enum Kind {
     Open(u32),
 }
 
+#[cfg(test)]
 #[inline]
 fn key(cost: f32, node: u32) -> u64 {
     ((cost.max(0.0).to_bits() as u64) << 32) | node as u64
@@ -2495,12 +2799,14 @@ mod tests {
     }
 
     /// The loop through two (and three) positional anchors by the
-    /// half-searches of [`LoopEngine::two_anchor_cycle`] (and the
+    /// half-searches of [`LoopEngine::two_anchor_loop`] (and the
     /// bound-ordered starts of [`LoopEngine::multi_start_cycle`]) costs the
     /// same as the method before them, one unpruned layered search per
     /// start of the first anchor, on many random anchor sets of a torus,
     /// a sphere and an open cylinder, with and without a committed strip
     /// (disabled nodes); the loop found walks its cost through the anchors.
+    /// On the open cylinder the two-anchor search with dual curves (§5.7)
+    /// equals the cheaper of that and the layered search from ∂.
     #[test]
     fn two_anchor_half_searches_equal_one_layered_search_per_start() {
         use rand_core::{RngCore, SeedableRng};
@@ -2511,6 +2817,7 @@ mod tests {
         ];
         let mut rng = rand_pcg::Pcg32::seed_from_u64(21);
         let mut compared = 0;
+        let mut open_curves = 0;
         for mesh in &meshes {
             let mut e = LoopEngine::new(mesh, &ElasticaParams::default());
             let n = mesh.vertex_count();
@@ -2548,13 +2855,62 @@ mod tests {
                                 &[(a, 0.0)],
                                 LayeredEnd::Closed,
                                 f32::INFINITY,
+                                false,
                             ) {
                                 reference = reference.min(c);
                             }
                         }
+                        if count == 2 && e.has_boundary {
+                            // With the dual curve (§5.7): the layered search
+                            // from ∂, fully settled, against the half-search.
+                            e.settle_boundary(f32::INFINITY);
+                            let f = e.boundary_field.as_ref().expect("a boundary field");
+                            let enter: Vec<(u32, f32)> = layers[0]
+                                .iter()
+                                .map(|&b| (b, f.distance(b)))
+                                .filter(|x| x.1.is_finite())
+                                .collect();
+                            let leave: Vec<f32> = layers[1]
+                                .iter()
+                                .map(|&a| f.distance(e.graph.g.reverse[a as usize]))
+                                .collect();
+                            let open = e
+                                .layered_search(
+                                    &verts,
+                                    &layers,
+                                    &close,
+                                    &order,
+                                    &enter,
+                                    LayeredEnd::Open(&leave),
+                                    f32::INFINITY,
+                                    false,
+                                )
+                                .map_or(f32::INFINITY, |x| x.0);
+                            let either = reference.min(open);
+                            let got = e
+                                .two_anchor_loop(&verts, &layers, &close, true)
+                                .expect("two positional anchors");
+                            let tol = 1e-4 * either.max(1.0);
+                            match got {
+                                None => assert!(!either.is_finite(), "{verts:?}: no loop or curve"),
+                                Some((cost, nodes, closed)) => {
+                                    assert!(
+                                        (cost - either).abs() <= tol,
+                                        "{verts:?} covered {covered}: {cost} vs loop \
+                                         {reference} / curve {open}"
+                                    );
+                                    if !closed {
+                                        open_curves += 1;
+                                        for w in nodes.windows(2) {
+                                            assert!(e.graph.is_arc(w[0] as usize, w[1] as usize));
+                                        }
+                                    }
+                                }
+                            }
+                        }
                         let mut best = None;
                         let found = if count == 2 {
-                            e.two_anchor_cycle(&verts, &layers, &close, &order)
+                            e.two_anchor_loop(&verts, &layers, &close, false)
                                 .expect("two positional anchors")
                         } else {
                             e.multi_start_cycle(&verts, &layers, &close, 0, &order, &mut best);
@@ -2593,6 +2949,7 @@ mod tests {
             }
         }
         assert!(compared >= 100, "only {compared} anchor sets compared");
+        assert!(open_curves > 0, "no dual curve was the best answer");
     }
 
     /// The metagraph cycle pruned by the growing radius equals the unpruned
