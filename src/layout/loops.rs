@@ -591,13 +591,7 @@ fn layered_path_to(
     n: usize,
     closed: bool,
 ) -> (Vec<u32>, Vec<usize>) {
-    let mut states = Vec::new();
-    let mut st = end;
-    while st != NONE && states.len() <= ws.parent.len() {
-        states.push(st);
-        st = ws.parent[st as usize];
-    }
-    states.reverse();
+    let mut states = path_to(ws, end);
     if closed {
         states.pop();
     }
