@@ -88,6 +88,21 @@ pub struct ExtractionParams {
     pub pure_quad: bool,
 }
 
+impl ExtractionParams {
+    /// The repair's rules these parameters set, checking holes against
+    /// `surface`.
+    pub fn repair_rules<'a>(&self, surface: Option<&'a SurfaceIndex>) -> repair::RepairRules<'a> {
+        repair::RepairRules {
+            triangulation_pairs: self.triangulation_pairs,
+            bridge_fragments: self.bridge_fragments,
+            max_hole: self.max_hole,
+            fan_large_holes: self.fan_large_holes,
+            thesis_quad_score: self.thesis_quad_score,
+            surface,
+        }
+    }
+}
+
 impl Default for ExtractionParams {
     fn default() -> Self {
         ExtractionParams {
@@ -231,14 +246,7 @@ pub fn extract(
     }
     report.faces_traced = face_list.len();
     progress.report(0.8, "repairing")?;
-    let rules = repair::HoleRules {
-        triangulation_pairs: params.triangulation_pairs,
-        bridge_fragments: params.bridge_fragments,
-        max_hole: params.max_hole,
-        fan_large_holes: params.fan_large_holes,
-        thesis_quad_score: params.thesis_quad_score,
-        surface,
-    };
+    let rules = params.repair_rules(surface);
     let (mesh, map) = repair::repair(face_list, &mut g, &rules, &mut report.repair);
     let graph = g.select(&map);
     progress.report(1.0, "extracted")?;
@@ -383,14 +391,7 @@ pub fn post_process(
     progress.report(0.6, "smoothing")?;
     report.smoothed_vertices = postprocess::smooth(&faces, &mut g, p, surface);
     progress.report(0.8, "rebuilding")?;
-    let rules = repair::HoleRules {
-        triangulation_pairs: params.triangulation_pairs,
-        bridge_fragments: params.bridge_fragments,
-        max_hole: params.max_hole,
-        fan_large_holes: params.fan_large_holes,
-        thesis_quad_score: params.thesis_quad_score,
-        surface,
-    };
+    let rules = params.repair_rules(surface);
     let mut repair_report = RepairReport::default();
     let (mut mesh, map) = repair::repair(faces, &mut g, &rules, &mut repair_report);
     // The graph's attributes per vertex of `mesh`.

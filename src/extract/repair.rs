@@ -64,7 +64,9 @@ pub struct RepairReport {
     pub bridged_fragments: usize,
 }
 
-pub struct HoleRules<'a> {
+/// What the repair may do: its pair rule, the fragment bridges and the
+/// hole filling (from [`super::ExtractionParams::repair_rules`]).
+pub struct RepairRules<'a> {
     /// Step 2 also repairs pairs that only some triangulation of a face
     /// would make non-manifold (a diagonal of one face that is an edge or
     /// diagonal of another; the thesis' rule), not only non-manifold edges.
@@ -472,7 +474,7 @@ pub(crate) fn is_input_hole(ring: &[u32], g: &Graph, surface: Option<&SurfaceInd
 fn fill_holes(
     faces: &mut Vec<Vec<u32>>,
     g: &mut Graph,
-    rules: &HoleRules<'_>,
+    rules: &RepairRules<'_>,
     report: &mut RepairReport,
 ) -> bool {
     let loops = hole_loops(faces);
@@ -555,7 +557,7 @@ fn fill_holes(
 fn pass(
     faces: &mut Vec<Vec<u32>>,
     g: &mut Graph,
-    rules: &HoleRules<'_>,
+    rules: &RepairRules<'_>,
     report: &mut RepairReport,
 ) {
     clean(faces);
@@ -572,7 +574,7 @@ fn pass(
 pub fn repair(
     mut faces: Vec<Vec<u32>>,
     g: &mut Graph,
-    rules: &HoleRules<'_>,
+    rules: &RepairRules<'_>,
     report: &mut RepairReport,
 ) -> (PolyMesh, Vec<u32>) {
     pass(&mut faces, g, rules, report);
@@ -757,8 +759,10 @@ fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
             .and_then(|&v| g.component.get(v as usize))
             .copied()
     };
-    let rest: Vec<usize> = (0..faces.len())
+    // The faces a fragment may join: (face, centroid, mean edge length).
+    let rest: Vec<(usize, DVec3, f64)> = (0..faces.len())
         .filter(|&f| !is_fragment(count[&roots[f]], largest))
+        .map(|f| (f, centroid(&faces[f]), mean_edge(&faces[f])))
         .collect();
     let mut dead = vec![false; faces.len()];
     let mut new_faces: Vec<Vec<u32>> = Vec::new();
@@ -782,15 +786,14 @@ fn bridge_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
         for &f1 in &members {
             let (c1, n1) = (centroid(&faces[f1]), face_newell_normal(&g.pos, &faces[f1]));
             let l1 = mean_edge(&faces[f1]);
-            for &f2 in &rest {
+            for &(f2, c2, l2) in &rest {
                 // Only within one input component: a small part of the
                 // input of its own (an eye next to a head) is not a tip.
                 if dead[f2] || component(&faces[f2]) != component(&faces[f1]) {
                     continue;
                 }
-                let c2 = centroid(&faces[f2]);
                 let d = c1.distance(c2);
-                if d > 3.0 * l1.max(mean_edge(&faces[f2])) || best.is_some_and(|b| d >= b.0) {
+                if d > 3.0 * l1.max(l2) || best.is_some_and(|b| d >= b.0) {
                     continue;
                 }
                 let n2 = face_newell_normal(&g.pos, &faces[f2]);
@@ -989,7 +992,7 @@ mod tests {
                 component: vec![0; n],
                 ..Default::default()
             };
-            let rules = HoleRules {
+            let rules = RepairRules {
                 triangulation_pairs: false,
                 bridge_fragments: bridge,
                 max_hole: 30,
