@@ -46,6 +46,7 @@ IM_EQUIVALENT = {
     "extraction": {
         "thesis_quad_score": False,
         "triangulation_pairs": True,
+        "keep_cap_vertices": False,
         "bridge_fragments": False,
         "max_hole": 6,
         "fan_large_holes": False,
@@ -80,6 +81,9 @@ ROWS = {
     # The repair's non-manifold pairs: only non-manifold edges, not the
     # diagonals some triangulation would make non-manifold (thesis §3.6).
     "-triangulation pairs": {"extraction": {"triangulation_pairs": False}},
+    # A pair's cap vertex (on only the pair's two faces) kept by a face
+    # split instead of removed, where that adds no odd face.
+    "+cap vertices kept": {"extraction": {"keep_cap_vertices": True}},
     # Closed fragments joined by a tube instead of dropped.
     "+fragment bridges": {"extraction": {"bridge_fragments": True}},
     "+hole filling (30 corners and fans)": {"extraction": {"max_hole": 30, "fan_large_holes": True}},
@@ -109,6 +113,7 @@ ROWS = {
     "default + thin parts (5 edges)": ("default", {"sizing": {"thin_part_edges": 5}}),
     "default - triangulation pairs": ("default", {"extraction": {"triangulation_pairs": False}}),
     "default - fragment bridges": ("default", {"extraction": {"bridge_fragments": False}}),
+    "default - cap vertices kept": ("default", {"extraction": {"keep_cap_vertices": False}}),
     "default - diagonal collapses": ("default", {"extraction": {"post": {"collapse_diagonals": False}}}),
     "default - edge rotations and collapses": ("default", {"extraction": {"post": {"rotate_edges_degrees": 0}}}),
     "default - non-quad budget (pair all)": ("default", {"extraction": {"post": {"non_quad_budget_percent": 0}}}),
@@ -191,7 +196,8 @@ def run_tool(args, tool, src, stem, target):
 # for every tool.
 ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default",
               "default - scale consistency", "default + feature-vertex constraints",
-              "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges")
+              "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
+              "default - cap vertices kept")
 
 
 def reordered_copy(src, dst, seed):

@@ -144,6 +144,7 @@ pub fn schema() -> Vec<ParamDoc> {
         flag("extraction.snap", "Snap thin triangles during extraction (thesis §3.5.2)."),
         flag("extraction.thesis_quad_score", "Split long faces by the thesis' quad score (the quad's own corners) instead of Instant Meshes'."),
         flag("extraction.triangulation_pairs", "The non-manifold repair also removes face diagonals that another face uses (thesis §3.6), not only non-manifold edges."),
+        flag("extraction.keep_cap_vertices", "The pair repair keeps a vertex on only the pair's two faces (a horn tip) by splitting one of them, where that adds no odd face."),
         flag("extraction.bridge_fragments", "Join closed fragments of the face tracing (a thin part's tip) to the mesh by a tube instead of dropping them."),
         int("extraction.max_hole", 3.0, 1000.0, "Holes up to this many corners are filled."),
         flag("extraction.fan_large_holes", "Close larger holes that are not the input's with a centroid fan."),

@@ -160,6 +160,42 @@ fn the_cows_hooves_are_kept() {
     }
 }
 
+/// Spot's horn tips, capped by two faces around a valence-2 vertex in the
+/// traced faces, are kept by the repair's face split
+/// (`extraction.keep_cap_vertices`) instead of being cut off.
+#[test]
+fn spots_horn_tips_are_kept() {
+    let input = common::import("spot.obj");
+    let mesh = input.mesh.clone();
+    let (p, out) = remesh(input, Params::default());
+    let sizing = &p.analysis.as_ref().unwrap().surface.sizing.edge_length;
+    let s = sizing.iter().sum::<f64>() / sizing.len() as f64;
+    let tris = TriMesh {
+        positions: out.positions.clone(),
+        triangles: out.to_face_list().triangulate(&out.positions),
+    };
+    let surface = quadrille::spatial::SurfaceIndex::new(&tris).unwrap();
+    let bbox = mesh.bbox().unwrap();
+    let centre = 0.5 * (bbox.min + bbox.max);
+    // y is up; the horns are the highest points left and right of x's centre.
+    let mut tips = [None::<glam::DVec3>; 2];
+    for &q in &mesh.positions {
+        let k = (q.x > centre.x) as usize;
+        if tips[k].is_none_or(|h| q.y > h.y) {
+            tips[k] = Some(q);
+        }
+    }
+    for h in tips {
+        let h = h.unwrap();
+        let d = surface.distance(h) / s;
+        println!("horn tip at {h:.3}: {d:.2} target edges from the output");
+        assert!(
+            d <= 0.5,
+            "horn tip at {h:.3} is {d:.2} target edges from the output"
+        );
+    }
+}
+
 #[test]
 fn sphere_and_torus_give_closed_manifold_quad_dominant_meshes() {
     for (mesh, genus) in [

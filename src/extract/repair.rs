@@ -13,7 +13,10 @@
 //!    default on, as in the thesis). The thesis' repair: remove every
 //!    vertex of the two faces, other than the pair, that lies on at most two
 //!    faces; if there is none, delete the face holding the pair as a
-//!    diagonal, else the later face (the thesis deletes a random one);
+//!    diagonal, else the later face (the thesis deletes a random one).
+//!    Deviation (`keep_cap_vertices`): a single such vertex between the
+//!    pair in both faces — a tip the two faces cap — is kept by splitting
+//!    one face where that adds no odd face ([`cap_split`]);
 //! 3. orientation: faces are made consistent by a breadth-first walk over
 //!    manifold edges; a component whose faces mostly point against the
 //!    cluster normals is flipped (the input's outward side wins);
@@ -59,6 +62,9 @@ pub struct RepairReport {
     pub guard_fixes: usize,
     /// Faces of dropped fragments (tiny components, see [`drop_fragments`]).
     pub fragment_faces: usize,
+    /// Cap vertices kept by a face split instead of removed (see
+    /// [`cap_split`]).
+    pub kept_cap_vertices: usize,
     /// Closed fragments joined to the mesh by a tube (see
     /// [`bridge_fragments`]) instead of being dropped.
     pub bridged_fragments: usize,
@@ -71,6 +77,9 @@ pub struct RepairRules<'a> {
     /// would make non-manifold (a diagonal of one face that is an edge or
     /// diagonal of another; the thesis' rule), not only non-manifold edges.
     pub triangulation_pairs: bool,
+    /// A pair's cap vertex is kept by splitting a face ([`cap_split`])
+    /// where that leaves no more odd faces than removing it.
+    pub keep_cap_vertices: bool,
     /// Closed fragments are joined to the mesh ([`bridge_fragments`]).
     pub bridge_fragments: bool,
     pub max_hole: usize,
@@ -172,13 +181,14 @@ fn face_counts(n: usize, faces: &[Vec<u32>]) -> Vec<u32> {
 /// Resolves non-manifold pairs (step 2). Returns whether anything changed.
 fn fix_pairs(
     faces: &mut Vec<Vec<u32>>,
-    n: usize,
-    triangulation_pairs: bool,
+    pos: &[DVec3],
+    rules: &RepairRules<'_>,
     report: &mut RepairReport,
 ) -> bool {
+    let n = pos.len();
     let mut changed = false;
     for _round in 0..32 {
-        let list = conflicts(faces, triangulation_pairs);
+        let list = conflicts(faces, rules.triangulation_pairs);
         if list.is_empty() {
             break;
         }
@@ -187,6 +197,7 @@ fn fix_pairs(
         let mut touched = vec![false; faces.len()];
         let mut dead_face = vec![false; faces.len()];
         let mut dead_vertex = vec![false; n];
+        let mut split: HashMap<usize, [Vec<u32>; 2]> = HashMap::new();
         for (a, b, fs) in list {
             let (f1, f2) = (fs[0] as usize, fs[1] as usize);
             if touched[f1] || touched[f2] {
@@ -195,6 +206,22 @@ fn fix_pairs(
             report.nonmanifold_pairs += 1;
             touched[f1] = true;
             touched[f2] = true;
+            if rules.keep_cap_vertices
+                && let Some((f, parts)) = cap_split(&faces[f1], &faces[f2], a, b, &counts, pos)
+            {
+                let f = [f1, f2][f];
+                for &v in &faces[f] {
+                    counts[v as usize] -= 1;
+                }
+                for part in &parts {
+                    for &v in part {
+                        counts[v as usize] += 1;
+                    }
+                }
+                split.insert(f, parts);
+                report.kept_cap_vertices += 1;
+                continue;
+            }
             let mut removed = false;
             for &f in &[f1, f2] {
                 for &v in &faces[f] {
@@ -236,6 +263,10 @@ fn fix_pairs(
             if dead_face[f] {
                 continue;
             }
+            if let Some(parts) = split.remove(&f) {
+                out.extend(parts);
+                continue;
+            }
             let g: Vec<u32> = face
                 .into_iter()
                 .filter(|&v| !dead_vertex[v as usize])
@@ -248,6 +279,71 @@ fn fix_pairs(
         clean(faces);
     }
     changed
+}
+
+/// The alternative to removing a *cap vertex* v — a vertex on only the two
+/// faces of the pair (a, b), between a and b in both (a valence-2 vertex:
+/// at a horn or hoof tip the two faces cap the tip, and removing v cuts it
+/// off): split one of the faces by a diagonal from v, so v gets a third
+/// edge and (a, b) is no longer a diagonal of both. Removing v takes a
+/// corner from each face, and the two then share the edge (a, b), so the
+/// later pairing may merge them; the split is taken when it leaves no
+/// more odd (non-quad) faces than the better of those — a quad and a
+/// pentagon: one triangle either way; a quad and a hexagon: two quads
+/// instead of a triangle and a pentagon; two quads: not taken (two
+/// triangles against one merged quad) — choosing the split with the
+/// fewest odd faces, then the shortest diagonal. Returns which face (0 or
+/// 1) and its parts.
+fn cap_split(
+    f1: &[u32],
+    f2: &[u32],
+    a: u32,
+    b: u32,
+    counts: &[u32],
+    pos: &[DVec3],
+) -> Option<(usize, [Vec<u32>; 2])> {
+    let candidates: Vec<u32> = f1
+        .iter()
+        .chain(f2)
+        .copied()
+        .filter(|&v| v != a && v != b && counts[v as usize] <= 2)
+        .collect();
+    let v = *candidates.first()?;
+    if candidates.iter().any(|&w| w != v) || counts[v as usize] != 2 {
+        return None;
+    }
+    let between = |f: &[u32]| -> Option<usize> {
+        let m = f.len();
+        let i = f.iter().position(|&x| x == v)?;
+        let (p, q) = (f[(i + m - 1) % m], f[(i + 1) % m]);
+        ((p == a && q == b) || (p == b && q == a)).then_some(i)
+    };
+    let (i1, i2) = (between(f1)?, between(f2)?);
+    // Whether a face of k corners is odd (fewer than 3: no face at all).
+    let odd = |k: usize| usize::from(k >= 3 && k != 4);
+    // Removal leaves the two faces sharing the edge (a, b); the pairing
+    // may merge them (two quads leave two triangles that make one quad).
+    let removal = (odd(f1.len() - 1) + odd(f2.len() - 1)).min(odd(f1.len() + f2.len() - 4));
+    let mut best: Option<(usize, f64, usize, [Vec<u32>; 2])> = None;
+    for (which, (f, i), other) in [(0, (f1, i1), f2.len()), (1, (f2, i2), f1.len())] {
+        let m = f.len();
+        for k in 2..m - 1 {
+            // Parts v … f[i+k] and f[i+k] … v, of k + 1 and m − k + 1 corners.
+            let x = f[(i + k) % m];
+            let cost = odd(k + 1) + odd(m - k + 1) + odd(other);
+            let length = pos[v as usize].distance(pos[x as usize]);
+            if best
+                .as_ref()
+                .is_none_or(|(c, l, _, _)| (cost, length) < (*c, *l))
+            {
+                let first: Vec<u32> = (0..=k).map(|j| f[(i + j) % m]).collect();
+                let second: Vec<u32> = (k..=m).map(|j| f[(i + j) % m]).collect();
+                best = Some((cost, length, which, [first, second]));
+            }
+        }
+    }
+    let (cost, _, which, parts) = best?;
+    (cost <= removal).then_some((which, parts))
 }
 
 /// Consistent orientation per component (step 3).
@@ -562,9 +658,9 @@ fn pass(
 ) {
     clean(faces);
     orient(faces, g, report);
-    fix_pairs(faces, g.len(), rules.triangulation_pairs, report);
+    fix_pairs(faces, &g.pos, rules, report);
     orient(faces, g, report);
-    fix_pairs(faces, g.len(), rules.triangulation_pairs, report);
+    fix_pairs(faces, &g.pos, rules, report);
     split_vertices(faces, g, report);
 }
 
@@ -994,6 +1090,7 @@ mod tests {
             };
             let rules = RepairRules {
                 triangulation_pairs: false,
+                keep_cap_vertices: false,
                 bridge_fragments: bridge,
                 max_hole: 30,
                 fan_large_holes: true,
@@ -1016,6 +1113,65 @@ mod tests {
                 assert_eq!(report.fragment_faces, 6);
                 assert_eq!(mesh.vertex_count(), main_vertices);
             }
+        }
+    }
+
+    /// A tip capped by a pentagon and a quad around a valence-2 vertex v:
+    /// with `keep_cap_vertices` v stays, on three faces (the pentagon split
+    /// into a quad and a triangle), with one odd face as after removing it;
+    /// without, v goes (the thesis' rule). Two quads around v: removal
+    /// leaves two triangles that make one quad, a split two triangles and
+    /// a quad, so v goes either way.
+    #[test]
+    fn a_cap_vertex_is_kept_by_a_split_when_that_adds_no_odd_face() {
+        let pos: Vec<DVec3> = (0..30)
+            .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
+            .collect();
+        let (v, a, b) = (0u32, 1u32, 2u32);
+        // Two more faces on each other vertex of the cap (the rest of a
+        // mesh), so v is the only one the thesis' rule removes.
+        let rest = |cap: &[u32]| -> Vec<Vec<u32>> {
+            let mut next = 10;
+            let mut out = Vec::new();
+            for &w in cap.iter().filter(|&&w| w != v) {
+                for _ in 0..2 {
+                    out.push(vec![w, next, next + 1]);
+                    next += 2;
+                }
+            }
+            out
+        };
+        for keep in [true, false] {
+            let rules = RepairRules {
+                triangulation_pairs: true,
+                keep_cap_vertices: keep,
+                bridge_fragments: false,
+                max_hole: 30,
+                fan_large_holes: true,
+                thesis_quad_score: true,
+                surface: None,
+            };
+            let mut faces = vec![vec![v, a, 3, 4, b], vec![v, b, 5, a]];
+            faces.extend(rest(&[a, b, 3, 4, 5]));
+            let mut report = RepairReport::default();
+            fix_pairs(&mut faces, &pos, &rules, &mut report);
+            assert!(conflicts(&faces, true).is_empty(), "{faces:?}");
+            let cap: Vec<&Vec<u32>> = faces.iter().filter(|f| f.iter().all(|&w| w < 10)).collect();
+            let odd = cap.iter().filter(|f| f.len() != 4).count();
+            assert_eq!(odd, 1, "{faces:?}");
+            let on_v = cap.iter().filter(|f| f.contains(&v)).count();
+            if keep {
+                assert_eq!(report.kept_cap_vertices, 1);
+                assert_eq!((cap.len(), on_v), (3, 3), "{faces:?}");
+            } else {
+                assert_eq!((cap.len(), on_v), (2, 0), "{faces:?}");
+            }
+            let mut faces = vec![vec![v, a, 3, b], vec![v, b, 4, a]];
+            faces.extend(rest(&[a, b, 3, 4]));
+            let mut report = RepairReport::default();
+            fix_pairs(&mut faces, &pos, &rules, &mut report);
+            assert_eq!(report.kept_cap_vertices, 0);
+            assert!(faces.iter().all(|f| !f.contains(&v)), "{faces:?}");
         }
     }
 }
