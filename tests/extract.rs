@@ -120,16 +120,10 @@ fn cow_with_thin_legs_and_a_pinched_vertex_stays_one_closed_surface() {
     assert!(o.non_quad <= 10.0, "{:.1} % non-quads", o.non_quad);
 }
 
-/// The cow's legs are tubes three or four target edges around. The face
-/// tracing leaves each hoof as a small closed fragment, apart from a leg
-/// closed off above it; dropping those fragments cut the hooves off (with
-/// `extraction.bridge_fragments` off the first is 1.92 target edges from
-/// the output). Joined by a tube, every hoof (the input's lowest vertex
-/// under each quarter of the ground plan) lies within 1.25 target edges of
-/// the output (0.27, 0.22, 0.99, 0.34).
-#[test]
-fn the_cows_hooves_are_kept() {
-    let input = common::import("cow.obj");
+/// A shared mesh remeshed with the defaults: the input, the mean target
+/// edge length and the output's surface (for distances to it).
+fn remeshed_with_surface(name: &str) -> (TriMesh, f64, quadrille::spatial::SurfaceIndex) {
+    let input = common::import(name);
     let mesh = input.mesh.clone();
     let (p, out) = remesh(input, Params::default());
     let sizing = &p.analysis.as_ref().unwrap().surface.sizing.edge_length;
@@ -139,6 +133,19 @@ fn the_cows_hooves_are_kept() {
         triangles: out.to_face_list().triangulate(&out.positions),
     };
     let surface = quadrille::spatial::SurfaceIndex::new(&tris).unwrap();
+    (mesh, s, surface)
+}
+
+/// The cow's legs are tubes three or four target edges around. The face
+/// tracing leaves each hoof as a small closed fragment, apart from a leg
+/// closed off above it; dropping those fragments cut the hooves off (with
+/// `extraction.bridge_fragments` off the first is 1.92 target edges from
+/// the output). Joined by a tube, every hoof (the input's lowest vertex
+/// under each quarter of the ground plan) lies within 1.25 target edges of
+/// the output (0.27, 0.22, 0.99, 0.34).
+#[test]
+fn the_cows_hooves_are_kept() {
+    let (mesh, s, surface) = remeshed_with_surface("cow.obj");
     let bbox = mesh.bbox().unwrap();
     let centre = 0.5 * (bbox.min + bbox.max);
     // The ground plan: x and z; y is up.
@@ -165,16 +172,7 @@ fn the_cows_hooves_are_kept() {
 /// (`extraction.keep_cap_vertices`) instead of being cut off.
 #[test]
 fn spots_horn_tips_are_kept() {
-    let input = common::import("spot.obj");
-    let mesh = input.mesh.clone();
-    let (p, out) = remesh(input, Params::default());
-    let sizing = &p.analysis.as_ref().unwrap().surface.sizing.edge_length;
-    let s = sizing.iter().sum::<f64>() / sizing.len() as f64;
-    let tris = TriMesh {
-        positions: out.positions.clone(),
-        triangles: out.to_face_list().triangulate(&out.positions),
-    };
-    let surface = quadrille::spatial::SurfaceIndex::new(&tris).unwrap();
+    let (mesh, s, surface) = remeshed_with_surface("spot.obj");
     let bbox = mesh.bbox().unwrap();
     let centre = 0.5 * (bbox.min + bbox.max);
     // y is up; the horns are the highest points left and right of x's centre.
