@@ -439,6 +439,8 @@ impl GrowingField {
             true
         });
         self.radius = if self.heap.is_empty() {
+            // Settled everywhere: the heap's buckets are not needed again.
+            self.heap = RadixHeap::default();
             f32::INFINITY
         } else {
             radius
