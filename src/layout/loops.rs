@@ -58,11 +58,19 @@
 //!   1 % above the smallest bound, growing by 2 % until a loop below it
 //!   exists. The dual curve through both is one A* from the first anchor's
 //!   candidates at their distances from ∂, guided by F and by the distance
-//!   to ∂. With three or more positional anchors the same kind of bound
-//!   orders and prunes the per-start layered searches, which are also
-//!   guided by one such field per anchor (settled to half the first loop's
-//!   cost). Exact (tested against one layered search per start and the
-//!   layered dual-curve search). The hover query settles the distances
+//!   to ∂. With three or more positional anchors (on distinct consecutive
+//!   vertices) one such field per anchor is settled fully (no first
+//!   labelled search from all starts, no further bounding searches): the
+//!   fields give each start a lower bound (the sum of its two end
+//!   segments' field values and the smallest value of every middle
+//!   segment), which orders and prunes the per-start layered searches,
+//!   all guided by the fields; with a boundary the dual curve, guided too,
+//!   runs after the first start, bounded by its loop. The fields of the
+//!   last few positional anchors are kept between queries (until the
+//!   covered strips change), the two-anchor search's partly settled one
+//!   included, so a grab or a drag of one anchor settles one new field.
+//!   Exact (tested against one layered search per start and the layered
+//!   dual-curve search). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
 //! - The fields, the searches through anchors and the distances from ∂ run
@@ -104,9 +112,9 @@ const BOUNDARY_RADIUS: f32 = 0.25;
 /// The factor by which the pruning level of the two-anchor search grows
 /// while no loop below it exists.
 const LEVEL_GROWTH: f32 = 1.02;
-/// The fields guiding a loop through three or more anchors are settled up
-/// to this share of the first loop's cost (beyond it they read it).
-const FIELD_SHARE: f32 = 0.5;
+/// The fields of this many recent positional anchors are kept between
+/// queries (until the covered strips change).
+const FIELD_CACHE: usize = 4;
 /// … and by at least this much (normalised cost).
 const LEVEL_STEP: f32 = 0.01 * BOUNDARY_RADIUS;
 
@@ -336,8 +344,11 @@ struct PairWorkspace {
     field: GrowingField,
     side: LayeredWorkspace,
     /// Per anchor of a loop through three or more positional anchors, the
-    /// same kind of field from its candidates ([`LoopEngine::multi_start_cycle`]).
+    /// same kind of field from its candidates, settled fully
+    /// ([`LoopEngine::guided_starts`]).
     fields: Vec<GrowingField>,
+    /// Recent anchors' fields by vertex, the most recent last.
+    cache: Vec<(u32, GrowingField)>,
 }
 
 /// The one settle loop of the engine's best-first searches: pops `heap` in
@@ -428,6 +439,8 @@ impl GrowingField {
             true
         });
         self.radius = if self.heap.is_empty() {
+            // Settled everywhere: the heap's buckets are not needed again.
+            self.heap = RadixHeap::default();
             f32::INFINITY
         } else {
             radius
@@ -649,6 +662,12 @@ impl LoopEngine {
         self.graph.memory_bytes()
             + n * (std::mem::size_of::<Slot>() + 1)
             + self.boundary_field.as_ref().map_or(0, |f| f.dist.len() * 9)
+            + self
+                .pair
+                .cache
+                .iter()
+                .map(|c| c.1.dist.len() * 5)
+                .sum::<usize>()
     }
 
     /// Number of g′-nodes settled by the hover and loop searches since the
@@ -807,56 +826,211 @@ impl LoopEngine {
         if let Some(found) = self.two_anchor_loop(verts, layers, close, true) {
             return found;
         }
+        // Three or more positional anchors on distinct consecutive
+        // vertices: every search guided by the anchors' fields; with a
+        // boundary the dual curve right after the first start's loop,
+        // bounded by it and bounding the other starts' searches.
+        let positional =
+            close.iter().all(|c| !c.is_finite()) && (0..n).all(|k| verts[k] != verts[(k + 1) % n]);
+        let mut best: Option<(f32, Vec<u32>, bool)> = None;
+        if positional && n >= 3 {
+            self.take_anchor_fields(verts);
+            let open = self.has_boundary;
+            self.guided_starts(verts, layers, close, s, &rotated, open, &mut best);
+            self.return_anchor_fields(verts);
+            return best;
+        }
         // Any other anchors: the closed loop by layered searches from the
         // starts, then the dual curve bounded by it.
-        let mut best: Option<(f32, Vec<u32>, bool)> = None;
         self.multi_start_cycle(verts, layers, close, s, &rotated, &mut best);
         if self.has_boundary {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
-            // A dual curve cheaper than `bound` has both ends closer to ∂.
-            self.settle_boundary(bound);
-            if let Some(f) = self.boundary_field.as_ref() {
-                let enter: Vec<(u32, f32)> = layers[0]
-                    .iter()
-                    .map(|&b| (b, f.distance(b)))
-                    .filter(|e| e.1.is_finite())
-                    .collect();
-                let leave: Vec<f32> = layers[n - 1]
-                    .iter()
-                    .map(|&a| {
-                        let r = self.graph.g.reverse[a as usize];
-                        if r == NONE {
-                            f32::INFINITY
-                        } else {
-                            f.distance(r)
-                        }
-                    })
-                    .collect();
-                let order: Vec<usize> = (0..n).collect();
-                if let Some((cost, nodes, _)) = self.layered_search(
-                    verts,
-                    layers,
-                    close,
-                    &order,
-                    &enter,
-                    LayeredEnd::Open(&leave),
-                    bound,
-                    false,
-                ) {
-                    let (b0, last) = (nodes[0], nodes[nodes.len() - 1]);
-                    let mut full = self.boundary_path(b0);
-                    full.pop();
-                    full.extend(nodes);
-                    let mut tail = self.reversed_boundary_path(last);
-                    if !tail.is_empty() {
-                        tail.remove(0);
-                    }
-                    full.extend(tail);
-                    best = Some((cost, full, false));
-                }
+            if let Some(found) = self.layered_open(verts, layers, close, bound, false) {
+                best = Some(found);
             }
         }
         best
+    }
+
+    /// The cheapest dual curve ∂ → ξ₀ → … → ξ_{n−1} → ∂ (§5.7) below
+    /// `bound`, by one layered search from ξ₀ at its distances from ∂
+    /// (`guided`: also by the anchors' fields in `self.pair.fields`), as
+    /// [`Self::layered_cycle`] returns it (from ∂ to ∂).
+    fn layered_open(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        bound: f32,
+        guided: bool,
+    ) -> Option<(f32, Vec<u32>, bool)> {
+        let n = layers.len();
+        // A dual curve cheaper than `bound` has both ends closer to ∂.
+        self.settle_boundary(bound);
+        let f = self.boundary_field.as_ref()?;
+        let enter: Vec<(u32, f32)> = layers[0]
+            .iter()
+            .map(|&b| (b, f.distance(b)))
+            .filter(|e| e.1.is_finite())
+            .collect();
+        let leave: Vec<f32> = layers[n - 1]
+            .iter()
+            .map(|&a| {
+                let r = self.graph.g.reverse[a as usize];
+                if r == NONE {
+                    f32::INFINITY
+                } else {
+                    f.distance(r)
+                }
+            })
+            .collect();
+        let order: Vec<usize> = (0..n).collect();
+        let (cost, nodes, _) = self.layered_search(
+            verts,
+            layers,
+            close,
+            &order,
+            &enter,
+            LayeredEnd::Open(&leave),
+            bound,
+            guided,
+        )?;
+        let (b0, last) = (nodes[0], nodes[nodes.len() - 1]);
+        let mut full = self.boundary_path(b0);
+        full.pop();
+        full.extend(nodes);
+        let mut tail = self.reversed_boundary_path(last);
+        if !tail.is_empty() {
+            tail.remove(0);
+        }
+        full.extend(tail);
+        Some((cost, full, false))
+    }
+
+    /// Fills `self.pair.fields` with one fully settled field per anchor
+    /// (the distances from its candidates, [`Self::field_sources`]), taken
+    /// from the cache of recent anchors' fields where there (possibly only
+    /// partly settled by the two-anchor search), else new.
+    fn take_anchor_fields(&mut self, verts: &[usize]) {
+        let nodes = self.graph.node_count();
+        let mut fields = Vec::with_capacity(verts.len());
+        for (k, &v) in verts.iter().enumerate() {
+            let cached = self.pair.cache.iter().position(|c| c.0 == v as u32);
+            let mut f = match cached {
+                Some(i) => self.pair.cache.remove(i).1,
+                None => match verts[..k].iter().position(|&w| w == v) {
+                    // The same vertex again (not consecutive): its field.
+                    Some(j) => std::mem::take(&mut fields[j]),
+                    None => {
+                        let mut f = GrowingField::default();
+                        f.reset(nodes, &self.field_sources(v));
+                        f
+                    }
+                },
+            };
+            self.ws.effort += f.grow(&self.graph, &self.disabled, f32::INFINITY);
+            if let Some(j) = verts[..k].iter().position(|&w| w == v) {
+                fields[j] = f.clone();
+            }
+            fields.push(f);
+        }
+        self.pair.fields = fields;
+    }
+
+    /// Puts the fields of [`Self::take_anchor_fields`] back into the cache
+    /// (at most [`FIELD_CACHE`] fields, the most recent last).
+    fn return_anchor_fields(&mut self, verts: &[usize]) {
+        let fields = std::mem::take(&mut self.pair.fields);
+        for (f, &v) in fields.into_iter().zip(verts) {
+            self.cache_field(v, f);
+        }
+    }
+
+    /// Keeps `field` (from the candidates of the positional anchor at `v`)
+    /// for later queries, dropping the oldest beyond [`FIELD_CACHE`].
+    fn cache_field(&mut self, v: usize, field: GrowingField) {
+        let cache = &mut self.pair.cache;
+        cache.retain(|c| c.0 != v as u32);
+        cache.push((v as u32, field));
+        if cache.len() > FIELD_CACHE {
+            cache.remove(0);
+        }
+    }
+
+    /// The closed loop through three or more positional anchors (on
+    /// distinct consecutive vertices) by one layered search per start a₀
+    /// of the smallest layer `s`, guided by the anchors' fields (settled
+    /// fully, `self.pair.fields`), cheapest lower bound first, each pruned
+    /// by the best loop or curve so far (`best`). The bound of a₀: the
+    /// loop a₀ → ξ₁ → … → ξ_{n−1} → a₀ (in `rotated` order) costs at least
+    /// F₁(reverse(a₀)) (from a₀ to the next anchor but for the last arc;
+    /// g′ weights are reversal-symmetric) plus, per later segment k → k+1,
+    /// the smallest F_k over the candidates of anchor k+1, plus F_{n−1}(a₀)
+    /// (from the last anchor back to a₀). No search beyond the fields.
+    /// `open` (with a boundary): also the dual curve ([`Self::layered_open`],
+    /// guided too), searched after the first start, bounded by its loop.
+    #[allow(clippy::too_many_arguments)]
+    fn guided_starts(
+        &mut self,
+        verts: &[usize],
+        layers: &[Vec<u32>],
+        close: &[f32],
+        s: usize,
+        rotated: &[usize],
+        open: bool,
+        best: &mut Option<(f32, Vec<u32>, bool)>,
+    ) {
+        let n = layers.len();
+        let fields = &self.pair.fields;
+        let g = &self.graph.g;
+        let middle: f32 = (1..n - 1)
+            .map(|k| {
+                layers[rotated[k + 1]]
+                    .iter()
+                    .map(|&y| fields[rotated[k]].value(y as usize))
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .sum();
+        let mut order: Vec<(f32, u32)> = layers[s]
+            .iter()
+            .map(|&a| {
+                let lb = fields[rotated[1]].value_of_reverse(g, a as usize)
+                    + middle
+                    + fields[rotated[n - 1]].value(a as usize);
+                (lb, a)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (i, (lb, a0)) in order.into_iter().enumerate() {
+            if i == 1 && open {
+                // The dual curve, bounded by the first loop.
+                let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+                if let Some(found) = self.layered_open(verts, layers, close, bound, true) {
+                    *best = Some(found);
+                }
+            }
+            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
+            // The bounds sum reversed searches: rounding may put them a
+            // little above the forward costs.
+            if lb * (1.0 - 1e-4) >= bound {
+                break;
+            }
+            if let Some((cost, mut nodes, starts)) = self.layered_search(
+                verts,
+                layers,
+                close,
+                rotated,
+                &[(a0, 0.0)],
+                LayeredEnd::Closed,
+                bound,
+                true,
+            ) {
+                // Start the loop at anchor 0's candidate, as the pairwise
+                // method does.
+                nodes.rotate_left(starts[(n - s) % n]);
+                *best = Some((cost, nodes, true));
+            }
+        }
     }
 
     /// The loop through two positional anchors on distinct vertices (`None`
@@ -898,8 +1072,15 @@ impl LoopEngine {
         let open = open && self.has_boundary;
         let nodes = self.graph.node_count();
         let v1 = verts[1] as u32;
-        let sources = self.field_sources(verts[1]);
-        self.pair.field.reset(nodes, &sources);
+        // The second anchor's field: resumed from the cache when there (a
+        // field is the same whichever query settled it so far).
+        match self.pair.cache.iter().position(|c| c.0 == v1) {
+            Some(i) => self.pair.field = self.pair.cache.remove(i).1,
+            None => {
+                let sources = self.field_sources(verts[1]);
+                self.pair.field.reset(nodes, &sources);
+            }
+        }
         let starts: Vec<u32> = layers[0]
             .iter()
             .copied()
@@ -949,6 +1130,8 @@ impl LoopEngine {
                 break;
             }
         }
+        let field = std::mem::take(&mut self.pair.field);
+        self.cache_field(verts[1], field);
         Some(best.0.is_finite().then_some(best))
     }
 
@@ -1171,11 +1354,12 @@ impl LoopEngine {
         *best = (cost, full, false);
     }
 
-    /// The closed loop of [`Self::layered_cycle`] by layered searches: one
-    /// from all of the smallest layer `s` at once (a loop, not necessarily
-    /// the cheapest: a state keeps only its cheapest start), then one per
-    /// start, cheapest lower bound first ([`Self::start_bounds`]), each
-    /// pruned by the best loop so far.
+    /// The closed loop of [`Self::layered_cycle`] by layered searches for
+    /// anchor sets without fields (a directional anchor, or consecutive
+    /// anchors on one vertex): one from all of the smallest layer `s` at
+    /// once (a loop, not necessarily the cheapest: a state keeps only its
+    /// cheapest start), then one per start, each pruned by the best loop so
+    /// far.
     fn multi_start_cycle(
         &mut self,
         verts: &[usize],
@@ -1187,10 +1371,7 @@ impl LoopEngine {
     ) {
         let n = layers.len();
         let all: Vec<(u32, f32)> = layers[s].iter().map(|&a| (a, 0.0)).collect();
-        let run = |engine: &mut Self,
-                   sources: &[(u32, f32)],
-                   best: &mut Option<(f32, Vec<u32>, bool)>,
-                   guided: bool| {
+        let mut run = |engine: &mut Self, sources: &[(u32, f32)]| {
             let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
             if let Some((cost, mut nodes, starts)) = engine.layered_search(
                 verts,
@@ -1200,212 +1381,20 @@ impl LoopEngine {
                 sources,
                 LayeredEnd::Closed,
                 bound,
-                guided,
+                false,
             ) {
                 // Start the loop at anchor 0's candidate, as the pairwise
                 // method does.
-                let first = starts[(n - s) % n];
-                nodes.rotate_left(first);
+                nodes.rotate_left(starts[(n - s) % n]);
                 *best = Some((cost, nodes, true));
             }
         };
-        run(self, &all, best, false);
+        run(self, &all);
         if all.len() > 1 {
-            let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
-            // With positional anchors only, the per-start searches are also
-            // guided by each anchor's field (its distances from the anchor's
-            // candidates, settled below the best loop so far).
-            let positional = close.iter().all(|c| !c.is_finite())
-                && (0..n).all(|k| verts[k] != verts[(k + 1) % n]);
-            self.pair.fields.truncate(0);
-            if positional && bound.is_finite() {
-                let nodes = self.graph.node_count();
-                let mut fields = std::mem::take(&mut self.pair.fields);
-                fields.resize_with(n, GrowingField::default);
-                for (f, &v) in fields.iter_mut().zip(verts) {
-                    f.reset(nodes, &self.field_sources(v));
-                    self.ws.effort += f.grow(&self.graph, &self.disabled, FIELD_SHARE * bound);
-                }
-                self.pair.fields = fields;
+            for &source in &all {
+                run(self, &[source]);
             }
-            // Then one exact search per start, cheapest lower bound first,
-            // skipping the starts whose bound reaches the best loop so far
-            // (without bounds: every start).
-            let order: Vec<(f32, u32)> =
-                match self.start_bounds(verts, layers, close, rotated, bound) {
-                    Some(lb) => {
-                        let mut o: Vec<(f32, u32)> =
-                            lb.into_iter().zip(layers[s].iter().copied()).collect();
-                        o.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                        o
-                    }
-                    None => layers[s].iter().map(|&a| (0.0, a)).collect(),
-                };
-            for (lb, a0) in order {
-                let bound = best.as_ref().map_or(f32::INFINITY, |b| b.0);
-                // The bounds sum reversed searches: rounding may put them a
-                // little above the forward costs.
-                if lb * (1.0 - 1e-4) >= bound {
-                    break;
-                }
-                run(self, &[(a0, 0.0)], best, true);
-            }
-            self.pair.fields.truncate(0);
         }
-    }
-
-    /// Lower bounds of the loop through each start a₀ of layer `order[0]`
-    /// (all anchors positional, consecutive anchors on distinct vertices;
-    /// `None` otherwise): the loop a₀ → ξ₁ → … → ξ_{n−1} → a₀ costs at least
-    /// F(a₀) + B(a₀), with F(a₀) the distance from a₀ to any candidate of
-    /// the next anchor and B(a₀) the layered distance from any candidate of
-    /// the next anchor, past the later anchors, back to a₀ (the relaxation
-    /// drops only that the two halves meet at the same candidate). F comes
-    /// from ONE search from the reversed candidates of the next anchor
-    /// (g′ weights are reversal-symmetric), B from one forward search from
-    /// all of them, each pruned at `bound` (a bound at or above it means
-    /// "not below `bound`"). Two searches instead of one per start.
-    fn start_bounds(
-        &mut self,
-        verts: &[usize],
-        layers: &[Vec<u32>],
-        close: &[f32],
-        order: &[usize],
-        bound: f32,
-    ) -> Option<Vec<f32>> {
-        let n = order.len();
-        if n < 2
-            || close.iter().any(|c| c.is_finite())
-            || (0..n).any(|k| verts[order[k]] == verts[order[(k + 1) % n]])
-            || !bound.is_finite()
-        {
-            return None;
-        }
-        let reverse = &self.graph.g.reverse;
-        let starts = &layers[order[0]];
-        let next = &layers[order[1]];
-        // F: from the reversed candidates of the next anchor to the reversed
-        // starts.
-        let sources: Vec<u32> = next
-            .iter()
-            .filter(|&&y| !self.disabled[y as usize] && reverse[y as usize] != NONE)
-            .map(|&y| reverse[y as usize])
-            .collect();
-        let read: Vec<u32> = starts.iter().map(|&a| reverse[a as usize]).collect();
-        let f = self.layer_field(&sources, &[], true, bound, &read);
-        let f: Vec<f32> = f
-            .iter()
-            .zip(&read)
-            .map(|(&d, &r)| if r == NONE { 0.0 } else { d.min(bound) })
-            .collect();
-        let min_f = f.iter().copied().fold(f32::INFINITY, f32::min);
-        if min_f >= bound {
-            return Some(f);
-        }
-        // B: from the next anchor's candidates past the later ones to the
-        // starts.
-        let sources: Vec<u32> = next.clone();
-        let passes: Vec<Vec<u32>> = (2..n).map(|k| layers[order[k]].clone()).collect();
-        let b_bound = bound - min_f;
-        let b = self.layer_field(&sources, &passes, false, b_bound, starts);
-        Some(
-            f.iter()
-                .zip(&b)
-                .map(|(&f, &b)| f + b.min(b_bound))
-                .collect(),
-        )
-    }
-
-    /// Multi-source Dijkstra over a layered g′ (state (x, j): x having
-    /// passed the first j of `passes`; an arc onto a node of `passes[j]`
-    /// also leads to layer j + 1), from `sources` at cost 0 in layer 0,
-    /// pruned at `bound`. Returns the distance (∞ if not below `bound`) of
-    /// each node of `read` in the last layer. `reversed`: a search over the
-    /// reversed paths (node z stands for `reverse(z)`; only without passes).
-    fn layer_field(
-        &mut self,
-        sources: &[u32],
-        passes: &[Vec<u32>],
-        reversed: bool,
-        bound: f32,
-        read: &[u32],
-    ) -> Vec<f32> {
-        debug_assert!(!reversed || passes.is_empty());
-        let graph = &self.graph;
-        let g = &graph.g;
-        let nodes = graph.node_count();
-        let last = passes.len();
-        let pass_vertex: Vec<u32> = passes
-            .iter()
-            .map(|p| p.first().map_or(NONE, |&y| g.source[y as usize]))
-            .collect();
-        let disabled = &self.disabled;
-        let blocked = |z: usize| -> bool {
-            if reversed {
-                let r = g.reverse[z];
-                r == NONE || disabled[r as usize]
-            } else {
-                disabled[z]
-            }
-        };
-        let ws = &mut self.layered;
-        let now = ws.start(nodes * (last + 1));
-        let (reached, settled) = (2 * now, 2 * now + 1);
-        for &b in sources {
-            let st = b as usize;
-            if blocked(st) {
-                continue;
-            }
-            ws.state[st] = reached;
-            ws.dist[st] = 0.0;
-            ws.heap.push(0f32.to_bits(), st as u32);
-        }
-        let LayeredWorkspace {
-            dist, state, heap, ..
-        } = &mut *ws;
-        let mut bound = bound;
-        self.ws.effort += settle(heap, &mut bound, false, |st, heap, _| {
-            let st = st as usize;
-            if state[st] == settled {
-                return false;
-            }
-            state[st] = settled;
-            let (l, x) = (st / nodes, st % nodes);
-            let d = dist[st];
-            let base = l * nodes;
-            let pass = (l < last && g.target[x] == pass_vertex[l]).then(|| &passes[l]);
-            graph.for_each_arc(x, |y, w| {
-                if blocked(y) {
-                    return;
-                }
-                let nd = d + w;
-                let mut relax = |t: usize| {
-                    if state[t] < reached || nd < dist[t] {
-                        state[t] = reached;
-                        dist[t] = nd;
-                        heap.push(nd.to_bits(), t as u32);
-                    }
-                };
-                relax(base + y);
-                if pass.is_some_and(|p| p.contains(&(y as u32))) {
-                    relax(base + nodes + y);
-                }
-            });
-            true
-        });
-        read.iter()
-            .map(|&r| {
-                if r == NONE {
-                    return f32::INFINITY;
-                }
-                let st = last * nodes + r as usize;
-                if ws.state[st] == settled {
-                    ws.dist[st]
-                } else {
-                    f32::INFINITY
-                }
-            })
-            .collect()
     }
 
     /// One A* over the layered g′ of [`Self::layered_cycle`] with the
@@ -1822,6 +1811,7 @@ impl LoopEngine {
             self.disabled[e] = within(v, g.direction_out(e)) || within(w, g.direction_in(e));
         }
         self.boundary_field = None;
+        self.pair.cache.clear();
     }
 
     /// The enabled out-edges of `v`. (A loop and its reverse leave `v` in
@@ -2794,13 +2784,14 @@ mod tests {
 
     /// The loop through two (and three) positional anchors by the
     /// half-searches of [`LoopEngine::two_anchor_loop`] (and the
-    /// bound-ordered starts of [`LoopEngine::multi_start_cycle`]) costs the
+    /// field-guided, bound-ordered starts of [`LoopEngine::guided_starts`],
+    /// the fields partly from the cache of earlier queries) costs the
     /// same as the method before them, one unpruned layered search per
     /// start of the first anchor, on many random anchor sets of a torus,
     /// a sphere and an open cylinder, with and without a committed strip
     /// (disabled nodes); the loop found walks its cost through the anchors.
-    /// On the open cylinder the two-anchor search with dual curves (§5.7)
-    /// equals the cheaper of that and the layered search from ∂.
+    /// On the open cylinder the two- and three-anchor searches with dual
+    /// curves (§5.7) equal the cheaper of that and the layered search from ∂.
     #[test]
     fn two_anchor_half_searches_equal_one_layered_search_per_start() {
         use rand_core::{RngCore, SeedableRng};
@@ -2854,7 +2845,7 @@ mod tests {
                                 reference = reference.min(c);
                             }
                         }
-                        if count == 2 && e.has_boundary {
+                        if e.has_boundary {
                             // With the dual curve (§5.7): the layered search
                             // from ∂, fully settled, against the half-search.
                             e.settle_boundary(f32::INFINITY);
@@ -2864,7 +2855,7 @@ mod tests {
                                 .map(|&b| (b, f.distance(b)))
                                 .filter(|x| x.1.is_finite())
                                 .collect();
-                            let leave: Vec<f32> = layers[1]
+                            let leave: Vec<f32> = layers[count - 1]
                                 .iter()
                                 .map(|&a| f.distance(e.graph.g.reverse[a as usize]))
                                 .collect();
@@ -2881,9 +2872,12 @@ mod tests {
                                 )
                                 .map_or(f32::INFINITY, |x| x.0);
                             let either = reference.min(open);
-                            let got = e
-                                .two_anchor_loop(&verts, &layers, &close, true)
-                                .expect("two positional anchors");
+                            let got = if count == 2 {
+                                e.two_anchor_loop(&verts, &layers, &close, true)
+                                    .expect("two positional anchors")
+                            } else {
+                                e.layered_cycle(&verts, &layers, &close)
+                            };
                             let tol = 1e-4 * either.max(1.0);
                             match got {
                                 None => assert!(!either.is_finite(), "{verts:?}: no loop or curve"),
@@ -2907,7 +2901,9 @@ mod tests {
                             e.two_anchor_loop(&verts, &layers, &close, false)
                                 .expect("two positional anchors")
                         } else {
-                            e.multi_start_cycle(&verts, &layers, &close, 0, &order, &mut best);
+                            e.take_anchor_fields(&verts);
+                            e.guided_starts(&verts, &layers, &close, 0, &order, false, &mut best);
+                            e.return_anchor_fields(&verts);
                             best
                         };
                         let tol = 1e-4 * reference.max(1.0);
