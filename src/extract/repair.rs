@@ -263,16 +263,16 @@ fn fix_pairs(
             if dead_face[f] {
                 continue;
             }
-            if let Some(parts) = split.remove(&f) {
-                out.extend(parts);
-                continue;
-            }
-            let g: Vec<u32> = face
-                .into_iter()
-                .filter(|&v| !dead_vertex[v as usize])
-                .collect();
-            if g.len() >= 3 {
-                out.push(g);
+            // A split face's parts, or the face, without removed vertices.
+            let pieces = split.remove(&f).map_or_else(|| vec![face], Vec::from);
+            for piece in pieces {
+                let g: Vec<u32> = piece
+                    .into_iter()
+                    .filter(|&v| !dead_vertex[v as usize])
+                    .collect();
+                if g.len() >= 3 {
+                    out.push(g);
+                }
             }
         }
         *faces = out;
