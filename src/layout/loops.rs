@@ -293,6 +293,22 @@ struct BoundaryField {
 }
 
 impl BoundaryField {
+    /// The cost of leaving to ∂ from each node of `layer`: the distance
+    /// from ∂ of its reverse node, ∞ without one.
+    fn leave_costs(&self, layer: &[u32], reverse: &[u32]) -> Vec<f32> {
+        layer
+            .iter()
+            .map(|&a| {
+                let r = reverse[a as usize];
+                if r == NONE {
+                    f32::INFINITY
+                } else {
+                    self.distance(r)
+                }
+            })
+            .collect()
+    }
+
     /// The settled distance from ∂, or ∞ (not closer than the settled
     /// radius).
     fn distance(&self, node: u32) -> f32 {
@@ -873,17 +889,7 @@ impl LoopEngine {
             .map(|&b| (b, f.distance(b)))
             .filter(|e| e.1.is_finite())
             .collect();
-        let leave: Vec<f32> = layers[n - 1]
-            .iter()
-            .map(|&a| {
-                let r = self.graph.g.reverse[a as usize];
-                if r == NONE {
-                    f32::INFINITY
-                } else {
-                    f.distance(r)
-                }
-            })
-            .collect();
+        let leave = f.leave_costs(&layers[n - 1], &self.graph.g.reverse);
         let order: Vec<usize> = (0..n).collect();
         let (cost, nodes, _) = self.layered_search(
             verts,
@@ -1648,17 +1654,7 @@ impl LoopEngine {
                 self.settle_boundary(radius);
                 if let Some(f) = self.boundary_field.as_ref() {
                     let enter: Vec<f32> = layers[0].iter().map(|&b| f.distance(b)).collect();
-                    let leave: Vec<f32> = layers[n - 1]
-                        .iter()
-                        .map(|&a| {
-                            let r = self.graph.g.reverse[a as usize];
-                            if r == NONE {
-                                f32::INFINITY
-                            } else {
-                                f.distance(r)
-                            }
-                        })
-                        .collect();
+                    let leave = f.leave_costs(&layers[n - 1], &self.graph.g.reverse);
                     let (cost, choice) =
                         layered_path(layers, &meta, 0, n, None, Some((&enter, &leave)));
                     if cost < best.0 {
