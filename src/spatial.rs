@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 use parry3d_f64::query::{PointQuery, PointQueryWithLocation, Ray, RayCast};
-use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+use parry3d_f64::shape::{Polyline, TriMesh as ParryTriMesh, TriMeshFlags};
 
 use crate::mesh::{Aabb, TriMesh};
 use crate::progress::Cancelled;
@@ -116,6 +116,38 @@ impl SurfaceIndex {
             (Some(f), Some(b)) => Some(if f.t <= -b.t { f } else { b }),
             (f, b) => f.or(b),
         }
+    }
+}
+
+/// Closest points on a set of line segments (a network of feature curves),
+/// on `parry3d-f64`'s BVH over a polyline.
+pub struct CurveIndex {
+    shape: Polyline,
+}
+
+impl CurveIndex {
+    /// Builds the BVH over the segments `(positions[a], positions[b])`.
+    /// `None` without segments.
+    pub fn new(positions: &[DVec3], segments: &[[u32; 2]]) -> Option<CurveIndex> {
+        if segments.is_empty() {
+            return None;
+        }
+        Some(CurveIndex {
+            shape: Polyline::new(positions.to_vec(), Some(segments.to_vec())),
+        })
+    }
+
+    /// The closest point on the segments, its distance and the index of
+    /// the segment it lies on.
+    pub fn closest(&self, p: DVec3) -> (DVec3, f64, u32) {
+        let (projection, (segment, _)) = self.shape.project_local_point_and_get_location(p, false);
+        (projection.point, projection.point.distance(p), segment)
+    }
+
+    /// Unit direction of segment `i` (zero for a degenerate one).
+    pub fn direction(&self, i: u32) -> DVec3 {
+        let s = self.shape.segment(i);
+        (s.b - s.a).normalize_or_zero()
     }
 }
 

@@ -245,8 +245,9 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             } else {
                 write(
                     path,
-                    &subdivision::limit_mesh(
+                    &subdivision::limit_mesh_creased(
                         &result.control,
+                        &result.sharp,
                         args.limit_levels,
                         fit_params.boundary,
                     ),
@@ -427,8 +428,12 @@ fn fit(args: FitArgs) -> Result<(), String> {
         if args.limit_levels == params.error_levels {
             write(path, &result.limit)?;
         } else {
-            let limit =
-                subdivision::limit_mesh(&result.control, args.limit_levels, params.boundary);
+            let limit = subdivision::limit_mesh_creased(
+                &result.control,
+                &result.sharp,
+                args.limit_levels,
+                params.boundary,
+            );
             write(path, &limit)?;
         }
     }

@@ -53,17 +53,29 @@ impl LimitError {
         rule: BoundaryRule,
     ) -> (LimitError, PolyMesh) {
         crate::progress::silently("limit error", |progress| {
-            Self::measure_with_progress(control, reference, index, levels, rule, progress, 0.0, 1.0)
+            Self::measure_with_progress(
+                control,
+                &[],
+                reference,
+                index,
+                levels,
+                rule,
+                progress,
+                0.0,
+                1.0,
+            )
         })
         .expect("a silent sink never cancels")
     }
 
-    /// [`LimitError::measure`], reporting the fraction done mapped to
+    /// [`LimitError::measure`] of a control mesh with sharp edges
+    /// (`sharp[e]` for edge `e`, empty for none), reporting the fraction done mapped to
     /// `[from, to]` between chunks of distance queries; stops when the
     /// sink cancels.
     #[allow(clippy::too_many_arguments)]
     pub fn measure_with_progress(
         control: &PolyMesh,
+        sharp: &[bool],
         reference: &TriMesh,
         index: &SurfaceIndex,
         levels: u32,
@@ -73,7 +85,7 @@ impl LimitError {
         to: f32,
     ) -> Result<(LimitError, PolyMesh), Cancelled> {
         let mut at = |done: f32, message: &str| progress.report(from + (to - from) * done, message);
-        let limit = limit_mesh_with_progress(control, levels, rule, &mut |done| {
+        let limit = limit_mesh_with_progress(control, sharp, levels, rule, &mut |done| {
             at(0.1 * done, "limit error: subdividing to the limit surface")
         })?;
         let mut per_vertex_signed = Vec::with_capacity(limit.positions.len());

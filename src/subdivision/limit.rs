@@ -29,14 +29,19 @@
 //! - boundary vertices: with [`BoundaryRule::Fixed`] the limit is the vertex
 //!   itself, with [`BoundaryRule::Crease`] the cubic B-spline limit
 //!   `(p₋ + 4p + p₊)/6`; their normal is the area-weighted mean of the
-//!   adjacent face normals (an approximation; the fitting never moves them).
+//!   adjacent face normals (an approximation; the fitting never moves them);
+//! - sharp edges (see [`super::catmull_clark`]): a crease vertex's limit is
+//!   the cubic B-spline limit `(a + 4v + b)/6` of its crease curve, a
+//!   corner's is the vertex itself; a smooth vertex has no sharp edge in
+//!   its ring's rules, so its stencil is exact; a dart (one sharp edge)
+//!   uses the smooth stencil, an approximation.
 
 use std::f64::consts::{PI, TAU};
 
 use glam::DVec3;
 
-use super::catmull_clark::boundary_neighbours;
-use super::{BoundaryRule, face_normal, face_point, subdivide};
+use super::catmull_clark::{Vertex, boundary_neighbours, subdivide_creased};
+use super::{BoundaryRule, face_normal, face_point};
 use crate::mesh::PolyMesh;
 use crate::progress::Cancelled;
 
@@ -124,21 +129,32 @@ impl QuadRing {
 
 /// Limit position of every vertex of `mesh` (see the module docs).
 pub fn limit_positions(mesh: &PolyMesh, rule: BoundaryRule) -> Vec<DVec3> {
+    limit_positions_creased(mesh, rule, &[])
+}
+
+/// [`limit_positions`] with sharp edges (`sharp[e]` for edge `e`).
+pub fn limit_positions_creased(mesh: &PolyMesh, rule: BoundaryRule, sharp: &[bool]) -> Vec<DVec3> {
     (0..mesh.vertex_count() as u32)
-        .map(|v| match QuadRing::of(mesh, v) {
-            Some(ring) => ring.limit(),
-            None => {
-                let p = mesh.positions[v as usize];
-                match rule {
-                    BoundaryRule::Fixed => p,
-                    BoundaryRule::Crease => {
-                        let (prev, next) = boundary_neighbours(mesh, v);
-                        (prev + 4.0 * p + next) / 6.0
-                    }
-                }
-            }
+        .map(|v| match Vertex::of(mesh, v, sharp) {
+            Vertex::Corner => mesh.positions[v as usize],
+            Vertex::Crease(a, b) => (a + 4.0 * mesh.positions[v as usize] + b) / 6.0,
+            Vertex::Boundary | Vertex::Smooth => limit_position(mesh, v, rule),
         })
         .collect()
+}
+
+fn limit_position(mesh: &PolyMesh, v: u32, rule: BoundaryRule) -> DVec3 {
+    if let Some(ring) = QuadRing::of(mesh, v) {
+        return ring.limit();
+    }
+    let p = mesh.positions[v as usize];
+    match rule {
+        BoundaryRule::Fixed => p,
+        BoundaryRule::Crease => {
+            let (prev, next) = boundary_neighbours(mesh, v);
+            (prev + 4.0 * p + next) / 6.0
+        }
+    }
 }
 
 /// Unit limit normal of every vertex of `mesh`, on the side its faces are
@@ -162,7 +178,18 @@ pub fn limit_normals(mesh: &PolyMesh) -> Vec<DVec3> {
 /// then every vertex moved to its limit position. `levels = 0` puts the
 /// control mesh's own vertices on the limit surface.
 pub fn limit_mesh(control: &PolyMesh, levels: u32, rule: BoundaryRule) -> PolyMesh {
-    limit_mesh_with_progress(control, levels, rule, &mut |_| Ok(()))
+    limit_mesh_with_progress(control, &[], levels, rule, &mut |_| Ok(()))
+        .expect("a sink that never cancels")
+}
+
+/// [`limit_mesh`] of a control mesh with sharp edges (`sharp[e]` for edge `e`).
+pub fn limit_mesh_creased(
+    control: &PolyMesh,
+    sharp: &[bool],
+    levels: u32,
+    rule: BoundaryRule,
+) -> PolyMesh {
+    limit_mesh_with_progress(control, sharp, levels, rule, &mut |_| Ok(()))
         .expect("a sink that never cancels")
 }
 
@@ -170,16 +197,18 @@ pub fn limit_mesh(control: &PolyMesh, levels: u32, rule: BoundaryRule) -> PolyMe
 /// before the limit positions (`done` = steps finished / (levels + 1)).
 pub fn limit_mesh_with_progress(
     control: &PolyMesh,
+    sharp: &[bool],
     levels: u32,
     rule: BoundaryRule,
     between: &mut dyn FnMut(f32) -> Result<(), Cancelled>,
 ) -> Result<PolyMesh, Cancelled> {
     let mut m = control.clone();
+    let mut sharp = sharp.to_vec();
     for l in 0..levels {
         between(l as f32 / (levels + 1) as f32)?;
-        m = subdivide(&m, rule);
+        (m, sharp) = subdivide_creased(&m, rule, &sharp);
     }
     between(levels as f32 / (levels + 1) as f32)?;
-    m.positions = limit_positions(&m, rule);
+    m.positions = limit_positions_creased(&m, rule, &sharp);
     Ok(m)
 }
