@@ -177,6 +177,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("fit.tolerance", 0.0, 0.1, "Stop when the largest move is below this fraction of the largest axis."),
         num("fit.ray_length", 0.0, 100.0, "Normal lines are searched this many local edge lengths each way; also the largest move."),
         choice("fit.boundary", &["fixed", "crease"], "Boundary rule of subdivision: fixed (thesis) or B-spline crease."),
+        num("fit.crease_degrees", 0.0, 180.0, "Input edges whose normals differ by more than this many degrees are feature curves; control edges along them become sharp creases. 0 turns creases off."),
         int("fit.error_levels", 0.0, 5.0, "Subdivision levels of the limit mesh the error is measured and shown on."),
         flag("fit.measure_before", "Also measure the limit error of the unfitted control mesh."),
     ]
