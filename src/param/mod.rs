@@ -153,7 +153,16 @@ pub struct Params {
     /// 9.89/12.17/113, at 1000 vertices 8.50/9.37/21 → 6.96/8.88/15;
     /// bunny 8.15/9.33/137 → 8.15/9.30/134. Flipped triangles are not
     /// fewer with them at every target (rocker-arm 600: 34 → 38, bunny
-    /// 800: 166 → 194).
+    /// 800: 166 → 194). Those differences are the integer rounding's
+    /// (with them the cones round one at a time, a different greedy
+    /// path), not the constraints': on the seamless relaxation (`round`
+    /// false) shear (°) / flipped triangles without → with are
+    /// rocker-arm 4.98/8 → 4.98/9 at the default target, 4.99/8 →
+    /// 5.00/8 at 1000; spot 8.42/46 → 8.39/46, 8.30/6 → 8.26/7; bunny
+    /// 8.38/36 → 8.45/35, 8.29/35 → 8.36/34; and rounding the
+    /// unconstrained map one quantity at a time (`batch_fraction` 0.001)
+    /// gives rocker-arm at the default target the figures with them
+    /// (6.66°, 32 flips).
     pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
