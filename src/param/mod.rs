@@ -83,12 +83,15 @@ pub struct Params {
     /// nearest a_min (see `seamless`). Default 5. Smooth regions, shear /
     /// misalignment (°) with w = 0 → 5 at the default target and at 1000
     /// vertices: fandisk 7.88/5.87 → 6.21/4.79, 7.03/5.47 → 6.06/4.50;
-    /// rocker-arm 6.67/5.44 → 6.37/4.93, 6.00/4.64 → 5.79/4.35; spot
-    /// 18.30/14.02 → 14.96/11.35, 12.96/9.53 → 11.19/8.14; bunny
-    /// 8.82/8.68 → 8.71/8.49, 9.58/9.17 → 9.85/8.64. With a_min itself
+    /// rocker-arm 7.17/5.75 → 6.66/5.52, 6.41/4.98 → 5.40/4.15; spot
+    /// 13.24/11.79 → 12.17/9.89, 10.45/8.73 → 8.88/6.96; bunny
+    /// 9.05/8.65 → 9.30/8.15, 9.87/9.51 → 9.33/8.46. With a_min itself
     /// as the axis (Campen's literal term; our cross-field constraint is
     /// soft) w = 5 gave 6.24/4.77, 6.76/4.51; 6.28/5.07, 5.71/4.45;
-    /// 15.89/12.30, 11.92/8.23; 9.25/8.53, 9.95/8.55.
+    /// 15.89/12.30, 11.92/8.23; 9.25/8.53, 9.95/8.55 (measured when the
+    /// topology constraints chose the closed coordinate by the loop's
+    /// direction, which then gave 6.37/4.93, 5.79/4.35; 14.96/11.35,
+    /// 11.19/8.14; 8.71/8.49, 9.85/8.64 with ŵ).
     pub region_weight: f64,
     /// The smooth regions' cross-field constraint: None fixes the region
     /// faces' crosses to a_min (Campen §4.1's ∞ weight); a weight w makes
@@ -98,11 +101,15 @@ pub struct Params {
     /// Default 1. Smooth regions, shear / misalignment (°) at the default
     /// target, 1000 and 3000 vertices: fandisk hard 8.15/5.21, 6.79/5.08,
     /// 5.65/3.93 → soft 6.21/4.79, 6.06/4.50, 5.60/3.96 (feature vertices
-    /// 7.64/7.92, 6.91/7.34, 5.30/6.05); rocker-arm hard 7.09/5.11,
-    /// 5.60/4.33, 5.91/4.21 → soft 6.37/4.93, 5.79/4.35, 5.15/4.10
+    /// 7.64/7.92, 6.91/7.34, 5.30/6.05); rocker-arm hard 6.26/4.75,
+    /// 5.48/4.13, 5.25/3.99 → soft 6.66/5.52, 5.40/4.15, 5.26/4.18
     /// (feature vertices 6.11/7.41, 5.72/6.90, 5.71/6.43). Flipped
-    /// triangles at the default target: fandisk 21 → 8, rocker-arm 41 →
-    /// 32. (The soft constraint's weight against E_smooth depends on the
+    /// triangles at the default target: fandisk 21 → 8, rocker-arm 25 →
+    /// 32. (Rocker-arm's figures are with its topology constraints closing
+    /// the cheaper coordinate, [`Params::cyclic_constraints`]; when they
+    /// chose it by the loop's direction, hard 7.09/5.11, 5.60/4.33,
+    /// 5.91/4.21 → soft 6.37/4.93, 5.79/4.35, 5.15/4.10, flips 41 → 32.)
+    /// (The soft constraint's weight against E_smooth depends on the
     /// input's face density, not on the target edge: at the default
     /// target, input vertices / 16, S² ≈ 32 mean face areas.)
     pub region_cross_weight: Option<f64>,
@@ -133,12 +140,29 @@ pub struct Params {
     /// value through the transitions, so isolines close there (no
     /// helix). Default true: on a capsule the closure error (the smaller
     /// holonomy component around the loops) is 4 without and 0 with it
-    /// (tests/param.rs). They cost distortion where they act (fandisk has
-    /// no cyclic region): misalignment / shear (°) / flipped triangles
-    /// without → with, rocker-arm 4.57/5.51/38 → 4.93/6.37/32 at the
-    /// default target, 4.41/5.70/16 → 4.35/5.79/19 at 1000 vertices,
-    /// 4.38/5.52/17 → 4.10/5.15/16 at 3000; spot 12.23/13.23/143 →
-    /// 11.35/14.96/269, at 1000 vertices 8.50/9.37/21 → 8.14/11.19/200.
+    /// (tests/param.rs). The closed component is the one whose closing
+    /// costs the least energy (`seamless::close_loops`): choosing it by
+    /// the loop's direction closed, on spot at 1000 vertices, the
+    /// coordinate that was not closing around a loop the map already
+    /// closed in the other, and the map collapsed there (200 flipped
+    /// triangles against 21 without). Misalignment / shear (°) / flipped
+    /// triangles without → with (fandisk has no cyclic region: the same
+    /// map): rocker-arm 4.57/5.51/38 → 5.52/6.66/32 at the default
+    /// target, 4.41/5.70/16 → 4.15/5.40/19 at 1000 vertices,
+    /// 4.38/5.52/17 → 4.18/5.26/13 at 3000; spot 12.23/13.23/143 →
+    /// 9.89/12.17/113, at 1000 vertices 8.50/9.37/21 → 6.96/8.88/15;
+    /// bunny 8.15/9.33/137 → 8.15/9.30/134. Flipped triangles are not
+    /// fewer with them at every target (rocker-arm 600: 34 → 38, bunny
+    /// 800: 166 → 194). Those differences are the integer rounding's
+    /// (with them the cones round one at a time, a different greedy
+    /// path), not the constraints': on the seamless relaxation (`round`
+    /// false) shear (°) / flipped triangles without → with are
+    /// rocker-arm 4.98/8 → 4.98/9 at the default target, 4.99/8 →
+    /// 5.00/8 at 1000; spot 8.42/46 → 8.39/46, 8.30/6 → 8.26/7; bunny
+    /// 8.38/36 → 8.45/35, 8.29/35 → 8.36/34; and rounding the
+    /// unconstrained map one quantity at a time (`batch_fraction` 0.001)
+    /// gives rocker-arm at the default target the figures with them
+    /// (6.66°, 32 flips).
     pub cyclic_constraints: bool,
     /// Round integer variables (translations, cones, boundary isolines).
     /// Default true; false gives the seamless relaxation.
