@@ -391,6 +391,47 @@ fn fitting_makes_creases_along_fandisks_sharp_edges_and_none_on_a_sphere() {
     assert!(c.after.stats.mean < 0.5 * s.after.stats.mean);
     assert!(c.after.reference_to_limit.mean < 0.5 * s.after.reference_to_limit.mean);
     assert_eq!(creased.sharp.len(), creased.control.edge_count());
+    // The written control mesh carries its creases (OBJ `t crease` tags):
+    // read back, the tagged edges' limit surface is the fit's, and
+    // without the tags it is not.
+    let text = quadrille::io::write_obj_with_creases(
+        &creased.control.positions,
+        &creased.control.to_face_list(),
+        &creased.crease_vertex_pairs(),
+    );
+    let (_, raw) = quadrille::io::read_raw(text.as_bytes(), "control.obj").unwrap();
+    // Each crease edge of the quads is two edges of the control mesh.
+    assert_eq!(raw.creases.len(), 2 * c.crease_edges);
+    let back = PolyMesh::from_faces(raw.positions, &raw.faces).unwrap();
+    let tagged: std::collections::HashSet<[u32; 2]> = raw
+        .creases
+        .iter()
+        .flat_map(|&([a, b], s)| {
+            assert_eq!(s, 10.0);
+            [[a, b], [b, a]]
+        })
+        .collect();
+    let sharp: Vec<bool> = (0..back.edge_count() as u32)
+        .map(|e| tagged.contains(&[back.origin(2 * e), back.tip(2 * e)]))
+        .collect();
+    let (levels, rule) = (
+        FitParams::default().error_levels,
+        FitParams::default().boundary,
+    );
+    let gap = |sharp: &[bool]| {
+        let limit = limit_mesh_creased(&back, sharp, levels, rule);
+        assert_eq!(limit.positions.len(), creased.limit.positions.len());
+        limit
+            .positions
+            .iter()
+            .zip(&creased.limit.positions)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max)
+    };
+    let (kept, lost) = (gap(&sharp), gap(&vec![false; back.edge_count()]));
+    eprintln!("read-back limit: {kept:.1e} from the fit's with the tags, {lost:.1e} without");
+    assert!(kept < 1e-12, "{kept}");
+    assert!(lost > 1e-3, "{lost}");
     // A smooth reference has no feature curves, whatever the quads.
     let sphere = generate::icosphere(1.0, 5);
     let r = silently("fit", |p| {

@@ -237,7 +237,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             std::fs::write(path, bytes).map_err(|e| format!("{name}: {e}"))
         };
         if let Some(path) = &args.control {
-            write(path, &result.control)?;
+            write_control(path, result, &frame)?;
         }
         if let Some(path) = &args.limit {
             if args.limit_levels == fit_params.error_levels {
@@ -286,6 +286,35 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         std::fs::write(stats, text).map_err(|e| format!("{}: {e}", stats.display()))?;
     }
     Ok(())
+}
+
+/// Writes the fitted control mesh by `path`'s extension; OBJ files carry
+/// its sharp creases as OpenSubdiv's `t crease` tags, and the other
+/// formats, which cannot, say so on stderr.
+fn write_control(
+    path: &Path,
+    result: &quadrille::subdivision::FitResult,
+    frame: &quadrille::mesh::Frame,
+) -> Result<(), String> {
+    let name = path.display().to_string();
+    let m = &result.control;
+    let world: Vec<_> = m.positions.iter().map(|&p| frame.to_world(p)).collect();
+    let creases = result.crease_vertex_pairs();
+    let bytes = if quadrille::io::Format::from_extension(&name) == Some(quadrille::io::Format::Obj)
+    {
+        quadrille::io::write_obj_with_creases(&world, &m.to_face_list(), &creases).into_bytes()
+    } else {
+        if !creases.is_empty() {
+            eprintln!(
+                "warning: {name}: this format cannot store the control mesh's {} sharp crease edges; \
+                 write .obj to keep them",
+                creases.len()
+            );
+        }
+        quadrille::io::write_by_extension(&name, &world, &m.to_face_list())
+            .map_err(|e| e.to_string())?
+    };
+    std::fs::write(path, bytes).map_err(|e| format!("{name}: {e}"))
 }
 
 fn metrics_of(mesh: &Path, reference: &Path) -> Result<(), String> {
@@ -423,7 +452,7 @@ fn fit(args: FitArgs) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
         std::fs::write(path, bytes).map_err(|e| format!("{name}: {e}"))
     };
-    write(&args.output, &result.control)?;
+    write_control(&args.output, &result, &frame)?;
     if let Some(path) = &args.limit {
         if args.limit_levels == params.error_levels {
             write(path, &result.limit)?;

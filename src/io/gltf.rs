@@ -131,6 +131,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         faces: out.faces,
         welded_vertices: 0,
         warnings,
+        creases: Vec::new(),
     })
 }
 

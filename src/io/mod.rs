@@ -163,6 +163,9 @@ pub struct RawMesh {
     pub welded_vertices: usize,
     /// Things the reader skipped on purpose (e.g. OBJ line elements), for the report.
     pub warnings: Vec<String>,
+    /// Subdivision crease tags (OBJ `t crease`, OpenSubdiv's convention):
+    /// an edge's two vertices (0-based file indices) and its sharpness.
+    pub creases: Vec<([u32; 2], f64)>,
 }
 
 /// A validated, repaired, normalised mesh ready for the pipeline.
@@ -217,6 +220,16 @@ pub fn import(bytes: &[u8], name: &str) -> Result<Imported, IoError> {
 /// Writes polygons as OBJ text (`v` and `f` lines; polygons kept as they are).
 pub fn write_obj(positions: &[DVec3], faces: &FaceList) -> String {
     obj::write(positions, faces)
+}
+
+/// [`write_obj`] plus an infinitely sharp crease tag per edge in
+/// `creases` (vertex pairs, 0-based), as OpenSubdiv reads them.
+pub fn write_obj_with_creases(
+    positions: &[DVec3],
+    faces: &FaceList,
+    creases: &[[u32; 2]],
+) -> String {
+    obj::write_with_creases(positions, faces, creases)
 }
 
 /// Writes polygons as PLY (`vertex_indices` lists of any degree).

@@ -10,6 +10,12 @@
 //! indices; forward references to vertices defined later; comments; line
 //! continuations (`\` at the end of a line). `l`, `p` and free-form
 //! statements are skipped with a warning in the report.
+//!
+//! Subdivision tags as OpenSubdiv writes them into OBJ files: `t crease
+//! n/1/0 v0 … vn-1 s` (a chain of edges, 0-based vertex indices, one
+//! sharpness; `n/(n-1)/0` gives one per edge) is read into
+//! [`RawMesh::creases`]; other `t` tags are skipped with a warning.
+//! [`write_with_creases`] writes the control mesh's creases that way.
 
 use std::fmt::Write as _;
 
@@ -26,6 +32,9 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
     let mut face_lines: Vec<u32> = Vec::new();
     let mut skipped: Vec<(&'static str, usize)> = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
+    // Crease edges and the line of each, to name it if out of range.
+    let mut creases: Vec<([u32; 2], f64)> = Vec::new();
+    let mut crease_lines: Vec<u32> = Vec::new();
     let mut pending = String::new();
     let mut pending_line = 0;
 
@@ -79,6 +88,12 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
                 face_lines.push(number as u32);
             }
             "l" => skipped_count(&mut skipped, "line (l) elements"),
+            "t" => {
+                if !tag(tokens, file, number, &mut creases)? {
+                    skipped_count(&mut skipped, "subdivision tags (t) other than crease");
+                }
+                crease_lines.resize(creases.len(), number as u32);
+            }
             "p" => skipped_count(&mut skipped, "point (p) elements"),
             "curv" | "curv2" | "surf" | "bmat" | "cstype" | "deg" | "step" | "parm" | "trim"
             | "hole" | "sp" | "end" | "con" => {
@@ -121,6 +136,17 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
             ));
         }
     }
+    for (c, (edge, _)) in creases.iter().enumerate() {
+        if let Some(&bad) = edge.iter().find(|&&i| i as usize >= count) {
+            return Err(IoError::at_line(
+                file,
+                crease_lines[c] as usize,
+                format!(
+                    "crease vertex index {bad} is out of range (0-based; the file has {count} vertices)"
+                ),
+            ));
+        }
+    }
     let warnings = skipped
         .into_iter()
         .map(|(what, n)| format!("skipped {n} {what}"))
@@ -130,7 +156,77 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         faces,
         welded_vertices: 0,
         warnings,
+        creases,
     })
+}
+
+/// A `t` statement (after the keyword): a `crease` tag's edges are pushed
+/// to `creases` (true); any other tag is left alone (false).
+fn tag<'a>(
+    mut tokens: impl Iterator<Item = &'a str>,
+    file: &str,
+    number: usize,
+    creases: &mut Vec<([u32; 2], f64)>,
+) -> Result<bool, IoError> {
+    if tokens.next() != Some("crease") {
+        return Ok(false);
+    }
+    let bad = |what: String| IoError::at_line(file, number, what);
+    let counts: Vec<usize> = tokens
+        .next()
+        .map(|c| {
+            c.split('/')
+                .map(|n| n.parse::<usize>())
+                .collect::<Result<_, _>>()
+        })
+        .transpose()
+        .ok()
+        .flatten()
+        .filter(|c: &Vec<usize>| c.len() == 3)
+        .ok_or_else(|| {
+            bad("crease tag needs its argument counts, as in 't crease 2/1/0 a b s'".into())
+        })?;
+    let (ints, floats) = (counts[0], counts[1]);
+    if ints < 2 || (floats != 1 && floats != ints - 1) || counts[2] != 0 {
+        return Err(bad(format!(
+            "crease tag with {ints}/{floats}/{} arguments: needs n ≥ 2 vertices and 1 or n − 1 sharpness values",
+            counts[2]
+        )));
+    }
+    let mut vertices = Vec::with_capacity(ints);
+    for _ in 0..ints {
+        let token = tokens
+            .next()
+            .ok_or_else(|| bad(format!("crease tag has fewer than {ints} vertex indices")))?;
+        let v: u32 = token.parse().map_err(|_| {
+            bad(format!(
+                "crease vertex index '{token}' is not a non-negative integer"
+            ))
+        })?;
+        vertices.push(v);
+    }
+    let mut sharpness = Vec::with_capacity(floats);
+    for _ in 0..floats {
+        let token = tokens.next().ok_or_else(|| {
+            bad(format!(
+                "crease tag has fewer than {floats} sharpness values"
+            ))
+        })?;
+        let s: f64 = token
+            .parse()
+            .ok()
+            .filter(|s: &f64| s.is_finite() && *s >= 0.0)
+            .ok_or_else(|| {
+                bad(format!(
+                    "crease sharpness '{token}' is not a non-negative number"
+                ))
+            })?;
+        sharpness.push(s);
+    }
+    for (i, pair) in vertices.windows(2).enumerate() {
+        creases.push(([pair[0], pair[1]], sharpness[i.min(floats - 1)]));
+    }
+    Ok(true)
 }
 
 /// A `v` statement's position (after the keyword); a fourth coordinate or
@@ -242,6 +338,21 @@ pub fn write(positions: &[DVec3], faces: &FaceList) -> String {
     out
 }
 
+/// [`write`] plus one `t crease 2/1/0 a b 10` tag per edge of `creases`
+/// (0-based vertex indices; 10 is OpenSubdiv's infinite sharpness), so a
+/// subdivision tool that reads them (OpenSubdiv, or [`read`]) gets the
+/// fitted control mesh's infinitely sharp creases with it.
+pub fn write_with_creases(positions: &[DVec3], faces: &FaceList, creases: &[[u32; 2]]) -> String {
+    let mut out = write(positions, faces);
+    if !creases.is_empty() {
+        out.push_str("# infinitely sharp creases (OpenSubdiv tags; sharpness 10 is infinite)\n");
+    }
+    for [a, b] in creases {
+        let _ = writeln!(out, "t crease 2/1/0 {a} {b} 10");
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -262,6 +373,32 @@ mod tests {
         assert!(e.to_string().starts_with("x.obj:4:"), "{e}");
         let e = read(b"v 0 0 0\nv nan 0 0\n", "x.obj").unwrap_err();
         assert!(e.to_string().starts_with("x.obj:2:"), "{e}");
+    }
+
+    #[test]
+    fn crease_tags_are_read_and_written() {
+        let text = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n\
+            t crease 2/1/0 0 1 10\nt crease 3/2/0 1 2 3 2.5 4\nt corner 1/1/0 0 3\n";
+        let m = read(text, "t.obj").unwrap();
+        assert_eq!(
+            m.creases,
+            vec![([0, 1], 10.0), ([1, 2], 2.5), ([2, 3], 4.0)]
+        );
+        assert_eq!(
+            m.warnings,
+            vec!["skipped 1 subdivision tags (t) other than crease"]
+        );
+        let written = write_with_creases(&m.positions, &m.faces, &[[3, 0], [0, 1]]);
+        let back = read(written.as_bytes(), "w.obj").unwrap();
+        assert_eq!(back.positions, m.positions);
+        assert_eq!(back.faces, m.faces);
+        assert_eq!(back.creases, vec![([3, 0], 10.0), ([0, 1], 10.0)]);
+        let bad = |text: &[u8]| read(text, "c.obj").unwrap_err().to_string();
+        assert!(bad(b"v 0 0 0\nv 1 0 0\nt crease 2/1/0 0 5 10\n").starts_with("c.obj:3:"));
+        assert!(bad(b"v 0 0 0\nt crease 1/1/0 0 10\n").starts_with("c.obj:2:"));
+        assert!(bad(b"v 0 0 0\nt crease 2/1/0 0 x 10\n").starts_with("c.obj:2:"));
+        assert!(bad(b"v 0 0 0\nt crease 2/1/0 0 0 -1\n").starts_with("c.obj:2:"));
+        assert!(bad(b"v 0 0 0\nt crease\n").starts_with("c.obj:2:"));
     }
 
     #[test]

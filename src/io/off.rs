@@ -147,6 +147,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         faces,
         welded_vertices: 0,
         warnings: Vec::new(),
+        creases: Vec::new(),
     })
 }
 

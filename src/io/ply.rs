@@ -301,6 +301,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         faces: out.faces,
         welded_vertices: 0,
         warnings: Vec::new(),
+        creases: Vec::new(),
     })
 }
 

@@ -63,8 +63,15 @@ pub(super) fn import_raw(raw: RawMesh, file: &str, format: Format) -> Result<Imp
         positions,
         faces,
         welded_vertices,
-        warnings,
+        mut warnings,
+        creases,
     } = raw;
+    if !creases.is_empty() {
+        warnings.push(format!(
+            "{} crease tags (t crease) read and not used: remeshing and fitting find sharp features from the surface itself",
+            creases.len()
+        ));
+    }
     if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
         return Err(IoError::at_element(
             file,

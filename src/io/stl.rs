@@ -146,6 +146,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<RawMesh, IoError> {
         positions,
         faces,
         warnings,
+        creases: Vec::new(),
     })
 }
 

@@ -101,6 +101,18 @@ pub struct FitResult {
     pub summary: FitSummary,
 }
 
+impl FitResult {
+    /// The vertex pairs of `control`'s sharp edges (for the OBJ crease
+    /// tags of [`crate::io::write_obj_with_creases`]).
+    pub fn crease_vertex_pairs(&self) -> Vec<[u32; 2]> {
+        let c = &self.control;
+        (0..c.edge_count() as u32)
+            .filter(|&e| self.sharp[e as usize])
+            .map(|e| [c.origin(2 * e), c.tip(2 * e)])
+            .collect()
+    }
+}
+
 /// The numbers of a fitting run, for stats files and the UI.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct FitSummary {

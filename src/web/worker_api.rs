@@ -683,8 +683,14 @@ impl Session {
             .map(|&x| p.input.frame.to_world(x))
             .collect();
         let faces = mesh.to_face_list();
+        // The control mesh's OBJ carries its sharp creases (OpenSubdiv's
+        // `t crease` tags); PLY has no place for them.
+        let creases = match (kind, &p.fit) {
+            ("control", Some(f)) => f.result.crease_vertex_pairs(),
+            _ => Vec::new(),
+        };
         match format {
-            "obj" => Ok(crate::io::write_obj(&world, &faces).into_bytes()),
+            "obj" => Ok(crate::io::write_obj_with_creases(&world, &faces, &creases).into_bytes()),
             "ply" => Ok(crate::io::write_ply(
                 &world,
                 &faces,
