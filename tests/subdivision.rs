@@ -439,6 +439,10 @@ fn fitting_makes_creases_along_fandisks_sharp_edges_and_none_on_a_sphere() {
     })
     .unwrap();
     assert_eq!(r.summary.crease_edges, 0);
+    // Without creases the control mesh is written without tags (its
+    // `sharp` may be empty).
+    assert!(r.crease_vertex_pairs().is_empty());
+    assert!(smooth.crease_vertex_pairs().is_empty());
 }
 
 #[test]

@@ -103,11 +103,12 @@ pub struct FitResult {
 
 impl FitResult {
     /// The vertex pairs of `control`'s sharp edges (for the OBJ crease
-    /// tags of [`crate::io::write_obj_with_creases`]).
+    /// tags of [`crate::io::write_obj_with_creases`]); `sharp` may be
+    /// empty (no creases), as everywhere in [`super`].
     pub fn crease_vertex_pairs(&self) -> Vec<[u32; 2]> {
         let c = &self.control;
         (0..c.edge_count() as u32)
-            .filter(|&e| self.sharp[e as usize])
+            .filter(|&e| self.sharp.get(e as usize).copied().unwrap_or(false))
             .map(|e| [c.origin(2 * e), c.tip(2 * e)])
             .collect()
     }
