@@ -244,7 +244,10 @@ def cells(row):
     if "metrics" in m:
         M = m["metrics"]
         tp, q, d = M["topology"], M["quads"], M["distance"]
+        kept = M.get("preservation")
         return {
+            "closed": len(kept["loops_closed"]) if kept else None,
+            "lost": len(kept["components_lost"]) if kept else None,
             "V": tp["vertices"], "nonquad": tp["non_quad_percent"], "ev": tp["extraordinary_vertex_percent"],
             "corner": q["corner_angle_deviation_degrees"], "distorted": q.get("distorted_quad_percent"),
             "maxcorner": q.get("max_corner_angle_degrees"),
@@ -271,26 +274,27 @@ def f(x, spec):
 
 HEADER = ("| configuration | V | non-quad % | EV % | corner dev ° | quads outside 45–135° % | max corner ° "
           "| Hausdorff | mean out→in | mean in→out | limit mean after fit | limit in→out | boundary loops in/out "
-          "| time ms |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| loops closed over / parts lost | time ms |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def mesh_table(name, entry):
     lines = [f"### {name} (target {entry['target']} V, input boundary loops {entry['input_loops']})", "", HEADER]
     for label, row in entry["rows"].items():
         if "error" in row:
-            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 12)
+            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 13)
             continue
         c = cells(row)
         if c is None:
-            lines.append(f"| {label} | metrics failed |" + " – |" * 12)
+            lines.append(f"| {label} | metrics failed |" + " – |" * 13)
             continue
         note = "" if c.get("manifold", True) else " (non-manifold)"
         lines.append(
             f"| {label}{note} | {f(c['V'], 'd')} | {f(c['nonquad'], '.1f')} | {f(c.get('ev'), '.1f')} "
             f"| {f(c.get('corner'), '.1f')} | {f(c.get('distorted'), '.1f')} | {f(c.get('maxcorner'), '.0f')} "
             f"| {f(c['hausdorff'], '.2e')} | {f(c.get('out_in'), '.2e')} | {f(c.get('in_out'), '.2e')} "
-            f"| {f(c['limit'], '.2e')} | {f(c.get('limit_in'), '.2e')} | {entry['input_loops']}/{f(c['loops'], 'd')} | {f(c['time'], '.0f')} |")
+            f"| {f(c['limit'], '.2e')} | {f(c.get('limit_in'), '.2e')} | {entry['input_loops']}/{f(c['loops'], 'd')} "
+            f"| {f(c.get('closed'), 'd')} / {f(c.get('lost'), 'd')} | {f(c['time'], '.0f')} |")
     return lines
 
 
@@ -385,7 +389,10 @@ def write_doc(args, results, rewritten=None):
         "--reference IN --mesh OUT` (limit surface of the fitted Catmull–Clark control mesh, 2 levels). "
         "Distances are fractions of the input's largest bounding-box axis; Hausdorff is two-sided; "
         "EV = interior vertices of valence ≠ 4 and boundary vertices of valence ≠ 3; corner dev = mean "
-        "|interior angle − 90°| over quad corners; a reflex corner reads above 180°. Non-manifold outputs "
+        "|interior angle − 90°| over quad corners; a reflex corner reads above 180°. Loops closed over / "
+        "parts lost: input boundary loops at least 2 output edges long that the output closed (not along a "
+        "gap narrower than an edge) and input parts with no output within an edge (metrics.rs, "
+        "`PreservationMetrics`). Non-manifold outputs "
         "(marked) get what the non-manifold path of `quadrille metrics` gives: counts, EV (valence = distinct "
         "edge neighbours), quad shape and Hausdorff distance, no mean distances. Time = import through "
         "post-processing (Quadrille's `timings_ms`) or the competitor's remesh call; single runs.",

@@ -23,6 +23,18 @@
 //!   input.
 //! - Lengths are in the mesh's coordinates (the pipeline's local frame:
 //!   largest bounding-box axis 1, so distances read as fractions of it).
+//! - What of the input the output kept ([`PreservationMetrics`], the
+//!   quality issue's "input boundary loops kept", DESIGN's "input
+//!   boundaries are data"), measured in the output's mean edge length s so
+//!   that any remesher's output is judged alike: an input boundary loop
+//!   at least 2 s long is *kept* when every one of its vertices lies within
+//!   s of an output boundary edge, else *closed over*; shorter loops are
+//!   *too small* (a hole needs three edges around). A loop at least half
+//!   of whose vertices lie within s of another input loop, or of their own
+//!   loop more than 3 s away along it, borders a *gap* narrower than an
+//!   edge — a seam the input did not weld, a lid on its pot, an eyeball in
+//!   its socket, a slot — and is counted apart: the output may close it. An input component is *lost* when none of its vertices lies
+//!   within s of the output.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -97,6 +109,58 @@ pub struct EdgeMetrics {
     pub max: f64,
 }
 
+/// What of the input's boundaries and parts the output kept (module doc).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PreservationMetrics {
+    /// The input's boundary loops.
+    pub input_loops: usize,
+    /// Loops shorter than two output edges.
+    pub loops_too_small: usize,
+    /// Loops along a gap narrower than an edge (module doc).
+    pub loops_at_gaps: usize,
+    pub loops_kept: usize,
+    /// Perimeters, in output edge lengths, of the loops closed over.
+    pub loops_closed: Vec<f64>,
+    /// The input's connected components (through shared vertices).
+    pub input_components: usize,
+    /// Triangle counts of the input components the output lost.
+    pub components_lost: Vec<usize>,
+}
+
+impl PreservationMetrics {
+    /// One sentence on what was lost, or `None` when nothing was.
+    pub fn warning(&self) -> Option<String> {
+        let list = |values: Vec<String>| values.join(", ");
+        let mut parts = Vec::new();
+        let n = self.loops_closed.len();
+        if n > 0 {
+            parts.push(format!(
+                "{n} of the input's {} boundary loops {} closed over (perimeter {} output edges)",
+                self.input_loops,
+                if n == 1 { "was" } else { "were" },
+                list(
+                    self.loops_closed
+                        .iter()
+                        .map(|e| format!("{e:.1}"))
+                        .collect()
+                )
+            ));
+        }
+        let m = self.components_lost.len();
+        if m > 0 {
+            let total: usize = self.components_lost.iter().sum();
+            parts.push(format!(
+                "{m} of the input's {} parts {} lost ({} {}; more vertices keep small parts)",
+                self.input_components,
+                if m == 1 { "was" } else { "were" },
+                list(self.components_lost.iter().map(|t| t.to_string()).collect()),
+                if total == 1 { "triangle" } else { "triangles" }
+            ));
+        }
+        (!parts.is_empty()).then(|| parts.join("; "))
+    }
+}
+
 /// The thesis' chapter-4 metrics of one output mesh.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
@@ -104,6 +168,7 @@ pub struct Metrics {
     pub quads: QuadMetrics,
     pub distance: DistanceMetrics,
     pub edges: EdgeMetrics,
+    pub preservation: PreservationMetrics,
 }
 
 fn angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
@@ -294,6 +359,12 @@ pub fn distance_metrics(
     input: &TriMesh,
     input_index: &SurfaceIndex,
 ) -> DistanceMetrics {
+    distances(mesh, input_index, input_to_output(mesh, input).as_deref())
+}
+
+/// [`distance_metrics`] with the input's vertices' distances to the output
+/// given (`None`: the output has no faces to measure against).
+fn distances(mesh: &PolyMesh, input_index: &SurfaceIndex, back: Option<&[f64]>) -> DistanceMetrics {
     let mut d = DistanceMetrics::default();
     let mut samples: Vec<DVec3> = mesh.positions.clone();
     for e in 0..mesh.edge_count() as u32 {
@@ -325,12 +396,7 @@ pub fn distance_metrics(
         d.face_centroid_mean = c.iter().sum::<f64>() / c.len() as f64;
         d.face_centroid_max = c.iter().copied().fold(0.0, f64::max);
     }
-    let tris = mesh.to_face_list().triangulate(&mesh.positions);
-    if let Some(out_index) = TriMesh::new(mesh.positions.clone(), tris)
-        .ok()
-        .and_then(|t| SurfaceIndex::new(&t))
-    {
-        let back = dist(&input.positions, &out_index);
+    if let Some(back) = back {
         d.input_to_output_max = back.iter().copied().fold(0.0, f64::max);
         d.input_to_output_mean = back.iter().sum::<f64>() / back.len().max(1) as f64;
     }
@@ -338,14 +404,206 @@ pub fn distance_metrics(
     d
 }
 
+/// Each input vertex's distance to the output's faces (triangulated);
+/// `None` when the output has none.
+fn input_to_output(mesh: &PolyMesh, input: &TriMesh) -> Option<Vec<f64>> {
+    let tris = mesh.to_face_list().triangulate(&mesh.positions);
+    let index = TriMesh::new(mesh.positions.clone(), tris)
+        .ok()
+        .and_then(|t| SurfaceIndex::new(&t))?;
+    let mut d = Vec::new();
+    crate::parallel::map_into(&input.positions, &mut d, |&q| index.distance(q));
+    Some(d)
+}
+
+/// [`PreservationMetrics`] of `mesh` against `input` (module doc), with s
+/// the output's mean edge length.
+pub fn preservation_metrics(mesh: &PolyMesh, input: &TriMesh) -> PreservationMetrics {
+    preservation(mesh, input, input_to_output(mesh, input).as_deref())
+}
+
+/// [`preservation_metrics`] with the input's vertices' distances to the
+/// output given.
+fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> PreservationMetrics {
+    let mut p = PreservationMetrics::default();
+    let s = {
+        let (sum, n) = (0..mesh.edge_count() as u32).fold((0.0, 0usize), |(sum, n), e| {
+            let (a, b) = (mesh.origin(2 * e), mesh.tip(2 * e));
+            (
+                sum + mesh.positions[a as usize].distance(mesh.positions[b as usize]),
+                n + 1,
+            )
+        });
+        sum / n.max(1) as f64
+    };
+    let arcs = crate::mesh::BoundaryArcs::new(input);
+    p.input_loops = arcs.length.len();
+    let output_boundary = SegmentGrid::new(
+        (0..mesh.halfedge_count() as u32)
+            .filter(|&h| mesh.is_boundary_halfedge(h))
+            .map(|h| {
+                let (a, b) = (mesh.origin(h), mesh.tip(h));
+                ([mesh.positions[a as usize], mesh.positions[b as usize]], ())
+            })
+            .collect(),
+        s,
+    );
+    // The input's boundary edges (on one triangle), each with its loop.
+    let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
+    let on_loop = |v: u32| arcs.loop_of[v as usize] != u32::MAX;
+    for t in &input.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            if on_loop(a) && on_loop(b) {
+                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+    }
+    let input_boundary: Vec<([DVec3; 2], (u32, f64))> = count
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|((a, b), _)| {
+            let tag = (arcs.loop_of[a as usize], arcs.arc[a as usize]);
+            (
+                [input.positions[a as usize], input.positions[b as usize]],
+                tag,
+            )
+        })
+        .collect();
+    let input_boundary = SegmentGrid::new(input_boundary, s);
+    // Per loop: whether a vertex lies far from the output's boundary; how
+    // many of its vertices have no other part of the input's boundary
+    // within s (another loop, or its own loop more than 3 s away along it).
+    let mut far = vec![false; arcs.length.len()];
+    let mut open = vec![(0usize, 0usize); arcs.length.len()];
+    for (v, &l) in arcs.loop_of.iter().enumerate() {
+        if l == u32::MAX || arcs.length[l as usize] < 2.0 * s {
+            continue;
+        }
+        let q = input.positions[v];
+        let l = l as usize;
+        if !far[l] {
+            far[l] = !output_boundary.any_within(q, s, |_| true);
+        }
+        let (arc, length) = (arcs.arc[v], arcs.length[l]);
+        let across = input_boundary.any_within(q, s, |(other, at)| {
+            let along = (at - arc).abs();
+            other as usize != l || along.min(length - along) > 3.0 * s
+        });
+        open[l].0 += usize::from(!across);
+        open[l].1 += 1;
+    }
+    for (l, &length) in arcs.length.iter().enumerate() {
+        if length < 2.0 * s {
+            p.loops_too_small += 1;
+        } else if !far[l] {
+            p.loops_kept += 1;
+        } else if 2 * open[l].0 <= open[l].1 {
+            p.loops_at_gaps += 1;
+        } else {
+            p.loops_closed.push(length / s);
+        }
+    }
+    let mut parts = crate::mesh::UnionFind::new(input.vertex_count());
+    for t in &input.triangles {
+        parts.union(t[0], t[1]);
+        parts.union(t[1], t[2]);
+    }
+    let mut triangles = vec![0usize; input.vertex_count()];
+    for t in &input.triangles {
+        triangles[parts.find(t[0]) as usize] += 1;
+    }
+    let mut near = vec![false; input.vertex_count()];
+    for (v, &d) in back.unwrap_or(&[]).iter().enumerate() {
+        if d <= s {
+            near[parts.find(v as u32) as usize] = true;
+        }
+    }
+    for (root, &count) in triangles.iter().enumerate() {
+        if count > 0 {
+            p.input_components += 1;
+            if !near[root] {
+                p.components_lost.push(count);
+            }
+        }
+    }
+    p
+}
+
+/// Segments bucketed in a uniform grid of cell `cell`, each with a tag,
+/// for "is there a segment within r of q" queries with r ≤ cell.
+struct SegmentGrid<T> {
+    cell: f64,
+    segments: Vec<([DVec3; 2], T)>,
+    buckets: std::collections::HashMap<[i64; 3], Vec<u32>>,
+}
+
+impl<T: Copy> SegmentGrid<T> {
+    fn new(segments: Vec<([DVec3; 2], T)>, cell: f64) -> SegmentGrid<T> {
+        let cell = if cell > 0.0 { cell } else { 1.0 };
+        let mut buckets: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
+        for (i, ([a, b], _)) in segments.iter().enumerate() {
+            let (lo, hi) = (Self::key(a.min(*b), cell), Self::key(a.max(*b), cell));
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        buckets.entry([x, y, z]).or_default().push(i as u32);
+                    }
+                }
+            }
+        }
+        SegmentGrid {
+            cell,
+            segments,
+            buckets,
+        }
+    }
+
+    fn key(p: DVec3, cell: f64) -> [i64; 3] {
+        (p / cell).floor().as_i64vec3().to_array()
+    }
+
+    /// Whether a segment whose tag passes `keep` lies within `r` (≤ the
+    /// cell) of `q`.
+    fn any_within(&self, q: DVec3, r: f64, keep: impl Fn(T) -> bool) -> bool {
+        let k = Self::key(q, self.cell);
+        for x in k[0] - 1..=k[0] + 1 {
+            for y in k[1] - 1..=k[1] + 1 {
+                for z in k[2] - 1..=k[2] + 1 {
+                    for &i in self.buckets.get(&[x, y, z]).map_or(&[][..], |v| v) {
+                        let ([a, b], tag) = self.segments[i as usize];
+                        if keep(tag) && segment_distance(q, a, b) <= r {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Distance from `q` to the segment `a`–`b`.
+fn segment_distance(q: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    q.distance(a + t * d)
+}
+
 /// All metrics of `mesh` against `input`.
 pub fn metrics(mesh: &PolyMesh, input: &TriMesh, input_index: &SurfaceIndex) -> Metrics {
     let (topology, quads, edges) = shape_metrics(mesh, input.vertex_count());
+    let back = input_to_output(mesh, input);
     Metrics {
         topology,
         quads,
-        distance: distance_metrics(mesh, input, input_index),
+        distance: distances(mesh, input_index, back.as_deref()),
         edges,
+        preservation: preservation(mesh, input, back.as_deref()),
     }
 }
 
@@ -415,5 +673,100 @@ mod tests {
         assert!((q.max_corner_angle_degrees - 140.0).abs() < 1e-9, "{q:?}");
         assert_eq!(q.distorted_quad_percent, 100.0);
         assert!((q.corner_angle_deviation_degrees - 50.0).abs() < 1e-9);
+    }
+
+    /// A quad grid over [−1, 1]² with `n × n` cells, without the cells whose
+    /// centre fails `keep`.
+    fn quad_grid(n: u32, keep: impl Fn(f64, f64) -> bool) -> PolyMesh {
+        let at = |i: u32| -1.0 + 2.0 * i as f64 / n as f64;
+        let p: Vec<DVec3> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| DVec3::new(at(i), at(j), 0.0)))
+            .collect();
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        // Only the vertices the kept cells use, renumbered.
+        let mut index = vec![u32::MAX; p.len()];
+        let mut used = Vec::new();
+        let mut f = FaceList::new();
+        for j in 0..n {
+            for i in 0..n {
+                let c = 1.0 / n as f64;
+                if keep(at(i) + c, at(j) + c) {
+                    let quad = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)].map(|v| {
+                        if index[v as usize] == u32::MAX {
+                            index[v as usize] = used.len() as u32;
+                            used.push(p[v as usize]);
+                        }
+                        index[v as usize]
+                    });
+                    f.push(&quad);
+                }
+            }
+        }
+        PolyMesh::from_faces(used, &f).unwrap()
+    }
+
+    /// The input: a fine triangulated grid without the cells failing `keep`.
+    fn tri_grid(keep: impl Fn(f64, f64) -> bool) -> TriMesh {
+        let q = quad_grid(60, keep);
+        let tris = q.to_face_list().triangulate(&q.positions);
+        TriMesh::new(q.positions.clone(), tris).unwrap()
+    }
+
+    #[test]
+    fn holes_kept_closed_too_small_and_at_gaps_and_lost_parts() {
+        // Output edges 0.2 (10 × 10 over [−1, 1]²).
+        let hole = |h: f64| move |x: f64, y: f64| x.abs().max(y.abs()) > h;
+        // A 0.8 × 0.8 hole (perimeter 16 edges): kept when the output has
+        // it, closed over (16 edges) when it does not.
+        let input = tri_grid(hole(0.4));
+        let kept = preservation_metrics(&quad_grid(10, hole(0.4)), &input);
+        assert_eq!((kept.input_loops, kept.loops_kept), (2, 2), "{kept:?}");
+        assert!(kept.loops_closed.is_empty() && kept.warning().is_none());
+        let closed = preservation_metrics(&quad_grid(10, |_, _| true), &input);
+        assert_eq!(closed.loops_kept, 1, "{closed:?}");
+        assert_eq!(closed.loops_closed.len(), 1);
+        assert!((closed.loops_closed[0] - 16.0).abs() < 1e-9, "{closed:?}");
+        assert!(
+            closed
+                .warning()
+                .unwrap()
+                .contains("1 of the input's 2 boundary loops was closed over")
+        );
+        // A hole 0.067 across (perimeter 1.3 edges): too small.
+        let small = preservation_metrics(&quad_grid(10, |_, _| true), &tri_grid(hole(0.04)));
+        assert_eq!(
+            (small.loops_too_small, small.loops_kept),
+            (1, 1),
+            "{small:?}"
+        );
+        assert!(small.warning().is_none());
+        // A slot 0.067 wide and 1.2 long: a gap narrower than an edge.
+        let slot = |x: f64, y: f64| !(x.abs() < 0.6 && y.abs() < 0.03);
+        let gap = preservation_metrics(&quad_grid(10, |_, _| true), &tri_grid(slot));
+        assert_eq!((gap.loops_at_gaps, gap.loops_kept), (1, 1), "{gap:?}");
+        assert!(gap.warning().is_none());
+        // A second input part, one small triangle above the plane: lost.
+        let mut speck = tri_grid(|_, _| true);
+        let base = speck.positions.len() as u32;
+        let mut positions = speck.positions.clone();
+        positions.extend([
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.01, 0.0, 1.0),
+            DVec3::new(0.0, 0.01, 1.0),
+        ]);
+        let mut triangles = speck.triangles.clone();
+        triangles.push([base, base + 1, base + 2]);
+        speck = TriMesh::new(positions, triangles).unwrap();
+        let lost = preservation_metrics(&quad_grid(10, |_, _| true), &speck);
+        assert_eq!(
+            (lost.input_components, lost.components_lost.clone()),
+            (2, vec![1]),
+            "{lost:?}"
+        );
+        assert!(
+            lost.warning()
+                .unwrap()
+                .contains("1 of the input's 2 parts was lost (1 triangle;")
+        );
     }
 }

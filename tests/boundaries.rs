@@ -105,6 +105,13 @@ fn check_boundaries_kept(name: &str, input: &TriMesh, out: &PolyMesh, s: f64) ->
         "{name}: an input boundary vertex lies {:.2} edge lengths from the output's boundary (closed over)",
         worst / s
     );
+    // The metric the CLI and the page report agrees: no loop closed over,
+    // no part lost.
+    let kept = quadrille::metrics::preservation_metrics(out, input);
+    assert!(
+        kept.loops_closed.is_empty() && kept.components_lost.is_empty(),
+        "{name}: {kept:?}"
+    );
     let lengths: Vec<f64> = (0..out.edge_count() as u32)
         .map(|e| {
             out.positions[out.origin(2 * e) as usize]

@@ -35,6 +35,12 @@ fn remesh_writes_quads_control_mesh_limit_surface_and_stats() {
         "{}",
         String::from_utf8_lossy(&status.stderr)
     );
+    // Spot is closed and one piece: nothing to lose, nothing said.
+    assert!(
+        !String::from_utf8_lossy(&status.stderr).contains("warning"),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
 
     let read = |p: &PathBuf| {
         quadrille::io::import(&std::fs::read(p).unwrap(), &p.display().to_string()).unwrap()
@@ -94,4 +100,61 @@ fn info_into_a_closed_pipe_is_not_a_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn remesh_says_which_input_parts_it_lost() {
+    // A 20 × 20 plane and, apart from it, a triangle far smaller than an
+    // output edge, which no quad can hold: the run says it was lost, on
+    // stderr and in the stats.
+    let dir = std::env::temp_dir().join(format!("quadrille-cli-speck-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let n = 20;
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            obj += &format!("v {} {} 0\n", i as f64 / n as f64, j as f64 / n as f64);
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let (b, c, d) = (a + 1, a + n + 2, a + n + 1);
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    let m = (n + 1) * (n + 1);
+    obj += &format!(
+        "v 0.5 0.5 0.5\nv 0.51 0.5 0.5\nv 0.5 0.51 0.5\nf {} {} {}\n",
+        m + 1,
+        m + 2,
+        m + 3
+    );
+    let (input, out, stats) = (
+        dir.join("speck.obj"),
+        dir.join("out.obj"),
+        dir.join("stats.json"),
+    );
+    std::fs::write(&input, obj).unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .arg("remesh")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--stats")
+        .arg(&stats)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning")
+            && stderr.contains("1 of the input's 2 parts was lost (1 triangle"),
+        "{stderr}"
+    );
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    let kept = &json["metrics"]["preservation"];
+    assert_eq!(kept["components_lost"], serde_json::json!([1]), "{kept}");
+    assert_eq!(kept["loops_kept"], 1, "{kept}");
+    std::fs::remove_dir_all(&dir).ok();
 }

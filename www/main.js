@@ -66,6 +66,13 @@ function resultSummary(run) {
   ];
   const l = run.limit_surface;
   if (l) parts.push(`limit error ${Number((100 * l.after.hausdorff).toPrecision(2))} % of the size`);
+  // What of the input the output lost is never silent (metrics.rs, PreservationMetrics).
+  const kept = m && m.preservation;
+  if (kept) {
+    const closed = kept.loops_closed.length, lost = kept.components_lost.length;
+    if (closed) parts.push(`${closed} input boundary loop${closed === 1 ? '' : 's'} closed over`);
+    if (lost) parts.push(`${lost} input part${lost === 1 ? '' : 's'} lost (more vertices keep small parts)`);
+  }
   return parts.join(' · ');
 }
 

@@ -255,11 +255,27 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             }
         }
     }
+    // What of the input's boundaries and parts the output lost is said on
+    // every run, not only in the stats.
+    let t0 = std::time::Instant::now();
+    let metrics = match (&args.stats, &surface) {
+        (Some(_), Some(surface)) => Some(quadrille::metrics::metrics(
+            mesh,
+            &pipeline.input.mesh,
+            surface,
+        )),
+        _ => None,
+    };
+    let metrics_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let preservation = metrics.as_ref().map_or_else(
+        || quadrille::metrics::preservation_metrics(mesh, &pipeline.input.mesh),
+        |m| m.preservation.clone(),
+    );
+    if let Some(warning) = preservation.warning() {
+        eprintln!("warning: {}: {warning}", args.input.display());
+    }
     if let Some(stats) = &args.stats {
-        let t0 = std::time::Instant::now();
-        let surface = surface.ok_or("the input has no triangles")?;
-        let metrics = quadrille::metrics::metrics(mesh, &pipeline.input.mesh, &surface);
-        let metrics_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let metrics = metrics.ok_or("the input has no triangles")?;
         let mut timings = serde_json::Map::new();
         timings.insert("import".into(), serde_json::json!(import_ms));
         for (stage, ms) in &pipeline.timings {

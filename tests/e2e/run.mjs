@@ -821,6 +821,32 @@ test('the status line ends with the result summary; stage times are in their own
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('a part the output loses is said in the status line, not dropped silently', async (env) => {
+  // A 20 × 20 plane and, apart from it, one triangle far smaller than an
+  // output edge: no quad can hold it, so the run must say it was lost.
+  const n = 20;
+  let obj = '';
+  for (let j = 0; j <= n; j++) for (let i = 0; i <= n; i++) obj += `v ${i / n} ${j / n} 0\n`;
+  for (let j = 0; j < n; j++) for (let i = 0; i < n; i++) {
+    const a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
+    obj += `f ${a} ${b} ${c}\nf ${a} ${c} ${d}\n`;
+  }
+  const m = (n + 1) * (n + 1);
+  obj += `v 0.5 0.5 0.5\nv 0.51 0.5 0.5\nv 0.5 0.51 0.5\nf ${m + 1} ${m + 2} ${m + 3}\n`;
+  const { page, errors } = await open(env);
+  await waitForRun(page, 'stanford-bunny.obj');
+  const bunny = (await page.textContent('#status')).trim();
+  assert(!/lost|closed over/.test(bunny), `the bunny keeps its holes and its part: ${bunny}`);
+  await dropFile(page, '#view', 'plane-and-speck.obj', Buffer.from(obj));
+  await waitForRun(page, 'plane-and-speck.obj');
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  assert(run.metrics.preservation.input_components === 2, `two input parts: ${JSON.stringify(run.metrics.preservation)}`);
+  assert(run.metrics.preservation.components_lost.length === 1, `the speck is lost: ${JSON.stringify(run.metrics.preservation)}`);
+  const status = (await page.textContent('#status')).trim();
+  assert(/1 input part lost/.test(status), `the status says so: ${status}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('a one-triangle file says that no quads came out', async (env) => {
   const { page } = await open(env);
   await waitForRun(page, 'stanford-bunny.obj');
