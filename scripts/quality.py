@@ -62,6 +62,7 @@ IM_EQUIVALENT = {
             "collapse_diagonals": False,
             "smoothing_iterations": 2,
             "reproject": True,
+            "reopen_input_holes": False,
         },
     },
 }

@@ -422,23 +422,40 @@ pub fn preservation_metrics(mesh: &PolyMesh, input: &TriMesh) -> PreservationMet
     preservation(mesh, input, input_to_output(mesh, input).as_deref())
 }
 
-/// [`preservation_metrics`] with the input's vertices' distances to the
-/// output given.
-fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> PreservationMetrics {
-    let mut p = PreservationMetrics::default();
-    let s = {
-        let (sum, n) = (0..mesh.edge_count() as u32).fold((0.0, 0usize), |(sum, n), e| {
-            let (a, b) = (mesh.origin(2 * e), mesh.tip(2 * e));
-            (
-                sum + mesh.positions[a as usize].distance(mesh.positions[b as usize]),
-                n + 1,
-            )
-        });
-        sum / n.max(1) as f64
-    };
+/// What the output does with one input boundary loop (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LoopFate {
+    TooSmall,
+    Kept,
+    AtGap,
+    ClosedOver,
+}
+
+/// Every input boundary loop's [`LoopFate`], with the loops and the
+/// output's mean edge length s they were judged by.
+pub struct LoopAudit {
+    pub s: f64,
+    pub arcs: crate::mesh::BoundaryArcs,
+    pub fates: Vec<LoopFate>,
+}
+
+/// The output's mean edge length.
+fn mean_edge_length(mesh: &PolyMesh) -> f64 {
+    let (sum, n) = (0..mesh.edge_count() as u32).fold((0.0, 0usize), |(sum, n), e| {
+        let (a, b) = (mesh.origin(2 * e), mesh.tip(2 * e));
+        (
+            sum + mesh.positions[a as usize].distance(mesh.positions[b as usize]),
+            n + 1,
+        )
+    });
+    sum / n.max(1) as f64
+}
+
+/// [`LoopAudit`] of `mesh` against `input`.
+pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
+    let s = mean_edge_length(mesh);
     let arcs = crate::mesh::BoundaryArcs::new(input);
-    p.input_loops = arcs.length.len();
-    let output_boundary = SegmentGrid::new(
+    let output_boundary = crate::spatial::SegmentGrid::new(
         (0..mesh.halfedge_count() as u32)
             .filter(|&h| mesh.is_boundary_halfedge(h))
             .map(|h| {
@@ -470,7 +487,7 @@ fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> Prese
             )
         })
         .collect();
-    let input_boundary = SegmentGrid::new(input_boundary, s);
+    let input_boundary = crate::spatial::SegmentGrid::new(input_boundary, s);
     // Per loop: whether a vertex lies far from the output's boundary; how
     // many of its vertices have no other part of the input's boundary
     // within s (another loop, or its own loop more than 3 s away along it).
@@ -493,15 +510,39 @@ fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> Prese
         open[l].0 += usize::from(!across);
         open[l].1 += 1;
     }
-    for (l, &length) in arcs.length.iter().enumerate() {
-        if length < 2.0 * s {
-            p.loops_too_small += 1;
-        } else if !far[l] {
-            p.loops_kept += 1;
-        } else if 2 * open[l].0 <= open[l].1 {
-            p.loops_at_gaps += 1;
-        } else {
-            p.loops_closed.push(length / s);
+    let fates = arcs
+        .length
+        .iter()
+        .enumerate()
+        .map(|(l, &length)| {
+            if length < 2.0 * s {
+                LoopFate::TooSmall
+            } else if !far[l] {
+                LoopFate::Kept
+            } else if 2 * open[l].0 <= open[l].1 {
+                LoopFate::AtGap
+            } else {
+                LoopFate::ClosedOver
+            }
+        })
+        .collect();
+    LoopAudit { s, arcs, fates }
+}
+
+/// [`preservation_metrics`] with the input's vertices' distances to the
+/// output given.
+fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> PreservationMetrics {
+    let LoopAudit { s, arcs, fates } = loop_audit(mesh, input);
+    let mut p = PreservationMetrics {
+        input_loops: fates.len(),
+        ..Default::default()
+    };
+    for (&fate, &length) in fates.iter().zip(&arcs.length) {
+        match fate {
+            LoopFate::TooSmall => p.loops_too_small += 1,
+            LoopFate::Kept => p.loops_kept += 1,
+            LoopFate::AtGap => p.loops_at_gaps += 1,
+            LoopFate::ClosedOver => p.loops_closed.push(length / s),
         }
     }
     let mut parts = crate::mesh::UnionFind::new(input.vertex_count());
@@ -528,70 +569,6 @@ fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> Prese
         }
     }
     p
-}
-
-/// Segments bucketed in a uniform grid of cell `cell`, each with a tag,
-/// for "is there a segment within r of q" queries with r ≤ cell.
-struct SegmentGrid<T> {
-    cell: f64,
-    segments: Vec<([DVec3; 2], T)>,
-    buckets: std::collections::HashMap<[i64; 3], Vec<u32>>,
-}
-
-impl<T: Copy> SegmentGrid<T> {
-    fn new(segments: Vec<([DVec3; 2], T)>, cell: f64) -> SegmentGrid<T> {
-        let cell = if cell > 0.0 { cell } else { 1.0 };
-        let mut buckets: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
-        for (i, ([a, b], _)) in segments.iter().enumerate() {
-            let (lo, hi) = (Self::key(a.min(*b), cell), Self::key(a.max(*b), cell));
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        buckets.entry([x, y, z]).or_default().push(i as u32);
-                    }
-                }
-            }
-        }
-        SegmentGrid {
-            cell,
-            segments,
-            buckets,
-        }
-    }
-
-    fn key(p: DVec3, cell: f64) -> [i64; 3] {
-        (p / cell).floor().as_i64vec3().to_array()
-    }
-
-    /// Whether a segment whose tag passes `keep` lies within `r` (≤ the
-    /// cell) of `q`.
-    fn any_within(&self, q: DVec3, r: f64, keep: impl Fn(T) -> bool) -> bool {
-        let k = Self::key(q, self.cell);
-        for x in k[0] - 1..=k[0] + 1 {
-            for y in k[1] - 1..=k[1] + 1 {
-                for z in k[2] - 1..=k[2] + 1 {
-                    for &i in self.buckets.get(&[x, y, z]).map_or(&[][..], |v| v) {
-                        let ([a, b], tag) = self.segments[i as usize];
-                        if keep(tag) && segment_distance(q, a, b) <= r {
-                            return true;
-                        }
-                    }
-                }
-            }
-        }
-        false
-    }
-}
-
-/// Distance from `q` to the segment `a`–`b`.
-fn segment_distance(q: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let d = b - a;
-    let t = if d.length_squared() > 0.0 {
-        ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    q.distance(a + t * d)
 }
 
 /// All metrics of `mesh` against `input`.

@@ -773,8 +773,16 @@ impl Pipeline {
             .as_ref()
             .expect("extraction runs first")
             .extracted;
-        let result =
+        let mut result =
             extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?;
+        if self.params.extraction.post.reopen_input_holes
+            && let Some(surface) = surface.as_deref()
+            && let Some((mesh, opened)) =
+                extract::reopen::reopen_closed_loops(&result.mesh, &self.input.mesh, surface)
+        {
+            result.mesh = mesh;
+            result.report.input_holes_reopened = opened;
+        }
         Ok(PostProcessStage { result })
     }
 

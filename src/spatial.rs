@@ -270,6 +270,76 @@ impl DistanceStats {
     }
 }
 
+/// Segments bucketed in a uniform grid of cell `cell`, each with a tag,
+/// for "is there a segment within r of q" queries with r ≤ cell.
+pub(crate) struct SegmentGrid<T> {
+    cell: f64,
+    segments: Vec<([DVec3; 2], T)>,
+    buckets: std::collections::HashMap<[i64; 3], Vec<u32>>,
+}
+
+impl<T: Copy> SegmentGrid<T> {
+    pub(crate) fn new(segments: Vec<([DVec3; 2], T)>, cell: f64) -> SegmentGrid<T> {
+        let cell = if cell > 0.0 { cell } else { 1.0 };
+        let mut buckets: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
+        for (i, ([a, b], _)) in segments.iter().enumerate() {
+            let (lo, hi) = (Self::key(a.min(*b), cell), Self::key(a.max(*b), cell));
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        buckets.entry([x, y, z]).or_default().push(i as u32);
+                    }
+                }
+            }
+        }
+        SegmentGrid {
+            cell,
+            segments,
+            buckets,
+        }
+    }
+
+    fn key(p: DVec3, cell: f64) -> [i64; 3] {
+        (p / cell).floor().as_i64vec3().to_array()
+    }
+
+    /// Whether a segment whose tag passes `keep` lies within `r` (≤ the
+    /// cell) of `q`.
+    pub(crate) fn any_within(&self, q: DVec3, r: f64, keep: impl Fn(T) -> bool) -> bool {
+        self.first_within(q, r, keep).is_some()
+    }
+
+    /// The tag of a segment within `r` (≤ the cell) of `q` whose tag
+    /// passes `keep`, if any.
+    pub(crate) fn first_within(&self, q: DVec3, r: f64, keep: impl Fn(T) -> bool) -> Option<T> {
+        let k = Self::key(q, self.cell);
+        for x in k[0] - 1..=k[0] + 1 {
+            for y in k[1] - 1..=k[1] + 1 {
+                for z in k[2] - 1..=k[2] + 1 {
+                    for &i in self.buckets.get(&[x, y, z]).map_or(&[][..], |v| v) {
+                        let ([a, b], tag) = self.segments[i as usize];
+                        if keep(tag) && segment_distance(q, a, b) <= r {
+                            return Some(tag);
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Distance from `q` to the segment `a`–`b`.
+pub(crate) fn segment_distance(q: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((q - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    q.distance(a + t * d)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

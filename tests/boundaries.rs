@@ -169,6 +169,32 @@ fn the_bunny_keeps_its_holes_open() {
 }
 
 #[test]
+fn the_bunny_keeps_its_smallest_hole_at_600_vertices() {
+    // At 600 vertices the extraction closes the smallest of the bunny's
+    // five holes (3.1 output edges around) under a triangle; the faces over
+    // it are removed again at the end of the post-processing.
+    let run = |reopen: bool| {
+        let mut p = Pipeline::new(common::import("stanford-bunny.obj"), Params::default());
+        p.params.sizing.target_vertex_count = Some(600);
+        p.params.extraction.post.reopen_input_holes = reopen;
+        p.run(&mut |_, _, _| true, &mut |_, _| {}, &|| 0.0).unwrap();
+        let post = p.postprocess.as_ref().unwrap();
+        (
+            quadrille::metrics::preservation_metrics(post.mesh(), &p.input.mesh),
+            post.result.report.input_holes_reopened,
+        )
+    };
+    let (closed, _) = run(false);
+    assert_eq!(closed.loops_closed.len(), 1, "{closed:?}");
+    let (kept, reopened) = run(true);
+    assert_eq!(reopened, 1);
+    assert!(
+        kept.loops_closed.is_empty() && kept.loops_kept == 5,
+        "{kept:?}"
+    );
+}
+
+#[test]
 fn targets_outside_what_the_input_supports_are_refused_with_the_limit() {
     let spot = common::import("spot.obj");
     let n = spot.mesh.vertex_count();

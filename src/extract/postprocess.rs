@@ -166,6 +166,11 @@ pub struct PostProcessParams {
     pub smoothing_feature_degrees: f64,
     /// Project the vertices onto the input at the end. Default on.
     pub reproject: bool,
+    /// The very last step: faces over an input hole the output closed over
+    /// (a loop at least two edges long, not along a gap) are removed
+    /// ([`super::reopen`]). Default on; the shared meshes at their default
+    /// targets have no such hole, so their outputs are unchanged.
+    pub reopen_input_holes: bool,
 }
 
 impl Default for PostProcessParams {
@@ -191,6 +196,7 @@ impl Default for PostProcessParams {
             regular_shape_smoothing: false,
             smoothing_feature_degrees: 50.0,
             reproject: true,
+            reopen_input_holes: true,
         }
     }
 }
@@ -210,6 +216,8 @@ pub struct PostProcessReport {
     /// [`fix_wide_corners`]: vertices moved, quads split.
     pub wide_corner_vertices_moved: usize,
     pub wide_corner_quads_split: usize,
+    /// [`super::reopen`]: input holes opened again.
+    pub input_holes_reopened: usize,
 }
 
 /// Removes the faces marked dead, keeping the others' order.
