@@ -28,13 +28,16 @@
 //!   boundaries are data"), measured in the output's mean edge length s so
 //!   that any remesher's output is judged alike: an input boundary loop
 //!   at least 2 s long is *kept* when every one of its vertices lies within
-//!   s of an output boundary edge, else *closed over*; shorter loops are
-//!   *too small* (a hole needs three edges around). A loop at least half
-//!   of whose vertices lie within s of another input loop, or of their own
-//!   loop more than 3 s away along it, borders a *gap* narrower than an
-//!   edge — a seam the input did not weld, a lid on its pot, an eyeball in
-//!   its socket, a slot — and is counted apart: the output may close it. An input component is *lost* when none of its vertices lies
-//!   within s of the output.
+//!   s of an output boundary edge, *partly kept* when only some do (a hole
+//!   kept coarser than its rim, two holes merged), and *closed over* when
+//!   none does; shorter loops are *too small* (a hole needs three edges
+//!   around). A loop none of whose vertices is near the output's boundary,
+//!   at least half of whose vertices lie within s of another input loop
+//!   (or of their own loop more than 3 s away along it), borders a *gap*
+//!   narrower than an edge — a seam the input did not weld, a lid on its
+//!   pot, an eyeball in its socket, a slot — and is counted apart: the
+//!   output may close it. An input component is *lost* when none of its
+//!   vertices lies within s of the output.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -119,6 +122,9 @@ pub struct PreservationMetrics {
     /// Loops along a gap narrower than an edge (module doc).
     pub loops_at_gaps: usize,
     pub loops_kept: usize,
+    /// Loops some of whose vertices lie within s of the output's boundary
+    /// and some not (a hole kept, coarser than the rim).
+    pub loops_partly_kept: usize,
     /// Perimeters, in output edge lengths, of the loops closed over.
     pub loops_closed: Vec<f64>,
     /// The input's connected components (through shared vertices).
@@ -427,6 +433,9 @@ pub fn preservation_metrics(mesh: &PolyMesh, input: &TriMesh) -> PreservationMet
 pub enum LoopFate {
     TooSmall,
     Kept,
+    /// Some of its vertices lie within s of the output's boundary, some
+    /// not: a hole kept coarser than the input's rim, or two holes merged.
+    PartlyKept,
     AtGap,
     ClosedOver,
 }
@@ -492,6 +501,7 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
     // many of its vertices have no other part of the input's boundary
     // within s (another loop, or its own loop more than 3 s away along it).
     let mut far = vec![false; arcs.length.len()];
+    let mut near = vec![false; arcs.length.len()];
     let mut open = vec![(0usize, 0usize); arcs.length.len()];
     for (v, &l) in arcs.loop_of.iter().enumerate() {
         if l == u32::MAX || arcs.length[l as usize] < 2.0 * s {
@@ -499,8 +509,10 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
         }
         let q = input.positions[v];
         let l = l as usize;
-        if !far[l] {
-            far[l] = !output_boundary.any_within(q, s, |_| true);
+        if output_boundary.any_within(q, s, |_| true) {
+            near[l] = true;
+        } else {
+            far[l] = true;
         }
         let (arc, length) = (arcs.arc[v], arcs.length[l]);
         let across = input_boundary.any_within(q, s, |(other, at)| {
@@ -519,6 +531,8 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
                 LoopFate::TooSmall
             } else if !far[l] {
                 LoopFate::Kept
+            } else if near[l] {
+                LoopFate::PartlyKept
             } else if 2 * open[l].0 <= open[l].1 {
                 LoopFate::AtGap
             } else {
@@ -541,6 +555,7 @@ fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> Prese
         match fate {
             LoopFate::TooSmall => p.loops_too_small += 1,
             LoopFate::Kept => p.loops_kept += 1,
+            LoopFate::PartlyKept => p.loops_partly_kept += 1,
             LoopFate::AtGap => p.loops_at_gaps += 1,
             LoopFate::ClosedOver => p.loops_closed.push(length / s),
         }
@@ -709,6 +724,16 @@ mod tests {
                 .unwrap()
                 .contains("1 of the input's 2 boundary loops was closed over")
         );
+        // A 1.2 × 0.4 slot-shaped hole of which the output keeps only the
+        // middle 0.4 × 0.4: partly kept, not said to be closed over.
+        let wide = tri_grid(|x, y| !(x.abs() < 0.6 && y.abs() < 0.2));
+        let partly = preservation_metrics(&quad_grid(10, hole(0.2)), &wide);
+        assert_eq!(
+            (partly.loops_partly_kept, partly.loops_kept),
+            (1, 1),
+            "{partly:?}"
+        );
+        assert!(partly.warning().is_none());
         // A hole 0.067 across (perimeter 1.3 edges): too small.
         let small = preservation_metrics(&quad_grid(10, |_, _| true), &tri_grid(hole(0.04)));
         assert_eq!(
