@@ -349,7 +349,7 @@ impl LayoutDesigner {
         })
     }
 
-    /// The design state: `{ revision, loops: [{ points, mirrored, closed }],
+    /// The design state: `{ revision, loops: [{ id, points, mirrored, closed }],
     /// anchors: Float32Array (xyz), anchorDirections: Float32Array (xyz,
     /// zero = positional), proposal: Float32Array, selfCrossings: Float32Array
     /// (xyz), selfCrossingAngles: Float32Array (degrees), browse: [index, count],
@@ -361,6 +361,7 @@ impl LayoutDesigner {
         let loops = Array::new();
         for c in d.committed() {
             let l = Object::new();
+            set(&l, "id", c.id as f64)?;
             set(&l, "points", polyline(&c.dual.points))?;
             set(&l, "mirrored", c.mirrored)?;
             set(&l, "closed", c.dual.closed)?;
