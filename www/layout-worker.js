@@ -17,6 +17,7 @@
 //                { type: 'hover', proposal: Float32Array, ms, t }
 //                { type: 'state', action, value, state, ms, t, serial }  right after each action
 //                { type: 'analysis', analysis, ms }             afterwards, when the strips changed
+//                { type: 'analysis-cancelled', revision, started, ms }  a stale analysis given up
 //                { type: 'reply', id, value?, error? }
 //                { type: 'error', message, fatal }              fatal: the worker must be replaced
 import init, { LayoutDesigner, takePanicMessage, panicForTesting } from './pkg/quadrille.js';
@@ -47,15 +48,29 @@ function fail(error) {
 // loops go there with a new serial; its answer is used only when it is for
 // the newest serial, and its covered directions (§6.2) only when they are
 // for the current revision (LayoutDesigner.applyCovered checks).
+//
+// A newer action cancels a stale analysis: the newest serial is shared with
+// the analysis worker (`latest`), which stops a running analysis at its next
+// step once the serial is no longer its own. Without cross-origin isolation
+// (no SharedArrayBuffer) the analysis worker is replaced instead when a
+// request is still unanswered.
 let analyzer = null;
 let analyzerInit = null;
 let serial = 0;
+const latest = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
+let unanswered = 0; // requests the analysis worker has not answered yet
 
 function startAnalyzer() {
   if (analyzer) analyzer.terminate();
+  unanswered = 0;
   analyzer = new Worker(new URL('./analysis-worker.js', import.meta.url), { type: 'module' });
   analyzer.onmessage = (event) => {
     const r = event.data;
+    if (r.serial !== null) unanswered = Math.max(0, unanswered - 1);
+    if (r.type === 'cancelled') {
+      self.postMessage({ type: 'analysis-cancelled', revision: r.revision, started: r.started, ms: r.ms });
+      return;
+    }
     if (r.serial !== serial || !designer) return;
     if (r.type === 'error') {
       self.postMessage({ type: 'error', message: `analysis: ${r.message}`, fatal: false });
@@ -71,13 +86,19 @@ function startAnalyzer() {
   analyzer.onerror = (e) => {
     self.postMessage({ type: 'error', message: `analysis worker: ${e.message || e}`, fatal: false });
   };
-  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name });
+  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name, latest: latest && latest.buffer });
 }
 
 function queueAnalysis() {
   const input = designer && designer.takeAnalysisInput();
   if (!input) return;
   serial += 1;
+  if (latest) Atomics.store(latest, 0, serial);
+  else if (unanswered > 0) {
+    self.postMessage({ type: 'analysis-cancelled', revision: null, started: true, ms: null });
+    startAnalyzer();
+  }
+  unanswered += 1;
   analyzer.postMessage({ type: 'analyze', serial, input }, transferables(input));
 }
 
