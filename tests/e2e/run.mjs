@@ -648,6 +648,15 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   await page.mouse.move(0, 0);
   await settle(page);
   await page.screenshot({ path: join(artifacts, `design-torus-grid-fit-${env.backend}.png`) });
+  // Leaving the mode and coming back shows the grid and the fit again.
+  await page.keyboard.press('t');
+  await page.waitForFunction(() => !window.quadrille.design.active, null, DESIGN_WAIT);
+  await page.keyboard.press('t');
+  await page.waitForFunction(() => window.quadrille.design.active, null, DESIGN_WAIT);
+  const back = await page.evaluate(() => ({ grid: window.quadrille.design.segments['layout grid'], strips: window.quadrille.design.segments.strips,
+    surface: window.quadrille.design.shownSurface, drawn: window.quadrille.drawnSurface() }));
+  assert(back.grid > 0 && back.strips === 0, `back in the mode, the grid is drawn in the stripes' place: ${JSON.stringify(back)}`);
+  assert(back.surface === 'Limit surface (design)' && back.drawn === 'layout regions', `back in the mode, the limit surface is shown: ${JSON.stringify(back)}`);
   // The gridded mesh: quads only, closed torus (V − E + F = 0), in the file's units.
   const obj = parseObj(await page.evaluate(() => window.quadrille.exportLayout('grid-obj')));
   assert(obj.faces.length === g.faces && obj.faces.every((f) => f.length === 4), 'the OBJ has quad faces only');
@@ -671,6 +680,76 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(layout.faces.length === a.counts.patches, `one face per patch: ${layout.faces.length}`);
   const lb = bbox(layout.positions);
   for (let k = 0; k < 3; k++) assert(lb.max[k] <= input.max[k] + 1e-6 && lb.min[k] >= input.min[k] - 1e-6, `the layout lies within the file's box on axis ${k}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: grid counts stay with their strip when an earlier strip is deleted and restored', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  await placeThreeTorusStrips(page);
+  await page.fill('#design-grid-count', '8');
+  const countOf = (i) => page.inputValue(`#design-strips li:nth-child(${i}) .design-strip-count`);
+  await page.fill('#design-strips li:nth-child(2) .design-strip-count', '4');
+  await page.dispatchEvent('#design-strips li:nth-child(2) .design-strip-count', 'change');
+  const ids = await page.evaluate(() => window.quadrille.design.state.loops.map((l) => l.id));
+  assert(new Set(ids).size === 3, `three strip ids: ${ids}`);
+  // Deleting strip 1: the second strip (now the first) keeps its 4.
+  await page.click('#design-strips li:nth-child(1) .design-delete');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, DESIGN_WAIT);
+  const afterDelete = [await countOf(1), await countOf(2)];
+  assert(JSON.stringify(afterDelete) === '["4","8"]', `after deleting strip 1 the counts follow their strips: ${afterDelete}`);
+  // Undo: all three back, the 4 on the second again; the grid uses it.
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, DESIGN_WAIT);
+  await waitForAnalysis(page);
+  const afterUndo = [await countOf(1), await countOf(2), await countOf(3)];
+  assert(JSON.stringify(afterUndo) === '["8","4","8"]', `after the undo: ${afterUndo}`);
+  const a = await page.evaluate(() => window.quadrille.design.analysis.counts);
+  const g = await page.evaluate(async () => { const g = await window.quadrille.gridLayout(); return { faces: g.faces }; });
+  // Two patches, one per crossing of a meridian strip with the strip
+  // around the hole: 8 × 8 and 4 × 8 quads.
+  assert(a.patches === 2 && g.faces === 64 + 32, `the grid with counts 8, 4, 8: ${g.faces} quads for ${a.patches} patches`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: a newer action cancels a stale analysis; its result is never shown; the last analysis is the latest state\u2019s', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  const hits = await surfaceGrid(page);
+  const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
+  await waitForAnalysis(page);
+  // Commit a strip and undo it at once: the undo's analysis request comes
+  // while the commit's analysis runs (a few hundred ms on the torus), which
+  // then stops. When it had already ended, again (at most 4 times).
+  const cancelledRunning = () => page.evaluate(() => window.quadrille.design.cancelledAnalyses.filter((c) => c.started).length);
+  let stopped = false;
+  let commits = 0;
+  for (let attempt = 0; attempt < 4 && !stopped; attempt++) {
+    const before = await cancelledRunning();
+    await hoverAndCommit(page, byX[Math.floor(byX.length * (0.5 + 0.1 * attempt))]);
+    commits++;
+    await page.keyboard.press('Control+z');
+    await page.waitForFunction(() => window.quadrille.design.state.loops.length === 1, null, DESIGN_WAIT);
+    // A click meanwhile answers (it does not wait for any analysis).
+    const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
+    const p = byX[Math.floor(byX.length * 0.3)];
+    await page.mouse.click(p.x, p.y);
+    await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
+    assert(await page.evaluate(() => window.quadrille.design.state.anchors.length) === 3, 'the click placed an anchor');
+    await page.keyboard.press('Escape');
+    await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 0, null, DESIGN_WAIT);
+    await waitForAnalysis(page);
+    stopped = (await cancelledRunning()) > before;
+  }
+  const d = await page.evaluate(() => { const d = window.quadrille.design; return { cancelled: d.cancelledAnalyses, drawn: d.analysisRevisions,
+    revision: d.state.revision, loops: d.state.loops.length, analysis: { revision: d.analysis.revision, strips: d.analysis.counts.strips } }; });
+  console.log(`      [${env.backend}] torus: ${commits} commit(s) undone at once; analyses given up ${JSON.stringify(d.cancelled)}; drawn revisions ${d.drawn}`);
+  assert(stopped, `a running stale analysis was stopped: ${JSON.stringify(d.cancelled)}`);
+  for (const c of d.cancelled) assert(!d.drawn.includes(c.revision), `the stale analysis of revision ${c.revision} was never drawn: ${d.drawn}`);
+  assert(d.analysis.revision === d.revision && d.analysis.strips === d.loops && d.loops === 1, `the last analysis is the latest state's: ${JSON.stringify(d)}`);
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
