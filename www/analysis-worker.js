@@ -3,9 +3,12 @@
 // of the committed loops, away from the layout worker so that hover, clicks
 // and Enter never wait for it. Started by the layout worker.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name, latest: SharedArrayBuffer | null }
+// Messages in:   { type: 'init', bytes: ArrayBuffer, name, latest: SharedArrayBuffer | null,
+//                  hold: SharedArrayBuffer | null }   hold (tests): while 1, a running analysis waits
+//                  at its first step (after posting 'held')
 //                { type: 'analyze', serial, input }   input: LayoutDesigner.takeAnalysisInput()
 // Messages out:  { type: 'analysis', serial, revision, analysis, ms }
+//                { type: 'held', serial, revision }
 //                { type: 'cancelled', serial, revision, started, ms }
 //                { type: 'error', serial, message, fatal }
 // Every request is answered once (analysis, cancelled or error).
@@ -22,6 +25,7 @@ import init, { LayoutAnalyzer, takePanicMessage } from './pkg/quadrille.js';
 const ready = init();
 let analyzer = null;
 let latest = null; // Int32Array over the shared newest serial, or null
+let hold = null; // Int32Array over the tests' hold flag, or null
 let pending = null;
 let scheduled = false;
 
@@ -47,7 +51,13 @@ function run() {
   try {
     const started = performance.now();
     const i = m.input;
-    const current = () => !latest || Atomics.load(latest, 0) === m.serial;
+    const current = () => {
+      if (hold && Atomics.load(hold, 0) === 1) {
+        self.postMessage({ type: 'held', serial: m.serial, revision: i.revision });
+        Atomics.wait(hold, 0, 1);
+      }
+      return !latest || Atomics.load(latest, 0) === m.serial;
+    };
     const analysis = analyzer.analyze(i.points, i.lengths, i.closed, i.moves, current);
     if (analysis === null) { cancelled(m, true, performance.now() - started); return; }
     analysis.revision = i.revision;
@@ -71,6 +81,7 @@ self.onmessage = async (event) => {
     analyzer = null;
     pending = null;
     latest = m.latest ? new Int32Array(m.latest) : null;
+    hold = m.hold ? new Int32Array(m.hold) : null;
     try {
       analyzer = new LayoutAnalyzer(new Uint8Array(m.bytes), m.name);
     } catch (error) {

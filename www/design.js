@@ -79,6 +79,8 @@ export function createDesignMode(ctx) {
     // Revisions of the analyses drawn, in order, and the stale analyses
     // given up ({ revision, started, ms }; started: stopped while running).
     analysisRevisions: [], cancelledAnalyses: [],
+    // Tests: the revision of the analysis last held at its first step.
+    heldAnalysis: null,
     // Segments in each line layer this mode drew last, and the label of
     // the surface it shows (null: the input's).
     segments: {}, shownSurface: null,
@@ -199,6 +201,9 @@ export function createDesignMode(ctx) {
         break;
       case 'analysis-cancelled':
         stats.cancelledAnalyses.push({ revision: m.revision, started: m.started, ms: m.ms });
+        break;
+      case 'analysis-held':
+        stats.heldAnalysis = m.revision;
         break;
       case 'reply': {
         const p = pending.get(m.id);
@@ -686,6 +691,7 @@ export function createDesignMode(ctx) {
     enter, leave, reset, onHoverMove, onWheel, onDown, onDrag, onUp, onKey, exportLayout, gridLayout, fitLayout,
     action: (name, args) => action(name, args),
     crashForTesting: () => post({ type: 'crash-for-testing' }),
+    holdAnalysisForTesting: (on) => post({ type: 'hold-analysis-for-testing', on }),
     hoverMedianMs: () => median(stats.hoverLatencies),
   };
 }

@@ -12,12 +12,14 @@
 //                { type: 'grid', id, counts }                   grid the layout (one count per strip)
 //                { type: 'fit', id }                            fit the gridded layout
 //                { type: 'crash-for-testing' }
+//                { type: 'hold-analysis-for-testing', on }      while on, a running analysis waits at its first step
 // Messages out:  { type: 'progress', text }
 //                { type: 'ready', faces, inputFaces, proxy, buildMs, surface }
 //                { type: 'hover', proposal: Float32Array, ms, t }
 //                { type: 'state', action, value, state, ms, t, serial }  right after each action
 //                { type: 'analysis', analysis, ms }             afterwards, when the strips changed
 //                { type: 'analysis-cancelled', revision, started, ms }  a stale analysis given up
+//                { type: 'analysis-held', revision }            (tests) an analysis waits, held
 //                { type: 'reply', id, value?, error? }
 //                { type: 'error', message, fatal }              fatal: the worker must be replaced
 import init, { LayoutDesigner, takePanicMessage, panicForTesting } from './pkg/quadrille.js';
@@ -58,6 +60,7 @@ let analyzer = null;
 let analyzerInit = null;
 let serial = 0;
 const latest = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
+const hold = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null; // tests only
 let unanswered = 0; // requests the analysis worker has not answered yet
 
 function startAnalyzer() {
@@ -66,6 +69,10 @@ function startAnalyzer() {
   analyzer = new Worker(new URL('./analysis-worker.js', import.meta.url), { type: 'module' });
   analyzer.onmessage = (event) => {
     const r = event.data;
+    if (r.type === 'held') {
+      self.postMessage({ type: 'analysis-held', revision: r.revision });
+      return;
+    }
     if (r.serial !== null) unanswered = Math.max(0, unanswered - 1);
     if (r.type === 'cancelled') {
       self.postMessage({ type: 'analysis-cancelled', revision: r.revision, started: r.started, ms: r.ms });
@@ -86,7 +93,7 @@ function startAnalyzer() {
   analyzer.onerror = (e) => {
     self.postMessage({ type: 'error', message: `analysis worker: ${e.message || e}`, fatal: false });
   };
-  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name, latest: latest && latest.buffer });
+  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name, latest: latest && latest.buffer, hold: hold && hold.buffer });
 }
 
 function queueAnalysis() {
@@ -125,6 +132,10 @@ self.onmessage = async (event) => {
       }, transferables(surface));
     } else if (m.type === 'crash-for-testing') {
       panicForTesting();
+    } else if (m.type === 'hold-analysis-for-testing') {
+      if (!hold) throw new Error('holding the analysis needs cross-origin isolation');
+      Atomics.store(hold, 0, m.on ? 1 : 0);
+      if (!m.on) Atomics.notify(hold, 0);
     } else if (!designer) {
       throw new Error('the layout worker has no mesh yet');
     } else if (m.type === 'hover') {
