@@ -99,7 +99,7 @@ export function createDesignMode(ctx) {
   let nextRequest = 1;
   const pending = new Map();
   const stripCounts = new Map(); // grid count per strip id (none: the panel's count)
-  let gridRevision = null; // design revision the drawn grid belongs to
+  let gridSerial = null; // the analysis serial (strips and moves) the drawn grid belongs to
 
   function post(message, transfer) {
     if (worker && !stats.crashed) worker.postMessage(message, transfer || []);
@@ -196,6 +196,8 @@ export function createDesignMode(ctx) {
         break;
       }
       case 'analysis':
+        // A newer analysis: the strips or the layout-vertex moves changed.
+        if (stats.grid && m.serial > gridSerial) clearGrid();
         stats.analysisRevisions.push(m.analysis.revision);
         onAnalysis(m.analysis, m.ms);
         break;
@@ -314,7 +316,6 @@ export function createDesignMode(ctx) {
   }
 
   function onAnalysis(a, ms) {
-    if (gridRevision !== null && gridRevision !== a.revision) clearGrid();
     stats.analysis = a;
     stats.analyses++;
     stats.analysisMs = ms;
@@ -614,7 +615,7 @@ export function createDesignMode(ctx) {
   const counts = () => (stats.state ? stats.state.loops : []).map((l) => stripCounts.get(l.id) ?? gridCount());
 
   function clearGrid() {
-    gridRevision = null;
+    gridSerial = null;
     stats.grid = stats.fit = null;
     setLines('layout grid', new Float32Array(0), new Uint8Array(4));
     $('design-fit').disabled = true;
@@ -624,11 +625,10 @@ export function createDesignMode(ctx) {
 
   // Grids the layout (one count per strip) and draws the quads.
   async function gridLayout(given) {
-    const revision = stats.state ? stats.state.revision : null;
     const g = await request({ type: 'grid', counts: given || counts() });
     stats.grid = g;
     stats.fit = null;
-    gridRevision = revision;
+    gridSerial = g.serial;
     drawGridAndSurface();
     $('design-fit').disabled = false;
     $('design-export-grid').disabled = false;

@@ -9,7 +9,8 @@
 //                  insertAnchorOnLoop, moveGrabbedAnchor, clearAnchors, commit, deleteStrip, undo, redo,
 //                  browse, moveLayoutVertex, setMirror
 //                { type: 'export', id, format }                 'obj' | 'json' | 'grid-obj'
-//                { type: 'grid', id, counts }                   grid the layout (one count per strip)
+//                { type: 'grid', id, counts }                   grid the layout (one count per strip);
+//                                                               the reply's serial: the analysis it goes with
 //                { type: 'fit', id }                            fit the gridded layout
 //                { type: 'crash-for-testing' }
 //                { type: 'hold-analysis-for-testing', on }      while on, a running analysis waits at its first step
@@ -17,7 +18,7 @@
 //                { type: 'ready', faces, inputFaces, proxy, buildMs, surface }
 //                { type: 'hover', proposal: Float32Array, ms, t }
 //                { type: 'state', action, value, state, ms, t, serial }  right after each action
-//                { type: 'analysis', analysis, ms }             afterwards, when the strips changed
+//                { type: 'analysis', analysis, ms, serial }     afterwards, when the strips or moves changed
 //                { type: 'analysis-cancelled', revision, started, ms }  a stale analysis given up
 //                { type: 'analysis-held', revision }            (tests) an analysis waits, held
 //                { type: 'reply', id, value?, error? }
@@ -88,7 +89,7 @@ function startAnalyzer() {
     designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections);
     delete a.coveredCounts;
     delete a.coveredDirections;
-    self.postMessage({ type: 'analysis', analysis: a, ms: r.ms }, transferables(a));
+    self.postMessage({ type: 'analysis', analysis: a, ms: r.ms, serial: r.serial }, transferables(a));
   };
   analyzer.onerror = (e) => {
     self.postMessage({ type: 'error', message: `analysis worker: ${e.message || e}`, fatal: false });
@@ -153,6 +154,8 @@ self.onmessage = async (event) => {
       try {
         const value = m.type === 'export' ? designer.export(m.format)
           : m.type === 'grid' ? designer.grid(new Uint32Array(m.counts)) : designer.fit();
+        // The grid belongs to the state of the newest analysis request.
+        if (m.type === 'grid') value.serial = serial;
         self.postMessage({ type: 'reply', id: m.id, value }, transferables(value));
       } catch (error) {
         if (error instanceof WebAssembly.RuntimeError) throw error;

@@ -680,6 +680,19 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(layout.faces.length === a.counts.patches, `one face per patch: ${layout.faces.length}`);
   const lb = bbox(layout.positions);
   for (let k = 0; k < 3; k++) assert(lb.max[k] <= input.max[k] + 1e-6 && lb.min[k] >= input.min[k] - 1e-6, `the layout lies within the file's box on axis ${k}`);
+  // Moving a layout vertex changes the layout: the grid and the fit go
+  // (drawn and exported) until the layout is gridded again.
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  const hitsNow = await surfaceGrid(page, 8);
+  const v0 = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices.slice(0, 3)]);
+  const away = hitsNow.map((h) => ({ h, d: Math.hypot(h.p[0] - v0[0], h.p[1] - v0[1], h.p[2] - v0[2]) })).filter((e) => e.d > 0.01).sort((x, y) => x.d - y.d)[0].h;
+  await page.evaluate((p) => window.quadrille.designAction('moveLayoutVertex', [0, p]), away.p);
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, DESIGN_WAIT);
+  const moved = await page.evaluate(() => ({ grid: window.quadrille.design.grid, fit: window.quadrille.design.fit, segments: window.quadrille.design.segments['layout grid'],
+    surface: window.quadrille.design.shownSurface }));
+  assert(moved.grid === null && moved.fit === null && moved.segments === 0 && moved.surface !== 'Limit surface (design)', `after a vertex move the grid is gone: ${JSON.stringify({ ...moved, grid: !!moved.grid, fit: !!moved.fit })}`);
+  const refused = await page.evaluate(() => window.quadrille.exportLayout('grid-obj').then(() => null, (e) => e.message));
+  assert(refused && refused.includes('grid the layout first'), `the stale grid is not exported: ${refused}`);
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
