@@ -14,7 +14,10 @@
 //!    rings;
 //! 4. two anchors apart (as the page's two clicks): v and an independent
 //!    random vertex;
-//! 5. three anchors apart: those two and a third random vertex.
+//! 5. three anchors apart: those two and a third random vertex;
+//! 6. the page's grab: on the loop through the two anchors apart, an anchor
+//!    inserted halfway from the first to the second, moved off the loop by a
+//!    few rings (what `tests/e2e/bench_design.mjs` times in the browser).
 //!
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
 //! per case (mesh, trial, case, cost) for comparing loop energies between
@@ -72,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t.elapsed().as_secs_f64()
         );
         let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
-        let mut times: [Vec<f64>; 5] = Default::default();
+        let mut times: [Vec<f64>; 6] = Default::default();
         let cases = std::env::var("BENCH_CASES").ok();
         let wanted = |case: &str| {
             cases
@@ -124,9 +127,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             // third anchor at independent random vertices.
             let w = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let two = [click[0], Anchor::positional(mesh.positions[w])];
-            if wanted("apart2") {
+            let mut through_two = None;
+            if wanted("apart2") || wanted("grab2") {
                 let (l, ms) = timed(&mut engine, &two);
-                report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
+                if wanted("apart2") {
+                    report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
+                }
+                through_two = l;
             }
             let u = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let three = [two[0], two[1], Anchor::positional(mesh.positions[u])];
@@ -134,8 +141,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let (l, ms) = timed(&mut engine, &three);
                 report(&mut lines, &label, trial, "apart3", &l, ms, &mut times[4]);
             }
+            if let Some(l2) = through_two.filter(|_| wanted("grab2")) {
+                // The loop starts at the first anchor: halfway to the second.
+                let (s1, s2) = (arc_of(&l2, two[0].position), arc_of(&l2, two[1].position));
+                let half = if s2 >= s1 {
+                    0.5 * (s1 + s2)
+                } else {
+                    0.5 * (s1 + s2 + l2.length())
+                };
+                let (g, tg) = along(&l2, (half / l2.length().max(f64::MIN_POSITIVE)).fract());
+                let n = normal_at(&mesh, &engine, g);
+                let off = g + n.cross(tg).normalize_or_zero() * 0.03 * engine.graph.g.diagonal;
+                let grab2 = [two[0], Anchor::positional(snap(&engine, off)), two[1]];
+                let (l, ms) = timed(&mut engine, &grab2);
+                report(&mut lines, &label, trial, "grab2", &l, ms, &mut times[5]);
+            }
         }
-        for (case, t) in ["click", "drag", "grab", "apart2", "apart3"]
+        for (case, t) in ["click", "drag", "grab", "apart2", "apart3", "grab2"]
             .iter()
             .zip(&mut times)
         {
@@ -182,6 +204,26 @@ fn report(
     let closed = l.as_ref().is_some_and(|l| l.closed);
     println!("  trial {trial} {case}: {ms:.1} ms, cost {cost:.6}, closed {closed}");
     *lines += &format!("{mesh} {trial} {case} {cost}\n");
+}
+
+/// The arc length along `l` of its point nearest to `p`.
+fn arc_of(l: &DualLoop, p: DVec3) -> f64 {
+    let (mut best, mut at, mut walked) = (f64::INFINITY, 0.0, 0.0);
+    for w in l.points.windows(2) {
+        let d = w[1] - w[0];
+        let len = d.length();
+        let t = if len > 0.0 {
+            ((p - w[0]).dot(d) / (len * len)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist = p.distance(w[0] + d * t);
+        if dist < best {
+            (best, at) = (dist, walked + t * len);
+        }
+        walked += len;
+    }
+    at
 }
 
 /// The point at fraction `s` of a polyline's length, and the unit tangent.

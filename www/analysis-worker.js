@@ -3,18 +3,29 @@
 // of the committed loops, away from the layout worker so that hover, clicks
 // and Enter never wait for it. Started by the layout worker.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name }
+// Messages in:   { type: 'init', bytes: ArrayBuffer, name, latest: SharedArrayBuffer | null,
+//                  hold: SharedArrayBuffer | null }   hold (tests): while 1, a running analysis waits
+//                  at its first step (after posting 'held')
 //                { type: 'analyze', serial, input }   input: LayoutDesigner.takeAnalysisInput()
 // Messages out:  { type: 'analysis', serial, revision, analysis, ms }
+//                { type: 'held', serial, revision }
+//                { type: 'cancelled', serial, revision, started, ms }
 //                { type: 'error', serial, message, fatal }
+// Every request is answered once (analysis, cancelled or error).
 //
-// Only the newest request runs: requests that arrive while one is running
-// replace each other (a newer action cancels a stale analysis that has not
-// started); the layout worker ignores results whose serial is not its newest.
+// A newer action cancels a stale analysis: requests that arrive while one
+// runs replace each other (the replaced one is answered 'cancelled' with
+// started false), and the running one stops at its next step when the
+// layout worker's newest serial (`latest`, shared, written by the layout
+// worker) is no longer its own (answered 'cancelled' with started true).
+// Without cross-origin isolation there is no shared memory: then the layout
+// worker replaces this worker instead (see layout-worker.js).
 import init, { LayoutAnalyzer, takePanicMessage } from './pkg/quadrille.js';
 
 const ready = init();
 let analyzer = null;
+let latest = null; // Int32Array over the shared newest serial, or null
+let hold = null; // Int32Array over the tests' hold flag, or null
 let pending = null;
 let scheduled = false;
 
@@ -24,15 +35,31 @@ function transferables(value, out = []) {
   return out;
 }
 
+function cancelled(m, started, ms) {
+  self.postMessage({ type: 'cancelled', serial: m.serial, revision: m.input.revision, started, ms });
+}
+
 function run() {
   scheduled = false;
   const m = pending;
   pending = null;
-  if (!m || !analyzer) return;
+  if (!m) return;
+  if (!analyzer) {
+    self.postMessage({ type: 'error', serial: m.serial, message: 'the analysis worker has no mesh', fatal: false });
+    return;
+  }
   try {
     const started = performance.now();
     const i = m.input;
-    const analysis = analyzer.analyze(i.points, i.lengths, i.closed, i.moves);
+    const current = () => {
+      if (hold && Atomics.load(hold, 0) === 1) {
+        self.postMessage({ type: 'held', serial: m.serial, revision: i.revision });
+        Atomics.wait(hold, 0, 1);
+      }
+      return !latest || Atomics.load(latest, 0) === m.serial;
+    };
+    const analysis = analyzer.analyze(i.points, i.lengths, i.closed, i.moves, current);
+    if (analysis === null) { cancelled(m, true, performance.now() - started); return; }
     analysis.revision = i.revision;
     self.postMessage({ type: 'analysis', serial: m.serial, revision: i.revision, analysis, ms: performance.now() - started },
       transferables(analysis));
@@ -53,12 +80,15 @@ self.onmessage = async (event) => {
     if (analyzer) analyzer.free();
     analyzer = null;
     pending = null;
+    latest = m.latest ? new Int32Array(m.latest) : null;
+    hold = m.hold ? new Int32Array(m.hold) : null;
     try {
       analyzer = new LayoutAnalyzer(new Uint8Array(m.bytes), m.name);
     } catch (error) {
       self.postMessage({ type: 'error', serial: null, message: String((error && error.message) || error), fatal: false });
     }
   } else if (m.type === 'analyze') {
+    if (pending) cancelled(pending, false, 0);
     pending = m;
     if (!scheduled) {
       scheduled = true;

@@ -76,6 +76,14 @@ export function createDesignMode(ctx) {
     // press while one waits).
     queuedEnters: 0, droppedEnters: 0, queuedEnterProposal: null,
     actionsSent: 0, actionsAnswered: 0,
+    // Revisions of the analyses drawn, in order, and the stale analyses
+    // given up ({ revision, started, ms }; started: stopped while running).
+    analysisRevisions: [], cancelledAnalyses: [],
+    // Tests: the revision of the analysis last held at its first step.
+    heldAnalysis: null,
+    // Segments in each line layer this mode drew last, and the label of
+    // the surface it shows (null: the input's).
+    segments: {}, shownSurface: null,
   };
   let worker = null;
   let inputName = null;
@@ -90,8 +98,8 @@ export function createDesignMode(ctx) {
   let gesture = null; // the current left-button gesture
   let nextRequest = 1;
   const pending = new Map();
-  const stripCounts = []; // grid count per strip (undefined: the panel's count)
-  let gridRevision = null; // design revision the drawn grid belongs to
+  const stripCounts = new Map(); // grid count per strip id (none: the panel's count)
+  let gridSerial = null; // the analysis serial (strips and moves) the drawn grid belongs to
 
   function post(message, transfer) {
     if (worker && !stats.crashed) worker.postMessage(message, transfer || []);
@@ -103,6 +111,8 @@ export function createDesignMode(ctx) {
     stop();
     stats.crashed = false;
     stats.ready = false;
+    stripCounts.clear(); // a new session: its strip ids start again
+    clearGrid();
     inputName = input.name;
     stats.startedAt = performance.now();
     worker = new Worker(new URL('./layout-worker.js', import.meta.url), { type: 'module' });
@@ -147,7 +157,7 @@ export function createDesignMode(ctx) {
         stats.readyAfterMs = performance.now() - stats.startedAt;
         surface = m.surface;
         // On a proxy, the proxy is drawn: the loops lie on it, not on the input.
-        if (m.proxy) ctx.setRegionSurface(proxySurface());
+        if (m.proxy) setSurface(proxySurface());
         $('design-note').textContent = (m.proxy
           ? `Designing on a proxy of ${m.faces} faces (decimated from the ${m.inputFaces}-face input) so hovering stays fast. `
           : `${m.faces} faces. `) + `Loop engine built in ${m.buildMs.toFixed(0)} ms.`;
@@ -186,7 +196,16 @@ export function createDesignMode(ctx) {
         break;
       }
       case 'analysis':
+        // A newer analysis: the strips or the layout-vertex moves changed.
+        if (stats.grid && m.serial > gridSerial) clearGrid();
+        stats.analysisRevisions.push(m.analysis.revision);
         onAnalysis(m.analysis, m.ms);
+        break;
+      case 'analysis-cancelled':
+        stats.cancelledAnalyses.push({ revision: m.revision, started: m.started, ms: m.ms });
+        break;
+      case 'analysis-held':
+        stats.heldAnalysis = m.revision;
         break;
       case 'reply': {
         const p = pending.get(m.id);
@@ -234,6 +253,12 @@ export function createDesignMode(ctx) {
     const v = ctx.viewer();
     if (!v) return;
     v.set_lines(name, segments, rgba);
+    stats.segments[name] = segments.length / 6;
+  }
+
+  function setSurface(surface) {
+    stats.shownSurface = surface ? surface.label || surface.name : null;
+    ctx.setRegionSurface(surface);
   }
 
   function setPoints(name, positions, rgba, size) {
@@ -291,7 +316,6 @@ export function createDesignMode(ctx) {
   }
 
   function onAnalysis(a, ms) {
-    if (gridRevision !== null && gridRevision !== a.revision) clearGrid();
     stats.analysis = a;
     stats.analyses++;
     stats.analysisMs = ms;
@@ -299,9 +323,24 @@ export function createDesignMode(ctx) {
     setPoints('strip singularities', a.singularities, a.singularityColours.length ? a.singularityColours : new Uint8Array([31, 111, 221, 255]), 9);
     setLines('layout edges', a.layoutEdges, new Uint8Array(COLOURS.layoutEdge));
     setPoints('layout vertices', a.layoutVertices, new Uint8Array(COLOURS.layoutVertex), 13);
-    if (!stats.fit) ctx.setRegionSurface(a.regionCategory.length && surface ? regionSurface(a.regionCategory) : stats.proxy ? proxySurface() : null);
+    drawGridAndSurface();
     updatePanel();
     ctx.requestRender();
+  }
+
+  // The gridded layout (in the stripes' place) and the surface the mode
+  // shows: the fit's limit surface, else the region colouring, else the
+  // proxy (or the input's own surface).
+  function drawGridAndSurface() {
+    if (stats.grid) {
+      setLines('layout grid', stats.grid.edges, new Uint8Array(COLOURS.grid));
+      setLines('strips', new Float32Array(0), new Uint8Array(4));
+    }
+    const a = stats.analysis;
+    const f = stats.fit && stats.fit.surface;
+    setSurface(f ? { name: REGION_SURFACE, label: 'Limit surface (design)', color: '#9970ab', color2: '#5aae61', positions: f.positions, triangles: f.triangles, normals: f.normals, scalar: f.scalar }
+      : a && a.regionCategory.length && surface ? regionSurface(a.regionCategory)
+        : stats.proxy && surface ? proxySurface() : null);
   }
 
   // The proxy as an indexed surface with area-weighted vertex normals.
@@ -401,8 +440,8 @@ export function createDesignMode(ctx) {
       count.max = '256';
       count.className = 'design-strip-count';
       count.title = `grid segments across strip ${i + 1}`;
-      count.value = String(stripCounts[i] ?? gridCount());
-      count.addEventListener('change', () => { stripCounts[i] = Math.round(Number(count.value)) || gridCount(); });
+      count.value = String(stripCounts.get(l.id) ?? gridCount());
+      count.addEventListener('change', () => { stripCounts.set(l.id, Math.round(Number(count.value)) || gridCount()); });
       li.append(sw, label, count, del);
       return li;
     }));
@@ -516,7 +555,7 @@ export function createDesignMode(ctx) {
       if (name.endsWith('anchors') || name.endsWith('vertices') || name.endsWith('singularities') || name.endsWith('crossings')) v.set_points(name, new Float32Array(0), new Uint8Array(4), 1);
       else v.set_lines(name, new Float32Array(0), new Uint8Array(4));
     }
-    ctx.setRegionSurface(null);
+    setSurface(null);
   }
 
   function enter() {
@@ -534,9 +573,10 @@ export function createDesignMode(ctx) {
       stats.hoverWorkerMs = [];
       start();
     } else if (stats.state) {
-      if (stats.proxy && surface) ctx.setRegionSurface(proxySurface());
+      // Back in the mode: everything as it was, the grid and fit included.
       onState(stats.state);
       if (stats.analysis) onAnalysis(stats.analysis, stats.analysisMs);
+      else drawGridAndSurface();
     }
     updatePanel();
   }
@@ -571,10 +611,11 @@ export function createDesignMode(ctx) {
   }
 
   const gridCount = () => Math.max(1, Math.min(256, Math.round(Number($('design-grid-count').value)) || 8));
-  const countsFor = (n) => Array.from({ length: n }, (_, i) => stripCounts[i] ?? gridCount());
+  // One count per committed strip, in the strips' order, kept by strip id.
+  const counts = () => (stats.state ? stats.state.loops : []).map((l) => stripCounts.get(l.id) ?? gridCount());
 
   function clearGrid() {
-    gridRevision = null;
+    gridSerial = null;
     stats.grid = stats.fit = null;
     setLines('layout grid', new Float32Array(0), new Uint8Array(4));
     $('design-fit').disabled = true;
@@ -583,17 +624,12 @@ export function createDesignMode(ctx) {
   }
 
   // Grids the layout (one count per strip) and draws the quads.
-  async function gridLayout(counts) {
-    const strips = stats.state ? stats.state.loops.length : 0;
-    const revision = stats.state ? stats.state.revision : null;
-    const g = await request({ type: 'grid', counts: counts || countsFor(strips) });
+  async function gridLayout(given) {
+    const g = await request({ type: 'grid', counts: given || counts() });
     stats.grid = g;
     stats.fit = null;
-    gridRevision = revision;
-    setLines('layout grid', g.edges, new Uint8Array(COLOURS.grid));
-    // The grid takes the stripes' place (they return with the next analysis).
-    setLines('strips', new Float32Array(0), new Uint8Array(4));
-    if (stats.analysis) ctx.setRegionSurface(stats.analysis.regionCategory.length && surface ? regionSurface(stats.analysis.regionCategory) : stats.proxy ? proxySurface() : null);
+    gridSerial = g.serial;
+    drawGridAndSurface();
     $('design-fit').disabled = false;
     $('design-export-grid').disabled = false;
     $('design-grid-status').textContent = `${g.vertices} vertices · ${g.faces} quads${g.folded ? ` · ${g.folded} folded` : ''} · ${g.ms.toFixed(0)} ms`;
@@ -606,8 +642,7 @@ export function createDesignMode(ctx) {
     $('design-grid-status').textContent = 'fitting…';
     const f = await request({ type: 'fit' });
     stats.fit = f;
-    const s = f.surface;
-    ctx.setRegionSurface({ name: REGION_SURFACE, label: 'Limit surface (design)', color: '#9970ab', color2: '#5aae61', positions: s.positions, triangles: s.triangles, normals: s.normals, scalar: s.scalar });
+    drawGridAndSurface();
     const after = f.summary.after;
     $('design-grid-status').textContent = `${stats.grid.faces} quads → control mesh of ${f.summary.control_faces} · limit error ${Number((100 * after.hausdorff).toPrecision(2))} % of the size (mean ${Number((100 * after.stats.mean).toPrecision(2))} %) · ${f.ms.toFixed(0)} ms`;
     ctx.requestRender();
@@ -656,6 +691,7 @@ export function createDesignMode(ctx) {
     enter, leave, reset, onHoverMove, onWheel, onDown, onDrag, onUp, onKey, exportLayout, gridLayout, fitLayout,
     action: (name, args) => action(name, args),
     crashForTesting: () => post({ type: 'crash-for-testing' }),
+    holdAnalysisForTesting: (on) => post({ type: 'hold-analysis-for-testing', on }),
     hoverMedianMs: () => median(stats.hoverLatencies),
   };
 }

@@ -9,14 +9,18 @@
 //                  insertAnchorOnLoop, moveGrabbedAnchor, clearAnchors, commit, deleteStrip, undo, redo,
 //                  browse, moveLayoutVertex, setMirror
 //                { type: 'export', id, format }                 'obj' | 'json' | 'grid-obj'
-//                { type: 'grid', id, counts }                   grid the layout (one count per strip)
+//                { type: 'grid', id, counts }                   grid the layout (one count per strip);
+//                                                               the reply's serial: the analysis it goes with
 //                { type: 'fit', id }                            fit the gridded layout
 //                { type: 'crash-for-testing' }
+//                { type: 'hold-analysis-for-testing', on }      while on, a running analysis waits at its first step
 // Messages out:  { type: 'progress', text }
 //                { type: 'ready', faces, inputFaces, proxy, buildMs, surface }
 //                { type: 'hover', proposal: Float32Array, ms, t }
 //                { type: 'state', action, value, state, ms, t, serial }  right after each action
-//                { type: 'analysis', analysis, ms }             afterwards, when the strips changed
+//                { type: 'analysis', analysis, ms, serial }     afterwards, when the strips or moves changed
+//                { type: 'analysis-cancelled', revision, started, ms }  a stale analysis given up
+//                { type: 'analysis-held', revision }            (tests) an analysis waits, held
 //                { type: 'reply', id, value?, error? }
 //                { type: 'error', message, fatal }              fatal: the worker must be replaced
 import init, { LayoutDesigner, takePanicMessage, panicForTesting } from './pkg/quadrille.js';
@@ -47,15 +51,34 @@ function fail(error) {
 // loops go there with a new serial; its answer is used only when it is for
 // the newest serial, and its covered directions (§6.2) only when they are
 // for the current revision (LayoutDesigner.applyCovered checks).
+//
+// A newer action cancels a stale analysis: the newest serial is shared with
+// the analysis worker (`latest`), which stops a running analysis at its next
+// step once the serial is no longer its own. Without cross-origin isolation
+// (no SharedArrayBuffer) the analysis worker is replaced instead when a
+// request is still unanswered.
 let analyzer = null;
 let analyzerInit = null;
 let serial = 0;
+const latest = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
+const hold = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null; // tests only
+let unanswered = 0; // requests the analysis worker has not answered yet
 
 function startAnalyzer() {
   if (analyzer) analyzer.terminate();
+  unanswered = 0;
   analyzer = new Worker(new URL('./analysis-worker.js', import.meta.url), { type: 'module' });
   analyzer.onmessage = (event) => {
     const r = event.data;
+    if (r.type === 'held') {
+      self.postMessage({ type: 'analysis-held', revision: r.revision });
+      return;
+    }
+    if (r.serial !== null) unanswered = Math.max(0, unanswered - 1);
+    if (r.type === 'cancelled') {
+      self.postMessage({ type: 'analysis-cancelled', revision: r.revision, started: r.started, ms: r.ms });
+      return;
+    }
     if (r.serial !== serial || !designer) return;
     if (r.type === 'error') {
       self.postMessage({ type: 'error', message: `analysis: ${r.message}`, fatal: false });
@@ -66,18 +89,24 @@ function startAnalyzer() {
     designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections);
     delete a.coveredCounts;
     delete a.coveredDirections;
-    self.postMessage({ type: 'analysis', analysis: a, ms: r.ms }, transferables(a));
+    self.postMessage({ type: 'analysis', analysis: a, ms: r.ms, serial: r.serial }, transferables(a));
   };
   analyzer.onerror = (e) => {
     self.postMessage({ type: 'error', message: `analysis worker: ${e.message || e}`, fatal: false });
   };
-  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name });
+  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name, latest: latest && latest.buffer, hold: hold && hold.buffer });
 }
 
 function queueAnalysis() {
   const input = designer && designer.takeAnalysisInput();
   if (!input) return;
   serial += 1;
+  if (latest) Atomics.store(latest, 0, serial);
+  else if (unanswered > 0) {
+    self.postMessage({ type: 'analysis-cancelled', revision: null, started: true, ms: null });
+    startAnalyzer();
+  }
+  unanswered += 1;
   analyzer.postMessage({ type: 'analyze', serial, input }, transferables(input));
 }
 
@@ -104,6 +133,10 @@ self.onmessage = async (event) => {
       }, transferables(surface));
     } else if (m.type === 'crash-for-testing') {
       panicForTesting();
+    } else if (m.type === 'hold-analysis-for-testing') {
+      if (!hold) throw new Error('holding the analysis needs cross-origin isolation');
+      Atomics.store(hold, 0, m.on ? 1 : 0);
+      if (!m.on) Atomics.notify(hold, 0);
     } else if (!designer) {
       throw new Error('the layout worker has no mesh yet');
     } else if (m.type === 'hover') {
@@ -121,6 +154,8 @@ self.onmessage = async (event) => {
       try {
         const value = m.type === 'export' ? designer.export(m.format)
           : m.type === 'grid' ? designer.grid(new Uint32Array(m.counts)) : designer.fit();
+        // The grid belongs to the state of the newest analysis request.
+        if (m.type === 'grid') value.serial = serial;
         self.postMessage({ type: 'reply', id: m.id, value }, transferables(value));
       } catch (error) {
         if (error instanceof WebAssembly.RuntimeError) throw error;

@@ -1611,6 +1611,7 @@ window.quadrille.gridLayout = (counts) => design.gridLayout(counts);
 window.quadrille.fitLayout = () => design.fitLayout();
 window.quadrille.designAction = (name, args = []) => design.action(name, args);
 window.quadrille.crashLayoutWorker = () => design.crashForTesting();
+window.quadrille.holdDesignAnalysis = (on) => design.holdAnalysisForTesting(on);
 window.quadrille.hoverMedianMs = () => design.hoverMedianMs();
 // The surface point (local coordinates) under a client position, for tests.
 window.quadrille.surfacePoint = (clientX, clientY) => {

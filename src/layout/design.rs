@@ -54,6 +54,10 @@ fn reflect_anchor(m: &MirrorPlane, a: &Anchor) -> Anchor {
 /// A committed dual loop: the spine of one strip.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommittedLoop {
+    /// The strip's identity: unique in the session, kept through delete,
+    /// undo and redo (what per-strip settings such as grid counts key on;
+    /// the strip's index shifts when an earlier strip is deleted).
+    pub id: u64,
     pub dual: DualLoop,
     /// The anchors that made it (the hover point for a plain proposal).
     pub anchors: Vec<Anchor>,
@@ -117,6 +121,8 @@ pub struct LayoutDesign {
     redo: Vec<Snapshot>,
     /// Bumped whenever the committed loops change.
     revision: u64,
+    /// The id the next committed loop gets ([`CommittedLoop::id`]).
+    next_id: u64,
 }
 
 impl LayoutDesign {
@@ -130,6 +136,7 @@ impl LayoutDesign {
             undo: Vec::new(),
             redo: Vec::new(),
             revision: 0,
+            next_id: 0,
         }
     }
 
@@ -339,13 +346,16 @@ impl LayoutDesign {
             .and_then(|m| self.mirror_loop(&m, &dual, &anchors));
         self.push_undo();
         let mut added = vec![CommittedLoop {
+            id: 0,
             dual,
             anchors,
             mirrored: false,
         }];
         added.extend(copy);
         let count = added.len();
-        for c in &added {
+        for c in &mut added {
+            c.id = self.next_id;
+            self.next_id += 1;
             self.engine.cover_loop(&c.dual, self.cover_half_width());
         }
         self.state.committed.extend(added);
@@ -519,6 +529,7 @@ impl LayoutDesign {
         }
         let l = self.engine.constrained_loop(&mirrored_anchors)?;
         Some(CommittedLoop {
+            id: 0, // set by the commit
             dual: l,
             anchors: mirrored_anchors,
             mirrored: true,
@@ -724,6 +735,34 @@ mod tests {
         assert_eq!(d.snapshot(), &before);
         assert_eq!(d.engine.disabled_count(), disabled, "covering recomputed");
         assert_eq!(d.delete_strip(7), Err(DesignError::NoSuchStrip(7)));
+    }
+
+    /// A strip keeps its id through the deletion of an earlier strip, undo
+    /// and redo; a strip committed after an undo gets an id never used.
+    #[test]
+    fn strips_keep_their_ids_through_delete_undo_and_redo() {
+        let mut d = torus_design();
+        for p in [on_torus(0.0, 0.0), on_torus(1.0, 1.6), on_torus(2.5, 0.8)] {
+            d.hover(p);
+            d.commit().unwrap();
+        }
+        let ids = |d: &LayoutDesign| d.committed().iter().map(|c| c.id).collect::<Vec<_>>();
+        let three = ids(&d);
+        assert_eq!(three.len(), 3);
+        assert!(three[0] != three[1] && three[1] != three[2] && three[0] != three[2]);
+        d.delete_strip(0).unwrap();
+        assert_eq!(ids(&d), three[1..], "the later strips keep their ids");
+        d.undo().unwrap();
+        assert_eq!(ids(&d), three);
+        d.redo().unwrap();
+        assert_eq!(ids(&d), three[1..]);
+        d.undo().unwrap();
+        d.undo().unwrap();
+        assert_eq!(ids(&d), three[..2]);
+        d.hover(on_torus(3.5, 0.4));
+        d.commit().unwrap();
+        let fresh = ids(&d)[2];
+        assert!(!three.contains(&fresh), "a new strip, a new id: {fresh}");
     }
 
     #[test]

@@ -52,7 +52,7 @@ pub use design::LayoutDesign;
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
 pub use loops::{Anchor, DualLoop, LoopEngine, SelfCrossing};
-pub use strips::{Strip, StripAnalysis, StripParams, strip_analysis};
+pub use strips::{Strip, StripAnalysis, StripParams, strip_analysis, strip_analysis_with};
 pub use surface_graph::SurfaceGraph;
 
 pub(crate) use crate::mesh::OrdF64;

@@ -25,6 +25,7 @@ use super::embed::{EdgeTopology, EmbeddedLoop, Singularity};
 use super::parametrization::{Parametrization, Transition, parametrize_with};
 use super::strip_field::strip_field_with;
 use crate::mesh::TriMesh;
+use crate::progress::{Cancelled, Progress};
 
 /// One loop's strip.
 #[derive(Debug, Clone, PartialEq)]
@@ -140,6 +141,21 @@ pub fn strip_analysis(
     loops: &[EmbeddedLoop],
     params: &StripParams,
 ) -> StripAnalysis {
+    // A sink that never cancels: never `Cancelled`.
+    crate::progress::silently("strips", |p| strip_analysis_with(mesh, loops, params, p))
+        .unwrap_or_default()
+}
+
+/// [`strip_analysis`], reporting to `progress` between its steps (the
+/// cross field, the parametrization, each strip) and stopping at once when
+/// the sink cancels (the design mode's analysis when a newer action made
+/// it stale). The solves themselves run to their end.
+pub fn strip_analysis_with(
+    mesh: &TriMesh,
+    loops: &[EmbeddedLoop],
+    params: &StripParams,
+    progress: &mut Progress<'_>,
+) -> Result<StripAnalysis, Cancelled> {
     let nv = mesh.positions.len();
     let mut out = StripAnalysis {
         cross: vec![DVec3::ZERO; mesh.triangles.len()],
@@ -160,22 +176,24 @@ pub fn strip_analysis(
             }
         })
         .collect();
+    progress.report(0.0, "cross field")?;
     let Some(field) = strip_field_with(mesh, &topology, &valid) else {
         out.field_ms = now_ms() - start;
         if !valid.is_empty() {
             out.notes.push("no cross field (the solve failed)".into());
         }
-        return out;
+        return Ok(out);
     };
     out.cross = field.cross.clone();
     out.singularities = field.singularities.clone();
     let t1 = now_ms();
     out.field_ms = t1 - start;
+    progress.report(0.3, "parametrization")?;
     let Some(param) = parametrize_with(mesh, topology, &field, &valid) else {
         out.parametrization_ms = now_ms() - t1;
         out.notes
             .push("no parametrization (the solve failed)".into());
-        return out;
+        return Ok(out);
     };
     let t2 = now_ms();
     out.parametrization_ms = t2 - t1;
@@ -188,6 +206,7 @@ pub fn strip_analysis(
         .filter(|&i| loops[i].check(mesh).is_ok())
         .collect();
     for (j, l) in valid.iter().enumerate() {
+        progress.report(0.7 + 0.3 * j as f32 / valid.len() as f32, "strips")?;
         match grow_strip(mesh, &param, &singular, l) {
             Some(mut s) => {
                 s.loop_index = indices[j];
@@ -202,7 +221,7 @@ pub fn strip_analysis(
     out.uv = param.uv;
     out.folded = param.folded;
     out.strips_ms = now_ms() - t2;
-    out
+    Ok(out)
 }
 
 #[derive(Debug, PartialEq)]

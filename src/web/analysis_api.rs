@@ -8,12 +8,12 @@
 //! current.
 
 use glam::DVec3;
-use js_sys::Object;
 use wasm_bindgen::prelude::*;
 
 use super::layout_api::{analysis_to_js, design_meshes, now_ms, set};
 use super::layout_glue;
 use crate::mesh::TriMesh;
+use crate::progress::Progress;
 
 /// The design mesh (the input or its proxy, as in the layout worker).
 #[wasm_bindgen]
@@ -38,14 +38,17 @@ impl LayoutAnalyzer {
     /// of loop i, `closed[i]`) with the layout-vertex `moves` (vertex, x, y,
     /// z): the page's analysis object plus `coveredCounts: Uint32Array`
     /// and `coveredDirections: Float64Array` (§6.2, see
-    /// [`layout_glue::flatten_covered`]).
+    /// [`layout_glue::flatten_covered`]). `go_on()` is asked between the
+    /// analysis' steps; when it returns false (a newer action made these
+    /// loops stale) the analysis stops there and returns null.
     pub fn analyze(
         &self,
         points: &[f64],
         lengths: &[u32],
         closed: &[u8],
         moves: &[f64],
-    ) -> Result<Object, JsError> {
+        go_on: &js_sys::Function,
+    ) -> Result<JsValue, JsError> {
         let total: usize = lengths.iter().map(|&n| n as usize).sum();
         if points.len() != 3 * total || closed.len() != lengths.len() || moves.len() % 4 != 0 {
             return Err(JsError::new("malformed analysis input"));
@@ -65,7 +68,16 @@ impl LayoutAnalyzer {
             .chunks_exact(4)
             .map(|m| (m[0] as u32, DVec3::new(m[1], m[2], m[3])))
             .collect();
-        let a = layout_glue::analyze_loops(&self.mesh, &loops, &moves, &now_ms);
+        let mut sink = |_: &str, _: f32, _: &str| {
+            go_on
+                .call0(&JsValue::NULL)
+                .is_ok_and(|v| v.as_bool() != Some(false))
+        };
+        let mut progress = Progress::new(&mut sink, "design analysis");
+        let Ok(a) = layout_glue::analyze_loops(&self.mesh, &loops, &moves, &now_ms, &mut progress)
+        else {
+            return Ok(JsValue::NULL);
+        };
         let out = analysis_to_js(&a)?;
         let (counts, flat) = layout_glue::flatten_covered(&a.covered);
         set(
@@ -78,6 +90,6 @@ impl LayoutAnalyzer {
             "coveredDirections",
             js_sys::Float64Array::from(&flat[..]),
         )?;
-        Ok(out)
+        Ok(out.into())
     }
 }

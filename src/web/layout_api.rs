@@ -126,11 +126,11 @@ pub struct LayoutDesigner {
     mesh: TriMesh,
     input_faces: usize,
     design: LayoutDesign,
-    /// Revision and layout-vertex moves the last analysis was computed for.
-    analysed: Option<(u64, Vec<(u32, DVec3)>)>,
+    /// The key ([`Self::key`]) the last analysis was computed for.
+    analysed: Option<Key>,
     analysis: Option<analysis_glue::Analysis>,
-    /// Revision and moves last handed to the analysis worker.
-    posted: Option<(u64, Vec<(u32, DVec3)>)>,
+    /// The key last handed to the analysis worker.
+    posted: Option<Key>,
     last_error: Option<String>,
     /// The anchor inserted by the last grab, moved by the drag that follows.
     grabbed: Option<usize>,
@@ -139,9 +139,10 @@ pub struct LayoutDesigner {
     /// The input when the design runs on a proxy: the layout is mapped onto
     /// it before gridding, and the fit measures against it (§8.1).
     original: Option<TriMesh>,
-    /// The gridded layout of the last `grid` call (on the input), and its
-    /// fit; dropped when the design changes.
-    grid: Option<(u64, LayoutGrid)>,
+    /// The gridded layout of the last `grid` call (on the input) with the
+    /// key of the layout it grids (stale once the committed loops or the
+    /// layout-vertex moves change), and its fit.
+    grid: Option<(Key, LayoutGrid)>,
     fit: Option<FitResult>,
 }
 
@@ -349,7 +350,7 @@ impl LayoutDesigner {
         })
     }
 
-    /// The design state: `{ revision, loops: [{ points, mirrored, closed }],
+    /// The design state: `{ revision, loops: [{ id, points, mirrored, closed }],
     /// anchors: Float32Array (xyz), anchorDirections: Float32Array (xyz,
     /// zero = positional), proposal: Float32Array, selfCrossings: Float32Array
     /// (xyz), selfCrossingAngles: Float32Array (degrees), browse: [index, count],
@@ -361,6 +362,7 @@ impl LayoutDesigner {
         let loops = Array::new();
         for c in d.committed() {
             let l = Object::new();
+            set(&l, "id", c.id as f64)?;
             set(&l, "points", polyline(&c.dual.points))?;
             set(&l, "mirrored", c.mirrored)?;
             set(&l, "closed", c.dual.closed)?;
@@ -403,7 +405,7 @@ impl LayoutDesigner {
     /// x, y, z) }`), or null when it was already handed out for them.
     #[wasm_bindgen(js_name = takeAnalysisInput)]
     pub fn take_analysis_input(&mut self) -> Result<JsValue, JsError> {
-        let key = (self.design.revision(), self.design.moves().to_vec());
+        let key = self.key();
         if self.posted.as_ref() == Some(&key) {
             return Ok(JsValue::NULL);
         }
@@ -445,9 +447,7 @@ impl LayoutDesigner {
     /// Whether the analysis is behind the committed loops.
     #[wasm_bindgen(js_name = analysisStale)]
     pub fn analysis_stale(&self) -> bool {
-        self.analysed.as_ref().is_none_or(|(r, moves)| {
-            *r != self.design.revision() || moves.as_slice() != self.design.moves()
-        })
+        self.analysed.as_ref() != Some(&self.key())
     }
 
     /// Strips, regions, singularities and the layout of the committed loops
@@ -458,7 +458,7 @@ impl LayoutDesigner {
         if self.analysis_stale() {
             let a = analysis_glue::analyze(&self.mesh, &mut self.design, &now_ms);
             self.analysis = Some(a);
-            self.analysed = Some((revision, self.design.moves().to_vec()));
+            self.analysed = Some(self.key());
         }
         let out = match &self.analysis {
             Some(a) => analysis_to_js(a)?,
@@ -493,7 +493,7 @@ impl LayoutDesigner {
                 let (_, g) = self
                     .grid
                     .as_ref()
-                    .filter(|(r, _)| *r == self.design.revision())
+                    .filter(|(k, _)| *k == self.key())
                     .ok_or_else(|| JsError::new("grid the layout first"))?;
                 let world: Vec<DVec3> = g
                     .mesh
@@ -564,7 +564,7 @@ impl LayoutDesigner {
         set(&out, "faces", g.mesh.face_count() as u32)?;
         set(&out, "folded", g.folded as u32)?;
         set(&out, "ms", now_ms() - started)?;
-        self.grid = Some((self.design.revision(), g));
+        self.grid = Some((self.key(), g));
         self.fit = None;
         Ok(out)
     }
@@ -578,7 +578,7 @@ impl LayoutDesigner {
         let (_, g) = self
             .grid
             .as_ref()
-            .filter(|(r, _)| *r == self.design.revision())
+            .filter(|(k, _)| *k == self.key())
             .ok_or_else(|| JsError::new("grid the layout first"))?;
         let reference = self.original.as_ref().unwrap_or(&self.mesh);
         let f = crate::progress::silently("fit", |p| {
@@ -614,7 +614,15 @@ impl LayoutDesigner {
     }
 }
 
+/// What the analysis and the layout depend on: the committed loops'
+/// revision and the layout-vertex moves.
+type Key = (u64, Vec<(u32, DVec3)>);
+
 impl LayoutDesigner {
+    fn key(&self) -> Key {
+        (self.design.revision(), self.design.moves().to_vec())
+    }
+
     fn committed_loops(&self) -> Vec<(&[DVec3], bool)> {
         self.design
             .committed()

@@ -17,8 +17,9 @@ use crate::layout::grid::{GridError, LayoutGrid, grid_layout, patch_polygons};
 use crate::layout::primal::{LayoutExport, QuadLayout};
 use crate::layout::regions::{Guidance, Regions};
 use crate::layout::symmetry::{MirrorPlane, detect};
-use crate::layout::{EmbeddedLoop, LoopEmbedder, StripParams, strip_analysis};
+use crate::layout::{EmbeddedLoop, LoopEmbedder, StripParams, strip_analysis_with};
 use crate::mesh::{Frame, TriMesh};
+use crate::progress::{Cancelled, Progress};
 use crate::spatial::SurfaceIndex;
 
 /// ColorBrewer Set1/Dark2-like distinct strip colours.
@@ -112,7 +113,11 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
         .iter()
         .map(|c| (&c.dual.points[..], c.dual.closed))
         .collect();
-    let a = analyze_loops(mesh, &loops, design.moves(), clock);
+    // A sink that never cancels: never `Cancelled`.
+    let a = crate::progress::silently("design analysis", |p| {
+        analyze_loops(mesh, &loops, design.moves(), clock, p)
+    })
+    .unwrap_or_default();
     if !a.covered.is_empty() {
         design.apply_covered(design.revision(), &a.covered);
     }
@@ -122,13 +127,17 @@ pub fn analyze(mesh: &TriMesh, design: &mut LayoutDesign, clock: &dyn Fn() -> f6
 /// [`analyze`] of committed loops given as (polyline, closed) with the
 /// layout-vertex moves, without a design session: what the analysis worker
 /// runs. The covered directions of §6.2 are returned in
-/// [`Analysis::covered`] for the session to apply.
+/// [`Analysis::covered`] for the session to apply. Reports to `progress`
+/// between its steps (each loop's embedding, §6's steps, the regions, the
+/// layout) and returns `Cancelled` as soon as the sink says stop: the
+/// analysis worker's sink does when a newer action made the loops stale.
 pub fn analyze_loops(
     mesh: &TriMesh,
     loops: &[(&[DVec3], bool)],
     moves: &[(u32, DVec3)],
     clock: &dyn Fn() -> f64,
-) -> Analysis {
+    progress: &mut Progress<'_>,
+) -> Result<Analysis, Cancelled> {
     let mut a = Analysis {
         counts: Counts {
             strips: loops.len(),
@@ -145,6 +154,7 @@ pub fn analyze_loops(
         match LoopEmbedder::new(mesh) {
             Ok(embedder) => {
                 for (i, &(points, closed)) in loops.iter().enumerate() {
+                    progress.report(0.0, "embedding the loops")?;
                     match embedder.embed(points, closed) {
                         Ok(l) => {
                             embedded.push(l);
@@ -157,7 +167,7 @@ pub fn analyze_loops(
             Err(e) => notes.push(e.to_string()),
         }
     }
-    let strips = strip_analysis(mesh, &embedded, &StripParams::default());
+    let strips = strip_analysis_with(mesh, &embedded, &StripParams::default(), progress)?;
     a.available = true;
     a.timings.field_ms = strips.field_ms;
     a.timings.parametrization_ms = strips.parametrization_ms;
@@ -187,6 +197,7 @@ pub fn analyze_loops(
     a.counts.strips_grown = strips.strips.len();
 
     // §4.2: the regions between the loops and their guidance colours.
+    progress.report(0.8, "regions")?;
     let started = clock();
     let mut layout = None;
     let mut regions_failed = None;
@@ -224,6 +235,7 @@ pub fn analyze_loops(
             a.timings.regions_ms = clock() - started;
             // §7: the primal layout, with the user's vertex moves.
             if a.sufficient {
+                progress.report(0.9, "layout")?;
                 let started = clock();
                 match QuadLayout::build(mesh, &embedded, &regions, &strips.singularities) {
                     Ok(mut l) => {
@@ -272,7 +284,7 @@ pub fn analyze_loops(
         + a.timings.strips_ms
         + a.timings.regions_ms
         + a.timings.layout_ms;
-    a
+    Ok(a)
 }
 
 /// §6.2's covered directions as they cross between the workers: the
@@ -553,6 +565,50 @@ mod tests {
         );
         assert_eq!(a.layout_vertices.len(), 3 * c.layout_vertices);
         assert!(!a.layout_edges.is_empty());
+    }
+
+    /// A sink that says stop stops the analysis at its next report, at
+    /// every step from the first embedding to the layout; a sink that
+    /// never stops gets the whole analysis (the same as `analyze`'s).
+    #[test]
+    fn a_cancelled_analysis_stops_at_its_next_report() {
+        let (mesh, mut d) = torus_design();
+        commit_through(&mut d, on_torus(0.0, 0.0), DVec3::Z);
+        commit_through(&mut d, on_torus(std::f64::consts::PI, 0.0), DVec3::Z);
+        let u = std::f64::consts::FRAC_PI_2;
+        commit_through(&mut d, on_torus(u, 0.0), DVec3::new(-u.sin(), u.cos(), 0.0));
+        let loops: Vec<(&[DVec3], bool)> = d
+            .committed()
+            .iter()
+            .map(|c| (&c.dual.points[..], c.dual.closed))
+            .collect();
+        let run = |stop_after: usize| {
+            let mut steps = Vec::new();
+            let mut sink = |_: &str, _: f32, message: &str| {
+                steps.push(message.to_string());
+                steps.len() <= stop_after
+            };
+            let mut progress = Progress::new(&mut sink, "design analysis");
+            let r = analyze_loops(&mesh, &loops, &[], &|| 0.0, &mut progress);
+            (r, steps)
+        };
+        let (whole, steps) = run(usize::MAX);
+        let whole = whole.expect("not cancelled");
+        assert!(whole.sufficient, "{}", whole.status);
+        // Three embeddings, field, parametrization, three strips, regions, layout.
+        assert_eq!(steps.len(), 10, "{steps:?}");
+        assert_eq!(steps.last().map(String::as_str), Some("layout"));
+        for k in 0..steps.len() {
+            let (r, seen) = run(k);
+            assert_eq!(
+                r.err(),
+                Some(Cancelled),
+                "stopped at step {k} ({})",
+                steps[k]
+            );
+            assert_eq!(seen.len(), k + 1, "nothing reported after the stop");
+        }
+        assert_eq!(whole.json, analyze(&mesh, &mut d, &|| 0.0).json);
     }
 
     #[test]

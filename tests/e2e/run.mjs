@@ -648,6 +648,15 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   await page.mouse.move(0, 0);
   await settle(page);
   await page.screenshot({ path: join(artifacts, `design-torus-grid-fit-${env.backend}.png`) });
+  // Leaving the mode and coming back shows the grid and the fit again.
+  await page.keyboard.press('t');
+  await page.waitForFunction(() => !window.quadrille.design.active, null, DESIGN_WAIT);
+  await page.keyboard.press('t');
+  await page.waitForFunction(() => window.quadrille.design.active, null, DESIGN_WAIT);
+  const back = await page.evaluate(() => ({ grid: window.quadrille.design.segments['layout grid'], strips: window.quadrille.design.segments.strips,
+    surface: window.quadrille.design.shownSurface, drawn: window.quadrille.drawnSurface() }));
+  assert(back.grid > 0 && back.strips === 0, `back in the mode, the grid is drawn in the stripes' place: ${JSON.stringify(back)}`);
+  assert(back.surface === 'Limit surface (design)' && back.drawn === 'layout regions', `back in the mode, the limit surface is shown: ${JSON.stringify(back)}`);
   // The gridded mesh: quads only, closed torus (V − E + F = 0), in the file's units.
   const obj = parseObj(await page.evaluate(() => window.quadrille.exportLayout('grid-obj')));
   assert(obj.faces.length === g.faces && obj.faces.every((f) => f.length === 4), 'the OBJ has quad faces only');
@@ -671,6 +680,83 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(layout.faces.length === a.counts.patches, `one face per patch: ${layout.faces.length}`);
   const lb = bbox(layout.positions);
   for (let k = 0; k < 3; k++) assert(lb.max[k] <= input.max[k] + 1e-6 && lb.min[k] >= input.min[k] - 1e-6, `the layout lies within the file's box on axis ${k}`);
+  // Moving a layout vertex changes the layout: the grid and the fit go
+  // (drawn and exported) until the layout is gridded again.
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  const hitsNow = await surfaceGrid(page, 8);
+  const v0 = await page.evaluate(() => [...window.quadrille.design.analysis.layoutVertices.slice(0, 3)]);
+  const away = hitsNow.map((h) => ({ h, d: Math.hypot(h.p[0] - v0[0], h.p[1] - v0[1], h.p[2] - v0[2]) })).filter((e) => e.d > 0.01).sort((x, y) => x.d - y.d)[0].h;
+  await page.evaluate((p) => window.quadrille.designAction('moveLayoutVertex', [0, p]), away.p);
+  await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, DESIGN_WAIT);
+  const moved = await page.evaluate(() => ({ grid: window.quadrille.design.grid, fit: window.quadrille.design.fit, segments: window.quadrille.design.segments['layout grid'],
+    surface: window.quadrille.design.shownSurface }));
+  assert(moved.grid === null && moved.fit === null && moved.segments === 0 && moved.surface !== 'Limit surface (design)', `after a vertex move the grid is gone: ${JSON.stringify({ ...moved, grid: !!moved.grid, fit: !!moved.fit })}`);
+  const refused = await page.evaluate(() => window.quadrille.exportLayout('grid-obj').then(() => null, (e) => e.message));
+  assert(refused && refused.includes('grid the layout first'), `the stale grid is not exported: ${refused}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: grid counts stay with their strip when an earlier strip is deleted and restored', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  await placeThreeTorusStrips(page);
+  await page.fill('#design-grid-count', '8');
+  const countOf = (i) => page.inputValue(`#design-strips li:nth-child(${i}) .design-strip-count`);
+  await page.fill('#design-strips li:nth-child(2) .design-strip-count', '4');
+  await page.dispatchEvent('#design-strips li:nth-child(2) .design-strip-count', 'change');
+  const ids = await page.evaluate(() => window.quadrille.design.state.loops.map((l) => l.id));
+  assert(new Set(ids).size === 3, `three strip ids: ${ids}`);
+  // Deleting strip 1: the second strip (now the first) keeps its 4.
+  await page.click('#design-strips li:nth-child(1) .design-delete');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 2, null, DESIGN_WAIT);
+  const afterDelete = [await countOf(1), await countOf(2)];
+  assert(JSON.stringify(afterDelete) === '["4","8"]', `after deleting strip 1 the counts follow their strips: ${afterDelete}`);
+  // Undo: all three back, the 4 on the second again; the grid uses it.
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, DESIGN_WAIT);
+  await waitForAnalysis(page);
+  const afterUndo = [await countOf(1), await countOf(2), await countOf(3)];
+  assert(JSON.stringify(afterUndo) === '["8","4","8"]', `after the undo: ${afterUndo}`);
+  const a = await page.evaluate(() => window.quadrille.design.analysis.counts);
+  const g = await page.evaluate(async () => { const g = await window.quadrille.gridLayout(); return { faces: g.faces }; });
+  // Two patches, one per crossing of a meridian strip with the strip
+  // around the hole: 8 × 8 and 4 × 8 quads.
+  assert(a.patches === 2 && g.faces === 64 + 32, `the grid with counts 8, 4, 8: ${g.faces} quads for ${a.patches} patches`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: a newer action cancels a stale analysis; its result is never shown; the last analysis is the latest state\u2019s', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  const hits = await surfaceGrid(page);
+  const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
+  await waitForAnalysis(page);
+  // The analyses wait at their first step while held (a test hook), so
+  // that the commit's analysis is surely running when the undo comes.
+  await page.evaluate(() => window.quadrille.holdDesignAnalysis(true));
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.5)]);
+  const committed = await page.evaluate(() => window.quadrille.design.state.revision);
+  await page.waitForFunction((r) => window.quadrille.design.heldAnalysis === r, committed, DESIGN_WAIT);
+  await page.keyboard.press('Control+z');
+  await page.waitForFunction(() => window.quadrille.design.state.loops.length === 1, null, DESIGN_WAIT);
+  // A click meanwhile answers (it does not wait for the analysis).
+  const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
+  const p = byX[Math.floor(byX.length * 0.3)];
+  await page.mouse.click(p.x, p.y);
+  await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
+  const during = await page.evaluate(() => ({ anchors: window.quadrille.design.state.anchors.length / 3, drawn: [...window.quadrille.design.analysisRevisions] }));
+  assert(during.anchors === 1 && !during.drawn.includes(committed), `the click answered while the analysis ran: ${JSON.stringify(during)}`);
+  await page.evaluate(() => window.quadrille.holdDesignAnalysis(false));
+  await waitForAnalysis(page);
+  const d = await page.evaluate(() => { const d = window.quadrille.design; return { cancelled: d.cancelledAnalyses, drawn: d.analysisRevisions,
+    revision: d.state.revision, loops: d.state.loops.length, analysis: { revision: d.analysis.revision, strips: d.analysis.counts.strips } }; });
+  console.log(`      [${env.backend}] torus: analyses given up ${JSON.stringify(d.cancelled)}; drawn revisions ${d.drawn}`);
+  assert(d.cancelled.some((c) => c.revision === committed && c.started), `the running analysis of the undone commit (revision ${committed}) was stopped: ${JSON.stringify(d.cancelled)}`);
+  for (const c of d.cancelled) assert(!d.drawn.includes(c.revision), `the stale analysis of revision ${c.revision} was never drawn: ${d.drawn}`);
+  assert(d.analysis.revision === d.revision && d.analysis.strips === d.loops && d.loops === 1, `the last analysis is the latest state's: ${JSON.stringify(d)}`);
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
