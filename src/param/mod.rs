@@ -274,12 +274,18 @@ pub struct Prepared {
 /// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
 /// calibrated field), topology.
 pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
+    prepare_timed(mesh, params, &|| 0.0).0
+}
+
+/// [`prepare`] and the milliseconds (by `clock`) of the filtered normals.
+fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (Prepared, f64) {
     let mut ap = params.analysis;
     ap.filtered_normals.mode = FilteredNormalsMode::Off;
     let mut analysis = analysis::analyze(mesh, &ap, &params.sizing);
     let target = crate::pipeline::target_vertex_count(mesh.vertex_count(), &params.sizing);
     crate::pipeline::calibrate_to_vertex_count(&mut analysis, target);
     let face_sizing = face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0);
+    let filtering = clock();
     let normals = if params.filtered_normals {
         let sigma: Vec<f64> = face_sizing
             .iter()
@@ -304,6 +310,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         .iter()
         .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
         .collect();
+    let filtered_ms = clock() - filtering;
     let topology = EdgeTopology::new(mesh);
     let fans = vertex_fans(mesh, &topology);
     let regions = matches!(params.alignment, Alignment::SmoothRegions | Alignment::Both)
@@ -316,7 +323,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         &face_sizing,
         params,
     );
-    Prepared {
+    let prepared = Prepared {
         analysis,
         face_sizing,
         normals,
@@ -324,7 +331,8 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         fans,
         regions,
         feature_edges,
-    }
+    };
+    (prepared, filtered_ms)
 }
 
 /// The feature-curve edges: interior edges whose faces' normals differ by
@@ -553,17 +561,19 @@ pub fn grid_map_of(
     field: &CrossField,
     params: &Params,
 ) -> Result<GridMap, ParamError> {
-    grid_map_with_progress(mesh, p, field, params, &mut |_| true)
+    grid_map_with_progress(mesh, p, field, params, &|| 0.0, &mut |_| true).map(|(m, _)| m)
 }
 
-/// [`grid_map_of`] asking `go_on(fraction rounded)` before every solve.
+/// [`grid_map_of`] asking `go_on(fraction rounded)` before every solve,
+/// with its stages' milliseconds by `clock`.
 fn grid_map_with_progress(
     mesh: &TriMesh,
     p: &Prepared,
     field: &CrossField,
     params: &Params,
+    clock: &dyn Fn() -> f64,
     go_on: &mut dyn FnMut(f32) -> bool,
-) -> Result<GridMap, ParamError> {
+) -> Result<(GridMap, seamless::MapTimings), ParamError> {
     let dirs: Option<Vec<Option<DVec3>>> = p.regions.as_ref().map(|r| {
         r.selected_faces()
             .iter()
@@ -583,7 +593,7 @@ fn grid_map_with_progress(
         feature_edges: &p.feature_edges,
         cyclic_loops: &loops,
     };
-    seamless::grid_map_with(&input, go_on).map_err(|e| match e {
+    seamless::grid_map_timed(&input, clock, go_on).map_err(|e| match e {
         seamless::MapStop::Solve => ParamError::Solve("parametrization"),
         seamless::MapStop::Cancelled => ParamError::Cancelled,
     })
@@ -592,9 +602,25 @@ fn grid_map_with_progress(
 /// Milliseconds per stage of [`run`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Timings {
+    /// Curvature, features, the calibrated sizing, topology, smooth
+    /// regions and feature curves: [`prepare`] without the filtered normals.
     pub analysis_ms: f64,
+    /// Ebke §3's filtered normals (σ = factor · S(f)).
+    pub filtered_normals_ms: f64,
+    /// The cross field, its period jumps and cones.
     pub cross_field_ms: f64,
+    /// Combing, the cut graph through the cones, wedges (MIQ §4).
+    pub cut_ms: f64,
+    /// The seamless map's constraints and energy, the condensed system's
+    /// sparse factorization and Campen §4.3's loop constraints.
+    pub seamless_ms: f64,
+    /// The greedy integer rounding with its re-solves (or the relaxation's
+    /// one solve) and the continuous unknowns' back-substitution.
+    pub rounding_ms: f64,
+    /// `cut_ms + seamless_ms + rounding_ms`.
     pub parametrization_ms: f64,
+    /// Flips and Campen §5's measures.
+    pub measures_ms: f64,
 }
 
 /// Everything [`run`] computes.
@@ -626,13 +652,13 @@ pub fn run_with_progress(
 ) -> Result<Run, ParamError> {
     let t0 = clock();
     progress.report(0.0, "analysis")?;
-    let prepared = prepare(mesh, params);
+    let (prepared, filtered_normals_ms) = prepare_timed(mesh, params, clock);
     let t1 = clock();
     progress.report(0.15, "cross field")?;
     let field = cross_field_of(mesh, &prepared, params)?;
     let t2 = clock();
     progress.report(0.3, "seamless map")?;
-    let map = grid_map_with_progress(mesh, &prepared, &field, params, &mut |f| {
+    let (map, stages) = grid_map_with_progress(mesh, &prepared, &field, params, clock, &mut |f| {
         progress
             .report(0.3 + 0.7 * f, "seamless map, integer rounding")
             .is_ok()
@@ -644,15 +670,21 @@ pub fn run_with_progress(
         |r| r.faces.clone(),
     );
     let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
+    let t4 = clock();
     Ok(Run {
         prepared,
         field,
         map,
         measures,
         timings: Timings {
-            analysis_ms: t1 - t0,
+            analysis_ms: t1 - t0 - filtered_normals_ms,
+            filtered_normals_ms,
             cross_field_ms: t2 - t1,
+            cut_ms: stages.cut_ms,
+            seamless_ms: stages.seamless_ms,
+            rounding_ms: stages.rounding_ms,
             parametrization_ms: t3 - t2,
+            measures_ms: t4 - t3,
         },
     })
 }

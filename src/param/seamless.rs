@@ -960,6 +960,29 @@ pub fn grid_map_with(
     input: &MapInput<'_>,
     go_on: &mut dyn FnMut(f32) -> bool,
 ) -> Result<GridMap, MapStop> {
+    grid_map_timed(input, &|| 0.0, go_on).map(|(map, _)| map)
+}
+
+/// Milliseconds of [`grid_map_timed`]'s stages.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MapTimings {
+    /// Combing, cut graph and wedges ([`cut`]), the combed frames.
+    pub cut_ms: f64,
+    /// Constraints, energy rows, the [`Condensed`] system (the sparse
+    /// factorization and block solves), the loops' constraints.
+    pub seamless_ms: f64,
+    /// The greedy rounding's re-solves (or the relaxation's solve) and
+    /// the back-substitution to every unknown.
+    pub rounding_ms: f64,
+}
+
+/// [`grid_map_with`] with its stages timed by `clock` (milliseconds).
+pub fn grid_map_timed(
+    input: &MapInput<'_>,
+    clock: &dyn Fn() -> f64,
+    go_on: &mut dyn FnMut(f32) -> bool,
+) -> Result<(GridMap, MapTimings), MapStop> {
+    let t0 = clock();
     let mesh = input.mesh;
     let nf = mesh.triangles.len();
     let raw: Vec<[u8; 3]> = input
@@ -980,6 +1003,7 @@ pub fn grid_map_with(
         anchored: &anchored,
     });
     let frames = combed_frames(mesh, input.field, &c);
+    let t1 = clock();
     let seams: Vec<(usize, usize)> = (0..nf)
         .flat_map(|f| (0..3).map(move |e| (f, e)))
         .filter(|&(f, e)| c.seam[f][e] && input.topology.across(f, e).is_some_and(|(g, _)| g > f))
@@ -1027,6 +1051,7 @@ pub fn grid_map_with(
     let sys = Condensed::new(&el, &rows, &z_quantities, &mut || go_on(0.0))?;
     drop(z_quantities);
     let closed_loops = close_loops(&mut el, &sys, &holonomies)?;
+    let t2 = clock();
     let (x, energy, steps, more, analyses) = if input.round {
         round(
             &mut el,
@@ -1051,7 +1076,7 @@ pub fn grid_map_with(
             })
         })
         .collect();
-    Ok(GridMap {
+    let map = GridMap {
         uv,
         cut: c,
         frames,
@@ -1062,7 +1087,14 @@ pub fn grid_map_with(
         symbolic_analyses: analyses,
         conflicts,
         closed_loops,
-    })
+    };
+    let t3 = clock();
+    let timings = MapTimings {
+        cut_ms: t1 - t0,
+        seamless_ms: t2 - t1,
+        rounding_ms: t3 - t2,
+    };
+    Ok((map, timings))
 }
 
 #[cfg(test)]
