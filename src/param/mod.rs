@@ -123,17 +123,42 @@ pub struct Params {
     /// the plain rounding put 5 of its 23 corner cones one or two rings
     /// away); of two feature edges less than 45° apart around a vertex
     /// one is dropped (`drop_sliver_sectors`: such a sector would get a
-    /// quarter turn). Default 0 (off): at 60° fandisk's misalignment
-    /// falls 25.7° → 4.2°, but the map still folds more. Flipped
-    /// triangles without features → with 60° (before the sliver rule) at
-    /// the default target and at 1000 vertices: fandisk 6 → 124 (192), 7
-    /// → 40 (46) — the rest mostly next to corners and at a ±¼ cone pair
-    /// a quarter edge apart; rocker-arm 7 → 16 (27), 6 → 15 (25), whose
-    /// 60° curves are short scan ridges; bunny 77 → 114 (129), 116 → 139
-    /// (150), cones 38 → 54 (66) at the default: its sharp edges are scan
-    /// noise; with feature-vertex alignment fandisk 10 → 59 (264),
-    /// rocker-arm 22 → 34 (56).
+    /// quarter turn), and so is the shorter of two curve segments closer
+    /// than [`Params::feature_curve_spacing`]. Default 0 (off): at 60°
+    /// fandisk's misalignment falls 25.65° → 5.41°, but the map still
+    /// folds more. Flipped triangles / cones without features → with 60°
+    /// at the default target and at 1000 vertices: fandisk 6/16 → 24/30,
+    /// 7/24 → 24/30 — the rest next to cones a ring off the curves, four
+    /// of them +¼ at rounded corners of the curves (sectors of 158° and
+    /// 180° at four vertices each: no single vertex asks for the cone),
+    /// which the rounding puts on the curve's isoline; rocker-arm 7/20 →
+    /// 9/22, 6/20 → 5/24; bunny 77/38 → 100/48, 116/40 → 119/48 (its
+    /// sharp edges are scan noise); with feature-vertex alignment fandisk
+    /// 10 → 32, rocker-arm 22 → 24 flips. (Before the sliver rule:
+    /// fandisk 192 and 46, rocker-arm 27 and 25, bunny 129 and 150.)
+    /// Zero-area triangles count as flipped: of the bunny's 77 without
+    /// features 54 have zero area, 48 of them with two boundary corners at
+    /// the same (u, v) (its small holes, whose boundary edges lie on
+    /// isolines of both coordinates, collapse).
     pub feature_curve_degrees: f64,
+    /// Of two feature curve segments closer than this many target edges
+    /// (away from a corner they share), the shorter is no feature curve
+    /// (`drop_close_curves`): both on integer isolines less than half a
+    /// unit apart round onto one isoline and the strip between them
+    /// collapses (fandisk's narrow faces between parallel creases: a
+    /// 61-triangle strip at u = 6), and up to a unit apart they round
+    /// either onto one or a unit apart, a stretch. 0 keeps them all.
+    /// Default 0.75. With 60° curves, flipped triangles / cones /
+    /// misalignment / shear (°) with 0 → 0.75 at the default target and
+    /// at 1000 vertices: fandisk 124/30/4.22/6.91 → 24/30/5.41/6.72,
+    /// 40/30/3.91/5.22 → 24/30/4.32/5.63; rocker-arm 16/24/20.74/5.54 →
+    /// 9/22/18.80/5.10, 15/26/18.59/4.55 → 5/24/18.69/4.45; bunny
+    /// 114/54/22.89/6.23 → 100/48/22.85/5.96, 139/52/24.28/6.50 →
+    /// 119/48/23.86/6.73; spot has no 60° curves. With feature-vertex
+    /// alignment: fandisk 59 → 32, rocker-arm 34 → 24 flips. At 0.5:
+    /// fandisk 34 and 34, rocker-arm 9 and 16 flips; at 1: fandisk 17
+    /// flips but 18 cones and misalignment 7.36°.
+    pub feature_curve_spacing: f64,
     /// Campen §4.3's topology constraints: around every boundary loop of a
     /// filtered cyclic smooth region with turning number zero (only with
     /// smooth-region alignment), one coordinate comes back to its start
@@ -198,6 +223,7 @@ impl Default for Params {
             truncation: 2.0,
             alignment: Alignment::None,
             feature_curve_degrees: 0.0,
+            feature_curve_spacing: 0.75,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
             region_cross_weight: Some(1.0),
@@ -366,6 +392,7 @@ fn feature_curves(
         edges.push((f, e, g, ge, s.a, s.b));
     }
     drop_sliver_sectors(mesh, fans, &mut edges);
+    drop_close_curves(mesh, face_sizing, params.feature_curve_spacing, &mut edges);
     for &(_, _, _, _, a, b) in &edges {
         curves.union(a, b);
     }
@@ -390,6 +417,156 @@ fn feature_curves(
 /// A feature edge as (face, local edge, face across, its local edge, end
 /// vertices).
 type FeatureEdge = (usize, usize, usize, usize, u32, u32);
+
+/// Two feature curves less than half a target edge apart cannot both lie
+/// on integer isolines of a map with unit target edges unless the strip
+/// between them collapses onto one isoline (both round to the same
+/// integer; the strip's triangles become degenerate or fold). Ebke §3
+/// merges features closer than the target edge in the normal field; here,
+/// of two curve segments (chains of feature edges between vertices with
+/// other than two feature edges) that come closer than S/2 away from any
+/// feature path of length S joining them (so not merely at a shared
+/// corner), the shorter one stops being a feature curve, until no such
+/// pair is left.
+fn drop_close_curves(
+    mesh: &TriMesh,
+    face_sizing: &[f64],
+    spacing: f64,
+    edges: &mut Vec<FeatureEdge>,
+) {
+    if spacing <= 0.0 {
+        return;
+    }
+    let nv = mesh.vertex_count();
+    let position = |v: u32| mesh.positions[v as usize];
+    let length = |k: &FeatureEdge| position(k.4).distance(position(k.5));
+    let sizing = |k: &FeatureEdge| 0.5 * (face_sizing[k.0] + face_sizing[k.2]);
+    let mut at_vertex: Vec<Vec<usize>> = vec![Vec::new(); nv];
+    for (k, e) in edges.iter().enumerate() {
+        at_vertex[e.4 as usize].push(k);
+        at_vertex[e.5 as usize].push(k);
+    }
+    // Segments: chains through vertices with exactly two feature edges.
+    let mut segment = vec![usize::MAX; edges.len()];
+    let mut segment_length = Vec::new();
+    for start in 0..edges.len() {
+        if segment[start] != usize::MAX {
+            continue;
+        }
+        let id = segment_length.len();
+        let mut total = 0.0;
+        let mut stack = vec![start];
+        segment[start] = id;
+        while let Some(k) = stack.pop() {
+            total += length(&edges[k]);
+            for v in [edges[k].4, edges[k].5] {
+                let here = &at_vertex[v as usize];
+                if here.len() != 2 {
+                    continue;
+                }
+                for &j in here {
+                    if segment[j] == usize::MAX {
+                        segment[j] = id;
+                        stack.push(j);
+                    }
+                }
+            }
+        }
+        segment_length.push(total);
+    }
+    // Close pairs of segments: an edge's midpoint nearer than S/2 to an
+    // edge of another segment that no feature path of length S from it
+    // reaches.
+    let midpoint = |k: &FeatureEdge| 0.5 * (position(k.4) + position(k.5));
+    let distance_to = |p: DVec3, k: &FeatureEdge| {
+        let (a, b) = (position(k.4), position(k.5));
+        let d = b - a;
+        let t = ((p - a).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
+        p.distance(a + d * t)
+    };
+    let cell = edges
+        .iter()
+        .map(sizing)
+        .fold(f64::INFINITY, f64::min)
+        .max(1e-12)
+        * spacing.max(0.1);
+    let key = |p: DVec3| (p / cell).floor().as_i64vec3().to_array();
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> =
+        std::collections::HashMap::new();
+    for (k, e) in edges.iter().enumerate() {
+        grid.entry(key(midpoint(e))).or_default().push(k);
+    }
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for (k, e) in edges.iter().enumerate() {
+        let (m, s) = (midpoint(e), sizing(e));
+        let reach = (spacing * s + length(e)) / cell;
+        let r = reach.ceil() as i64;
+        let c = key(m);
+        let mut near = Vec::new();
+        for dx in -r..=r {
+            for dy in -r..=r {
+                for dz in -r..=r {
+                    if let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                        near.extend(list.iter().copied().filter(|&j| {
+                            segment[j] != segment[k] && distance_to(m, &edges[j]) < spacing * s
+                        }));
+                    }
+                }
+            }
+        }
+        if near.is_empty() {
+            continue;
+        }
+        // Feature paths of length S from the edge's ends (Dijkstra).
+        let mut reached = std::collections::HashSet::new();
+        let mut best: std::collections::HashMap<u32, f64> = std::collections::HashMap::new();
+        let mut queue = vec![(e.4, 0.0), (e.5, 0.0)];
+        while let Some((v, d)) = queue.pop() {
+            if best.get(&v).is_some_and(|&b| b <= d) {
+                continue;
+            }
+            best.insert(v, d);
+            for &j in &at_vertex[v as usize] {
+                reached.insert(j);
+                let o = if edges[j].4 == v {
+                    edges[j].5
+                } else {
+                    edges[j].4
+                };
+                let nd = d + length(&edges[j]);
+                if nd < s {
+                    queue.push((o, nd));
+                }
+            }
+        }
+        for j in near {
+            if !reached.contains(&j) {
+                let (a, b) = (segment[k].min(segment[j]), segment[k].max(segment[j]));
+                pairs.push((a, b));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut dropped = vec![false; segment_length.len()];
+    for (a, b) in pairs {
+        if dropped[a] || dropped[b] {
+            continue;
+        }
+        let shorter = if segment_length[a] <= segment_length[b] {
+            a
+        } else {
+            b
+        };
+        dropped[shorter] = true;
+    }
+    let mut k = 0;
+    edges.retain(|_| {
+        let keep = !dropped[segment[k]];
+        k += 1;
+        keep
+    });
+}
 
 /// Feature edges less than 45° apart around a vertex bound a sector that
 /// rounds to no quarter turn; the integer grid can only give it one (90°:
