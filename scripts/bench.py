@@ -196,6 +196,7 @@ def param_runs(path, name, repeats):
         runs.append({"timings_ms": {k[:-3]: v for k, v in s["timings"].items()}, "import_ms": s.get("import_ms"),
                      "total_ms": s["total_ms"], "wall_ms": wall, "peak_rss_mib": rss / 1024,
                      "faces": m["faces"], "cones": m["cones"], "flipped_triangles": m["flipped_triangles"],
+                     "degenerate_triangles": m.get("degenerate_triangles"),
                      "rounding_steps": s["rounding_steps"], "e_orient": s["e_orient"]})
         print(f"bench: param {name} run {i + 1}/{repeats}: {wall:.0f} ms, {rss / 1024:.0f} MiB", file=sys.stderr)
     return runs
@@ -214,7 +215,7 @@ def summarize_param(runs):
            "wall_ms": median([r["wall_ms"] for r in ok]),
            "peak_rss_mib": median([r["peak_rss_mib"] for r in ok])}
     # The map is deterministic: every run gives the same counts.
-    out.update({k: ok[0][k] for k in ["faces", "cones", "flipped_triangles", "rounding_steps", "e_orient"]})
+    out.update({k: ok[0][k] for k in ["faces", "cones", "flipped_triangles", "degenerate_triangles", "rounding_steps", "e_orient"]})
     return out
 
 
@@ -250,11 +251,12 @@ def render_param(param):
           "jumps and cones (§4); cut = combing and the cut graph through the cones; seamless = constraints, E_orient, the "
           "sparse factorization and condensation onto the integer unknowns, Campen §4.3's loop constraints; rounding = "
           "the greedy rounding's re-solves and the back-substitution; **map** = normals + cross field + cut + seamless + "
-          "rounding; total = the CLI's clock from before reading the OBJ to after writing it; wall = the whole process. "
+          "rounding; total = the CLI's clock from before reading the OBJ to after writing it; wall = the whole process; "
+          "flipped = triangles of non-positive parametric area, in brackets those of zero area (collapsed, e.g. small holes). "
           "Single-threaded (the sparse solves run sequentially). The DSW paper reports ~400 ms for the parametrization "
           "of 30k faces.", ""]
     L.append("| mesh | faces | runs | import | analysis | normals | cross field | cut | seamless | rounding (steps) "
-             "| **map** | measures | total | wall | peak MiB | cones | flipped | load avg |")
+             "| **map** | measures | total | wall | peak MiB | cones | flipped (zero area) | load avg |")
     L.append("|---|---|---|" + "---|" * 15)
     for name, e in param.get("meshes", {}).items():
         if "error" in e:
@@ -265,7 +267,8 @@ def render_param(param):
                  f"| {f0(s['filtered_normals'])} | {f0(s['cross_field'])} | {f0(s['cut'])} | {f0(s['seamless'])} "
                  f"| {f0(s['rounding'])} ({e['rounding_steps']}) | **{f0(e['map_ms'])}** | {f0(s['measures'])} "
                  f"| {f0(e['total_ms'])} | {f0(e['wall_ms'])} | {f0(e['peak_rss_mib'])} | {e['cones']} "
-                 f"| {e['flipped_triangles']} | {(e.get('load_average_at_start') or ['?'])[0]} |")
+                 f"| {e['flipped_triangles']} ({e.get('degenerate_triangles', '–')}) "
+                 f"| {(e.get('load_average_at_start') or ['?'])[0]} |")
     L += ["", "Times in milliseconds; `load avg` is the 1-minute load average when that mesh's runs began (2 cores).", ""]
     return L
 

@@ -429,6 +429,9 @@ fn fandisk_close_feature_curves_are_dropped_and_their_strips_do_not_fold() {
         all.measures.flipped_triangles
     );
     assert!(kept.measures.cones <= all.measures.cones);
+    for r in [&all, &kept, &plain] {
+        assert!(r.measures.degenerate_triangles <= r.measures.flipped_triangles);
+    }
     assert!(kept.measures.misalignment_degrees < 0.5 * plain.measures.misalignment_degrees);
 }
 

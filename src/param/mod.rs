@@ -136,10 +136,11 @@ pub struct Params {
     /// sharp edges are scan noise); with feature-vertex alignment fandisk
     /// 10 → 32, rocker-arm 22 → 24 flips. (Before the sliver rule:
     /// fandisk 192 and 46, rocker-arm 27 and 25, bunny 129 and 150.)
-    /// Zero-area triangles count as flipped: of the bunny's 77 without
-    /// features 54 have zero area, 48 of them with two boundary corners at
-    /// the same (u, v) (its small holes, whose boundary edges lie on
-    /// isolines of both coordinates, collapse).
+    /// Zero-area triangles count as flipped (`degenerate_triangles` counts
+    /// them apart): of the bunny's 77 without features 54 have zero area,
+    /// 48 of them with two boundary corners at the same (u, v) (its small
+    /// holes, whose boundary edges lie on isolines of both coordinates,
+    /// collapse); fandisk's 24 with 60° curves have 6.
     pub feature_curve_degrees: f64,
     /// Of two feature curve segments closer than this many target edges
     /// (away from a corner they share), the shorter is no feature curve
