@@ -486,11 +486,9 @@ fn drop_close_curves(
         let t = ((p - a).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
         p.distance(a + d * t)
     };
-    let cell = edges
-        .iter()
-        .map(sizing)
-        .fold(f64::INFINITY, f64::min)
-        .max(1e-12)
+    // Grid cells of the mean search radius (edges search as many cells as
+    // their own radius needs).
+    let cell = (edges.iter().map(sizing).sum::<f64>() / edges.len().max(1) as f64).max(1e-12)
         * spacing.max(0.1);
     let key = |p: DVec3| (p / cell).floor().as_i64vec3().to_array();
     let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> =
