@@ -128,7 +128,7 @@ pub fn measures(
             .uv
             .iter()
             .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]))
-            .filter(|&a| a <= 0.0 && a >= -1e-12)
+            .filter(|a| (-1e-12..=0.0).contains(a))
             .count(),
         cones: map.cones.len(),
         cones_by_quarters: by,
