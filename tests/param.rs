@@ -435,6 +435,70 @@ fn fandisk_close_feature_curves_are_dropped_and_their_strips_do_not_fold() {
     assert!(kept.measures.misalignment_degrees < 0.5 * plain.measures.misalignment_degrees);
 }
 
+/// Cones near feature curves (`feature_cone_snap`, off by default): on
+/// fandisk four +¼ cones of the field lie a ring off rounded corners of
+/// the 60° curves, less than half a target edge from them, where the
+/// integer rounding folds the ring between cone and isoline; with the
+/// option every cone is on a curve or at least half a target edge from
+/// its vertices with two or more feature edges, and the map has no
+/// conflicts.
+#[test]
+fn fandisk_cones_near_feature_curves_move_onto_them() {
+    let mesh = common::mesh("fandisk.obj");
+    let near = |snap: f64| {
+        let params = Params {
+            feature_curve_degrees: 60.0,
+            feature_cone_snap: snap,
+            ..Params::default()
+        };
+        let r = param::run(&mesh, &params, &|| 0.0).expect("a map");
+        assert_eq!(r.map.conflicts, 0);
+        let p = &r.prepared;
+        let mut edges = vec![0usize; mesh.vertex_count()];
+        for (f, e) in p.feature_edges.iter().enumerate() {
+            for k in (0..3).filter(|&k| e[k]) {
+                edges[mesh.triangles[f][k] as usize] += 1;
+                edges[mesh.triangles[f][(k + 1) % 3] as usize] += 1;
+            }
+        }
+        // Both sides of every feature edge are marked: two per edge.
+        let curve: Vec<usize> = (0..mesh.vertex_count())
+            .filter(|&v| edges[v] >= 4 && p.fans[v].as_ref().is_some_and(|f| f.closed))
+            .collect();
+        let close: Vec<u32> = r
+            .field
+            .cones
+            .iter()
+            .filter(|c| edges[c.vertex as usize] == 0)
+            .filter(|c| {
+                let fan = p.fans[c.vertex as usize].as_ref().expect("a fan");
+                let s = fan
+                    .corners
+                    .iter()
+                    .map(|&(f, _)| p.face_sizing[f as usize])
+                    .sum::<f64>()
+                    / fan.corners.len() as f64;
+                let at = mesh.positions[c.vertex as usize];
+                curve
+                    .iter()
+                    .any(|&w| mesh.positions[w].distance(at) < 0.5 * s)
+            })
+            .map(|c| c.vertex)
+            .collect();
+        println!(
+            "fandisk, snap {snap}: cones {}, off the curves within half an edge {close:?}, flips {}",
+            r.field.cones.len(),
+            r.measures.flipped_triangles
+        );
+        close.len()
+    };
+    assert!(
+        near(0.0) >= 4,
+        "the rounded corners' cones lie off the curves"
+    );
+    assert_eq!(near(0.5), 0);
+}
+
 /// How far the isolines around a closed loop of faces are from closing:
 /// the holonomy's translation (its rotation must be 0) has a zero
 /// component when one coordinate comes back — closed isolines — and two
@@ -504,6 +568,8 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
         soft_constraints: &[],
         soft_weight: 0.0,
         feature_edges: &[],
+        face_sizing: &[],
+        snap_distance: 0.0,
     })
     .expect("a cross field");
     let principal_field = param::cross_field_of(&mesh, &prepared, &params).expect("a cross field");

@@ -131,7 +131,8 @@ pub struct Params {
     /// 7/24 → 24/30 — the rest next to cones a ring off the curves, four
     /// of them +¼ at rounded corners of the curves (sectors of 158° and
     /// 180° at four vertices each: no single vertex asks for the cone),
-    /// which the rounding puts on the curve's isoline; rocker-arm 7/20 →
+    /// which the rounding puts on the curve's isoline
+    /// ([`Params::feature_cone_snap`] moves them); rocker-arm 7/20 →
     /// 9/22, 6/20 → 5/24; bunny 77/38 → 100/48, 116/40 → 119/48 (its
     /// sharp edges are scan noise); with feature-vertex alignment fandisk
     /// 10 → 32, rocker-arm 22 → 24 flips. (Before the sliver rule:
@@ -160,6 +161,22 @@ pub struct Params {
     /// fandisk 34 and 34, rocker-arm 9 and 16 flips; at 1: fandisk 17
     /// flips but 18 cones and misalignment 7.36°.
     pub feature_curve_spacing: f64,
+    /// With feature curves: cones of the field off the curves but nearer a
+    /// vertex of them (two or more feature edges) than this many target
+    /// edges move onto it (its sectors get the cone's quarter turns, and
+    /// the period jumps are rounded again, `cross_field::snap_cones`): a
+    /// cone at an integer point less than half a unit from a curve's
+    /// integer isoline is rounded onto it and the ring between folds; on
+    /// fandisk four +¼ cones sit a ring off rounded corners of the curves
+    /// (sectors of 158° and 180° at four vertices each). 0 (the default)
+    /// leaves them: with 60° curves, flipped triangles / cones / shear /
+    /// misalignment (°) with 0 → 0.5 at the default target: fandisk
+    /// 24/30/6.72/5.41 → 15/30/6.41/5.15, rocker-arm 9/22/5.10/18.80 →
+    /// 7/22/5.77/19.96, bunny 100/48/5.96/22.85 → 92/44/5.86/22.54; but at
+    /// 1000 vertices fandisk 24 → 29 and bunny 119 → 144 flips (rocker-arm
+    /// 5 → 5): the moved cone's old neighbourhood is not re-solved, only
+    /// the period jumps re-rounded.
+    pub feature_cone_snap: f64,
     /// Campen §4.3's topology constraints: around every boundary loop of a
     /// filtered cyclic smooth region with turning number zero (only with
     /// smooth-region alignment), one coordinate comes back to its start
@@ -226,6 +243,7 @@ impl Default for Params {
             alignment: Alignment::None,
             feature_curve_degrees: 0.0,
             feature_curve_spacing: 0.75,
+            feature_cone_snap: 0.0,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
             region_cross_weight: Some(1.0),
@@ -713,6 +731,12 @@ pub fn cross_field_of(
         soft_constraints: &soft,
         soft_weight: params.region_cross_weight.unwrap_or(0.0),
         feature_edges: &p.feature_edges,
+        face_sizing: &p.face_sizing,
+        snap_distance: if params.feature_curve_degrees > 0.0 {
+            params.feature_cone_snap
+        } else {
+            0.0
+        },
     })
     .ok_or(ParamError::Solve("cross field"))
 }

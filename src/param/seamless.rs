@@ -1058,7 +1058,7 @@ pub fn grid_map_with(
 pub struct MapTimings {
     /// Combing, cut graph and wedges ([`cut`]), the combed frames.
     pub cut_ms: f64,
-    /// Constraints, energy rows, the [`Condensed`] system (the sparse
+    /// Constraints, energy rows, the `Condensed` system (the sparse
     /// factorization and block solves), the loops' constraints.
     pub seamless_ms: f64,
     /// The greedy rounding's re-solves (or the relaxation's solve) and
