@@ -9,7 +9,7 @@ TOOLS := $(CURDIR)/.tools
 # Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
 WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
-.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench bench-design quality
+.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench bench-param bench-design quality
 
 run: web
 	cargo run --release --example serve -- www $(PORT)
@@ -76,6 +76,13 @@ browser-test: web browser-tools
 bench: web browser-tools
 	cargo build --release --bin quadrille --example subdivide --example serve
 	QUADRILLE_MESHES="$(MESHES)" python3 scripts/bench.py $(BENCH_ARGS)
+
+## The global path's parametrization alone (`quadrille param` on the bunny,
+## fandisk, rocker-arm and spot; `make bench` runs it too): rewrites only
+## the "Parametrization (global path)" section of docs/RESULTS.md.
+bench-param:
+	cargo build --release --bin quadrille
+	QUADRILLE_MESHES="$(MESHES)" python3 scripts/bench.py --only-param $(BENCH_ARGS)
 
 ## The design mode's responsiveness (not part of `make test`): hover,
 ## click, drag, grab, Enter and undo timed in headless Chromium the way a

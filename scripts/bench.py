@@ -12,12 +12,18 @@ target/bench/results.json, docs/RESULTS.md and the README's headline block.
 2. Browser: tests/e2e/bench.mjs runs the web app in headless Chromium (wasm
    in the worker) on the same meshes; the page's per-stage milliseconds.
 3. Competitors: scripts/compare.py (Instant Meshes, QuadriFlow).
-4. Renders docs/RESULTS.md and the README block between the
+4. The global path: `quadrille param IN -o OUT.obj --stats S.json` (the
+   integer-grid map, issue 18) on the bunny, fandisk, rocker-arm and spot at
+   the default target, PARAM_REPEATS fresh processes each: per-stage
+   milliseconds (the stats' `timings`), wall time, peak RSS; medians.
+5. Renders docs/RESULTS.md and the README block between the
    `<!-- results:begin -->` / `<!-- results:end -->` markers.
 
 Usage: scripts/bench.py [--repeats N] [--large-repeats N] [--largest-repeats N] [--browser-repeats N]
-         [--large-browser-repeats N] [--skip-native] [--skip-large]
-         [--skip-browser] [--skip-compare] [--render-only]
+         [--large-browser-repeats N] [--param-repeats N] [--skip-native] [--skip-large]
+         [--skip-browser] [--skip-compare] [--skip-param] [--only-param] [--render-only]
+`--only-param` measures the parametrization alone (step 4) and rewrites
+only its section of docs/RESULTS.md, keeping the rest as it was measured.
 Per mesh, the native, one-thread and browser runs follow each other (similar
 machine load for the ratio). Each step writes its JSON under target/bench/; a
 skipped step keeps the JSON of its last run, so `--render-only` re-renders from what was measured.
@@ -43,7 +49,12 @@ SHARED = ["stanford-bunny", "fandisk", "rocker-arm", "spot", "cow", "teapot", "s
 LARGE = [("stanford-bunny-x4", 1), ("stanford-bunny-x16", 2)]  # subdivision levels
 STAGES = ["import", "analysis", "hierarchy", "orientation", "position", "extraction", "postprocess"]
 EXTRA = ["fit", "metrics"]
+PARAM_MESHES = ["stanford-bunny", "fandisk", "rocker-arm", "spot"]
+# The stats' `timings` keys (without `_ms`), in pipeline order.
+PARAM_STAGES = ["analysis", "filtered_normals", "cross_field", "cut", "seamless", "rounding", "measures"]
+PARAM_HEADING = "## Parametrization (global path)"
 RESULTS_JSON = os.path.join(BENCH, "results.json")
+PARAM_JSON = os.path.join(BENCH, "param.json")
 BROWSER_JSON = os.path.join(BENCH, "browser.json")
 COMPARE_JSON = os.path.join(BENCH, "compare.json")
 RESULTS_MD = os.path.join(ROOT, "docs", "RESULTS.md")
@@ -166,6 +177,115 @@ def measure(args, ms):
     return results
 
 
+# ------------------------------------------------------------ parametrization
+
+def param_runs(path, name, repeats):
+    """`quadrille param` on one mesh, each run a fresh process."""
+    out = os.path.join(BENCH, "param", name + ".obj")
+    stats = os.path.join(BENCH, "param", name + ".json")
+    os.makedirs(os.path.dirname(out), exist_ok=True)
+    runs = []
+    for i in range(repeats):
+        rc, _, err, wall, rss = run_measured([BIN, "param", path, "-o", out, "--stats", stats])
+        if rc != 0:
+            runs.append({"error": (err or "").strip()[-300:]})
+            print(f"bench: param {name} failed: {err.strip()[-300:]}", file=sys.stderr)
+            break
+        s = json.load(open(stats))
+        m = s["measures"]
+        runs.append({"timings_ms": {k[:-3]: v for k, v in s["timings"].items()}, "import_ms": s.get("import_ms"),
+                     "total_ms": s["total_ms"], "wall_ms": wall, "peak_rss_mib": rss / 1024,
+                     "faces": m["faces"], "cones": m["cones"], "flipped_triangles": m["flipped_triangles"],
+                     "degenerate_triangles": m.get("degenerate_triangles"),
+                     "rounding_steps": s["rounding_steps"], "e_orient": s["e_orient"]})
+        print(f"bench: param {name} run {i + 1}/{repeats}: {wall:.0f} ms, {rss / 1024:.0f} MiB", file=sys.stderr)
+    return runs
+
+
+def summarize_param(runs):
+    ok = [r for r in runs if "error" not in r]
+    if not ok:
+        return {"error": runs[0]["error"] if runs else "no runs"}
+    out = {"repeats": len(ok),
+           "stages_ms": {k: median([r["timings_ms"].get(k) for r in ok]) for k in PARAM_STAGES + ["parametrization"]},
+           "cross_field_with_normals_ms": median([r["timings_ms"]["filtered_normals"] + r["timings_ms"]["cross_field"] for r in ok]),
+           "map_ms": median([sum(r["timings_ms"][k] for k in ["filtered_normals", "cross_field", "parametrization"]) for r in ok]),
+           "import_ms": median([r["import_ms"] for r in ok]),
+           "total_ms": median([r["total_ms"] for r in ok]),
+           "wall_ms": median([r["wall_ms"] for r in ok]),
+           "peak_rss_mib": median([r["peak_rss_mib"] for r in ok])}
+    # The map is deterministic: every run gives the same counts.
+    out.update({k: ok[0][k] for k in ["faces", "cones", "flipped_triangles", "degenerate_triangles", "rounding_steps", "e_orient"]})
+    return out
+
+
+def measure_param(args):
+    summary = {"meshes": {}}
+    for name in PARAM_MESHES:
+        path = os.path.abspath(os.path.join(args.meshes, name + ".obj"))
+        if not os.path.exists(path):
+            die(f"{path} does not exist (set QUADRILLE_MESHES or --meshes)")
+        start = loadavg()
+        entry = summarize_param(param_runs(path, name, args.param_repeats))
+        entry["load_average_at_start"] = start
+        summary["meshes"][name] = entry
+        write_json(PARAM_JSON, summary)
+    summary["meta"] = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+                       "machine": machine()}
+    write_json(PARAM_JSON, summary)
+    return summary
+
+
+def render_param(param):
+    L = [PARAM_HEADING, ""]
+    if not param:
+        return L + ["Not measured in this run (`--skip-param`).", ""]
+    meta = param.get("meta", {})
+    mach = meta.get("machine", {})
+    L += [f"`quadrille param IN -o OUT.obj --stats S.json` (the integer-grid map of issue 18: Ebke et al. 2014, "
+          f"Campen et al. 2016) at the default target (input vertices / 16) and default parameters, each run a fresh "
+          f"process; measured on {meta.get('date', '?')} at commit `{mach.get('commit', '?')}` "
+          f"(load average at the end: {', '.join(mach.get('load_average_at_end') or ['?'])}). "
+          "Stage times are the stats' `timings` (median over the runs): analysis = curvature, features, calibrated "
+          "sizing and topology; normals = Ebke §3's filtered normals (σ = S(f)/2); cross field = the field, its period "
+          "jumps and cones (§4); cut = combing and the cut graph through the cones; seamless = constraints, E_orient, the "
+          "sparse factorization and condensation onto the integer unknowns, Campen §4.3's loop constraints; rounding = "
+          "the greedy rounding's re-solves and the back-substitution; **map** = normals + cross field + cut + seamless + "
+          "rounding; total = the CLI's clock from before reading the OBJ to after writing it; wall = the whole process; "
+          "flipped = triangles of non-positive parametric area, in brackets those of zero area (collapsed, e.g. small holes). "
+          "Single-threaded (the sparse solves run sequentially). The DSW paper reports ~400 ms for the parametrization "
+          "of 30k faces.", ""]
+    L.append("| mesh | faces | runs | import | analysis | normals | cross field | cut | seamless | rounding (steps) "
+             "| **map** | measures | total | wall | peak MiB | cones | flipped (zero area) | load avg |")
+    L.append("|---|---|---|" + "---|" * 15)
+    for name, e in param.get("meshes", {}).items():
+        if "error" in e:
+            L.append(f"| {name} | failed: {e['error'][:100]} |")
+            continue
+        s = e["stages_ms"]
+        L.append(f"| {name} | {f0(e['faces'])} | {e['repeats']} | {f0(e['import_ms'])} | {f0(s['analysis'])} "
+                 f"| {f0(s['filtered_normals'])} | {f0(s['cross_field'])} | {f0(s['cut'])} | {f0(s['seamless'])} "
+                 f"| {f0(s['rounding'])} ({e['rounding_steps']}) | **{f0(e['map_ms'])}** | {f0(s['measures'])} "
+                 f"| {f0(e['total_ms'])} | {f0(e['wall_ms'])} | {f0(e['peak_rss_mib'])} | {e['cones']} "
+                 f"| {e['flipped_triangles']} ({e.get('degenerate_triangles', '–')}) "
+                 f"| {(e.get('load_average_at_start') or ['?'])[0]} |")
+    L += ["", "Times in milliseconds; `load avg` is the 1-minute load average when that mesh's runs began (2 cores).", ""]
+    return L
+
+
+def splice_param(text, section):
+    """`text` (docs/RESULTS.md) with its parametrization section replaced
+    by `section`, or `section` inserted before the design-mode sections."""
+    at = text.find("\n" + PARAM_HEADING)
+    if at >= 0:
+        end = text.find("\n## ", at + 1)
+        return text[:at + 1] + section + (text[end + 1:] if end >= 0 else "")
+    at = text.find("\n## Design mode")
+    if at >= 0:
+        return text[:at + 1] + section + text[at + 1:]
+    return text.rstrip("\n") + "\n\n" + section
+
+
 # ------------------------------------------------------------ browser
 
 def browser_one(m, reps, summary):
@@ -238,7 +358,7 @@ def ratio(a, b):
     return "–" if a is None or not b else f"{a / b:.2f}×"
 
 
-def render(results, browser_s, compare):
+def render(results, browser_s, compare, param=None):
     meta = results.get("meta", {})
     mach = meta.get("machine", {})
     L = ["# Quadrille benchmark results", "",
@@ -349,6 +469,7 @@ def render(results, browser_s, compare):
         for t, why in bad.items():
             L.append(f"\n{t} could not run: {why}")
         L.append("")
+    L += render_param(param)
     return "\n".join(L) + "\n"
 
 
@@ -407,13 +528,26 @@ def main():
     ap.add_argument("--largest-repeats", type=int, default=2, help="runs of the ~1.1M-triangle bunny (minutes each)")
     ap.add_argument("--browser-repeats", type=int, default=3)
     ap.add_argument("--large-browser-repeats", type=int, default=1)
+    ap.add_argument("--param-repeats", type=int, default=5, help="runs of `quadrille param` per mesh")
     ap.add_argument("--skip-native", action="store_true")
     ap.add_argument("--skip-large", action="store_true")
     ap.add_argument("--skip-browser", action="store_true")
     ap.add_argument("--skip-compare", action="store_true")
+    ap.add_argument("--skip-param", action="store_true")
+    ap.add_argument("--only-param", action="store_true",
+                    help="measure the parametrization alone; rewrite only its section of docs/RESULTS.md")
     ap.add_argument("--render-only", action="store_true")
     args = ap.parse_args()
     os.makedirs(BENCH, exist_ok=True)
+    if args.only_param:
+        if not os.path.exists(BIN):
+            die(f"{BIN} is missing: cargo build --release (make bench does)")
+        section = "\n".join(render_param(measure_param(args))) + "\n"
+        old = open(RESULTS_MD).read() if os.path.exists(RESULTS_MD) else "# Quadrille benchmark results\n"
+        with open(RESULTS_MD, "w") as f:
+            f.write(splice_param(old, section))
+        print(f"bench: wrote the parametrization section of {os.path.relpath(RESULTS_MD, ROOT)}", file=sys.stderr)
+        return
     if not args.render_only:
         if not os.path.exists(BIN):
             die(f"{BIN} is missing: cargo build --release (make bench does)")
@@ -423,6 +557,8 @@ def main():
             results["meta"] = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
                                "machine": machine()}
             write_json(RESULTS_JSON, results)
+        if not args.skip_param:
+            measure_param(args)
         if not args.skip_compare:
             r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "compare.py"), "--bin", BIN,
                                 "--meshes", args.meshes, "--json", COMPARE_JSON], stdout=subprocess.DEVNULL)
@@ -431,7 +567,7 @@ def main():
     results = load(RESULTS_JSON)
     if results is None:
         die(f"{RESULTS_JSON} does not exist: run without --render-only first")
-    browser_s, compare = load(BROWSER_JSON), load(COMPARE_JSON)
+    browser_s, compare, param = load(BROWSER_JSON), load(COMPARE_JSON), load(PARAM_JSON)
     os.makedirs(os.path.dirname(RESULTS_MD), exist_ok=True)
     # The design-mode sections come from their own benchmarks
     # (examples/bench_anchors.rs, `make bench-design`): kept as they are.
@@ -443,7 +579,7 @@ def main():
         if at >= 0:
             kept = old[at:]
     with open(RESULTS_MD, "w") as f:
-        f.write(render(results, browser_s, compare).rstrip("\n") + "\n" + kept)
+        f.write(render(results, browser_s, compare, param).rstrip("\n") + "\n" + kept)
     update_readme((headline(results, browser_s, compare) + "\n\n").lstrip() + "Full tables, machine and date: [docs/RESULTS.md](docs/RESULTS.md).")
     print(f"bench: wrote {os.path.relpath(RESULTS_MD, ROOT)} and the README's results block", file=sys.stderr)
 

@@ -566,6 +566,7 @@ fn param(args: ParamArgs) -> Result<(), String> {
         params.sizing.edge_length = Some(l / imported.frame.scale);
     }
     let clock = move || start.elapsed().as_secs_f64() * 1e3;
+    let import_ms = clock();
     let mesh = &imported.mesh;
     let result =
         run(mesh, &params, &clock).map_err(|e| format!("{}: {e}", args.input.display()))?;
@@ -589,6 +590,7 @@ fn param(args: ParamArgs) -> Result<(), String> {
             "integer_conflicts": result.map.conflicts,
             "cyclic_loops": quadrille::param::cyclic_loops(&result.prepared, &params).len(),
             "closed_loops": result.map.closed_loops,
+            "import_ms": import_ms,
             "timings": result.timings,
             "total_ms": clock(),
         });

@@ -32,7 +32,10 @@
 //! curves are rounded with the sum that makes the sector k·90° (k from
 //! its surface angle), so corners get the cone their angles ask for,
 //! at the corner vertex (MIQ §4–5's feature constraints; see
-//! `corner_sectors`).
+//! `corner_sectors`). Optionally, cones the rounding leaves less than a
+//! given distance off the curves move onto their nearest curve vertex
+//! (that vertex's sectors get the cone's quarter turns and the period
+//! jumps are rounded again, `snap_cones`; `Params::feature_cone_snap`).
 
 // Parallel per-face arrays read best indexed.
 #![allow(clippy::needless_range_loop)]
@@ -79,6 +82,11 @@ pub struct CrossFieldInput<'a> {
     /// gets the index 1 − Σk/4 ([`corner_sectors`]). Their faces should
     /// be constrained to the feature edges.
     pub feature_edges: &'a [[bool; 3]],
+    /// S(f), the target edge length per face, and the distance in target
+    /// edges below which a cone off the feature curves moves onto the
+    /// nearest vertex of them (`snap_cones`; empty or 0: none moves).
+    pub face_sizing: &'a [f64],
+    pub snap_distance: f64,
 }
 
 /// A cone: an interior vertex with nonzero index.
@@ -717,11 +725,13 @@ fn corner_sectors(
     reference: &[DVec3],
     kappa: &[[f64; 3]],
     fixed: &[Option<f64>],
-) -> Vec<Sector> {
+    shift: &std::collections::HashMap<u32, i32>,
+) -> (Vec<Sector>, Vec<u32>) {
     let (mesh, features) = (input.mesh, input.feature_edges);
     let mut out = Vec::new();
+    let mut curve = Vec::new();
     if features.is_empty() {
-        return out;
+        return (out, curve);
     }
     let sharp = |f: usize, e: usize| features.get(f).is_some_and(|s| s[e]);
     for (v, fan) in input.fans.iter().enumerate() {
@@ -742,6 +752,23 @@ fn corner_sectors(
         if cuts.len() < 2 {
             continue;
         }
+        curve.push(v as u32);
+        let mut quarters: Vec<i32> = Vec::with_capacity(cuts.len());
+        let mut angles: Vec<f64> = Vec::with_capacity(cuts.len());
+        let p = |f: usize, i: usize| mesh.positions[mesh.triangles[f][i] as usize];
+        for (c, &s) in cuts.iter().enumerate() {
+            let next = cuts[(c + 1) % cuts.len()];
+            let len = (next + m - s - 1) % m + 1;
+            let alpha: f64 = (1..=len)
+                .map(|k| {
+                    let (f, i) = corners[(s + k) % m];
+                    (p(f, (i + 1) % 3) - p(f, i)).angle_between(p(f, (i + 2) % 3) - p(f, i))
+                })
+                .sum();
+            angles.push(alpha);
+            quarters.push(((alpha / FRAC_PI_2).round() as i32).max(1));
+        }
+        shift_quarters(&mut quarters, &angles, shift.get(&(v as u32)).copied());
         let mut here: Vec<(f64, Sector)> = Vec::with_capacity(cuts.len());
         for (c, &s) in cuts.iter().enumerate() {
             let next = cuts[(c + 1) % cuts.len()];
@@ -752,14 +779,7 @@ fn corner_sectors(
             let (Some(t1), Some(tb)) = (fixed[f1], fixed[fb]) else {
                 continue;
             };
-            let p = |f: usize, i: usize| mesh.positions[mesh.triangles[f][i] as usize];
-            let alpha: f64 = faces
-                .iter()
-                .map(|&(f, i)| {
-                    let (a, b) = (p(f, (i + 1) % 3) - p(f, i), p(f, (i + 2) % 3) - p(f, i));
-                    a.angle_between(b)
-                })
-                .sum();
+            let alpha = angles[c];
             let edges: Vec<(usize, usize)> = faces.iter().map(|&(f, i)| (f, (i + 2) % 3)).collect();
             let sum_kappa: f64 = edges.iter().map(|&(f, e)| kappa[f][e]).sum();
             let ea = p(f1, (i1 + 1) % 3) - p(f1, i1);
@@ -768,7 +788,7 @@ fn corner_sectors(
             let ab = angle_from(reference[fb], input.normals[fb], eb);
             let raw = ab - a1 - sum_kappa;
             let beta = raw + TAU * ((alpha - raw) / TAU).round();
-            let k = ((alpha / FRAC_PI_2).round() as i32).max(1);
+            let k = quarters[c];
             let sum_p = (tb - t1 - sum_kappa - (beta - FRAC_PI_2 * k as f64)) / FRAC_PI_2;
             here.push((
                 sum_p,
@@ -806,7 +826,29 @@ fn corner_sectors(
         out.extend(here.into_iter().map(|h| h.1));
     }
     out.sort_by_key(|s| s.edges.len());
-    out
+    (out, curve)
+}
+
+/// A feature vertex's sector quarters with `q` more cone quarters (a cone
+/// moved onto it, [`snap_cones`]): Σk − q (at least one per sector), the
+/// sectors whose angles are nearest fewer (more) quarters losing (gaining)
+/// them.
+fn shift_quarters(k: &mut [i32], angles: &[f64], q: Option<i32>) {
+    let Some(q) = q else { return };
+    let sum: i32 = k.iter().sum();
+    let target = (sum - q).max(k.len() as i32);
+    for _ in 0..(sum - target).abs() {
+        let excess = |k: &[i32], i: usize| k[i] as f64 - angles[i] / FRAC_PI_2;
+        let i = if target < sum {
+            (0..k.len())
+                .filter(|&i| k[i] > 1)
+                .max_by(|&i, &j| excess(k, i).total_cmp(&excess(k, j)))
+        } else {
+            (0..k.len()).min_by(|&i, &j| excess(k, i).total_cmp(&excess(k, j)))
+        };
+        let Some(i) = i else { break };
+        k[i] += if target < sum { -1 } else { 1 };
+    }
 }
 
 /// The period jumps of each sector's edges: the integers nearest their
@@ -919,44 +961,111 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     // the lower E_smooth after rounding wins.
     let free = has_free_component(&r);
     let starts: &[bool] = if free { &[false, true] } else { &[false] };
-    let sectors = corner_sectors(input, &reference, &kappa, &fixed);
     let system = RelaxedSystem::new(&r)?;
-    let mut best: Option<(f64, Vec<f64>, Vec<[i32; 3]>)> = None;
+    let relaxed = relaxed_angles(&r, &system, starts)?;
     let mut angles: Option<AngleSystem> = None;
-    for theta in relaxed_angles(&r, &system, starts)? {
-        let angles = match &mut angles {
-            Some(a) => {
-                a.gauge(&r, &theta);
-                a
+    let mut shift = std::collections::HashMap::new();
+    let mut snapped = std::collections::HashSet::new();
+    let mut field = None;
+    for _ in 0..=SNAP_ROUNDS {
+        let (sectors, curve) = corner_sectors(input, &reference, &kappa, &fixed, &shift);
+        let mut best: Option<(f64, Vec<f64>, Vec<[i32; 3]>)> = None;
+        for theta in &relaxed {
+            let angles = match &mut angles {
+                Some(a) => {
+                    a.gauge(&r, theta);
+                    a
+                }
+                None => angles.insert(AngleSystem::new(&r, theta, (&system.var, &system.pattern))?),
+            };
+            let (theta, p) = round_and_resolve(&r, angles, &sectors, theta.clone())?;
+            let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
+            if best.as_ref().is_none_or(|b| energy < b.0) {
+                best = Some((energy, theta, p));
             }
-            None => angles.insert(AngleSystem::new(
-                &r,
-                &theta,
-                (&system.var, &system.pattern),
-            )?),
+        }
+        let (energy, theta, p) = best?;
+        let mut f = CrossField {
+            normals: normals.clone(),
+            reference: reference.clone(),
+            theta,
+            kappa: kappa.clone(),
+            period_jump: p,
+            constrained: fixed.iter().map(Option::is_some).collect(),
+            cones: Vec::new(),
+            energy,
+            index_residual: 0.0,
         };
-        let (theta, p) = round_and_resolve(&r, angles, &sectors, theta)?;
-        let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
-        if best.as_ref().is_none_or(|b| energy < b.0) {
-            best = Some((energy, theta, p));
+        let (cones, residual) = cones(&f, input.fans);
+        f.cones = cones;
+        f.index_residual = residual;
+        let moved = snap_cones(input, &f.cones, &curve, &mut shift, &mut snapped);
+        field = Some(f);
+        if !moved {
+            break;
         }
     }
-    let (energy, theta, p) = best?;
-    let mut field = CrossField {
-        normals,
-        reference,
-        theta,
-        kappa,
-        period_jump: p,
-        constrained: fixed.iter().map(Option::is_some).collect(),
-        cones: Vec::new(),
-        energy,
-        index_residual: 0.0,
-    };
-    let (cones, residual) = cones(&field, input.fans);
-    field.cones = cones;
-    field.index_residual = residual;
-    Some(field)
+    field
+}
+
+/// Rounds of [`snap_cones`] and re-rounding.
+const SNAP_ROUNDS: usize = 3;
+
+/// Cones of the field off the feature curves (at no vertex of a feature
+/// edge) but nearer a vertex of them with two or more feature edges than
+/// `snap_distance` target edges move onto that vertex: `shift` gives it
+/// their quarters (MIQ puts cones on the curves: one at an integer point
+/// less than half a unit from a curve's integer isoline is rounded onto it
+/// and the ring between them folds). Each cone moves once (`snapped`);
+/// returns whether one did.
+fn snap_cones(
+    input: &CrossFieldInput<'_>,
+    cones: &[Cone],
+    curve: &[u32],
+    shift: &mut std::collections::HashMap<u32, i32>,
+    snapped: &mut std::collections::HashSet<u32>,
+) -> bool {
+    if curve.is_empty() || input.face_sizing.is_empty() || input.snap_distance <= 0.0 {
+        return false;
+    }
+    // Cones on a curve (at a vertex of a feature edge, its end too) stay.
+    let mut on_curve: std::collections::HashSet<u32> = curve.iter().copied().collect();
+    for (f, e) in input.feature_edges.iter().enumerate() {
+        for k in (0..3).filter(|&k| e[k]) {
+            let t = input.mesh.triangles[f];
+            on_curve.extend([t[k], t[(k + 1) % 3]]);
+        }
+    }
+    let position = |v: u32| input.mesh.positions[v as usize];
+    let mut moved = false;
+    for c in cones {
+        if on_curve.contains(&c.vertex) || snapped.contains(&c.vertex) {
+            continue;
+        }
+        let Some(fan) = input.fans[c.vertex as usize].as_ref() else {
+            continue;
+        };
+        let sizing = fan
+            .corners
+            .iter()
+            .map(|&(f, _)| input.face_sizing[f as usize])
+            .sum::<f64>()
+            / fan.corners.len().max(1) as f64;
+        let p = position(c.vertex);
+        let Some((w, d)) = curve
+            .iter()
+            .map(|&w| (w, position(w).distance(p)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+        else {
+            continue;
+        };
+        if d < input.snap_distance * sizing {
+            *shift.entry(w).or_insert(0) += c.quarters;
+            snapped.insert(c.vertex);
+            moved = true;
+        }
+    }
+    moved
 }
 
 /// Signed area of the spherical polygon of unit vectors `n` (in order),

@@ -17,7 +17,12 @@ use crate::mesh::TriMesh;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Measures {
     pub faces: usize,
+    /// Faces whose parametric area is not positive ([`GridMap::flipped`]).
     pub flipped_triangles: usize,
+    /// Of those, the ones whose parametric area is zero to 1e-12 (all
+    /// three corners on one line or two at one point, e.g. a boundary loop
+    /// collapsed by its isoline constraints) rather than negative.
+    pub degenerate_triangles: usize,
     pub cones: usize,
     pub cones_by_quarters: Vec<(i32, usize)>,
     pub cone_index_sum: f64,
@@ -119,6 +124,12 @@ pub fn measures(
     Measures {
         faces: mesh.face_count(),
         flipped_triangles: map.flipped().iter().filter(|&&x| x).count(),
+        degenerate_triangles: map
+            .uv
+            .iter()
+            .map(|q| (q[1] - q[0]).perp_dot(q[2] - q[0]))
+            .filter(|a| (-1e-12..=0.0).contains(a))
+            .count(),
         cones: map.cones.len(),
         cones_by_quarters: by,
         cone_index_sum: map.cones.iter().map(|c| c.index()).sum(),

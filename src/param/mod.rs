@@ -123,23 +123,67 @@ pub struct Params {
     /// the plain rounding put 5 of its 23 corner cones one or two rings
     /// away); of two feature edges less than 45° apart around a vertex
     /// one is dropped (`drop_sliver_sectors`: such a sector would get a
-    /// quarter turn). Default 0 (off): at 60° fandisk's misalignment
-    /// falls 25.7° → 4.2°, but the map still folds more. Flipped
-    /// triangles without features → with 60° (before the sliver rule) at
-    /// the default target and at 1000 vertices: fandisk 6 → 124 (192), 7
-    /// → 40 (46) — the rest mostly next to corners and at a ±¼ cone pair
-    /// a quarter edge apart; rocker-arm 7 → 16 (27), 6 → 15 (25), whose
-    /// 60° curves are short scan ridges; bunny 77 → 114 (129), 116 → 139
-    /// (150), cones 38 → 54 (66) at the default: its sharp edges are scan
-    /// noise; with feature-vertex alignment fandisk 10 → 59 (264),
-    /// rocker-arm 22 → 34 (56).
+    /// quarter turn), and so is the shorter of two curve segments closer
+    /// than [`Params::feature_curve_spacing`]. Default 0 (off): at 60°
+    /// fandisk's misalignment falls 25.65° → 5.41°, but the map still
+    /// folds more. Flipped triangles / cones without features → with 60°
+    /// at the default target and at 1000 vertices: fandisk 6/16 → 24/30,
+    /// 7/24 → 24/30 — the rest next to cones a ring off the curves, four
+    /// of them +¼ at rounded corners of the curves (sectors of 158° and
+    /// 180° at four vertices each: no single vertex asks for the cone),
+    /// which the rounding puts on the curve's isoline
+    /// ([`Params::feature_cone_snap`] moves them); rocker-arm 7/20 →
+    /// 9/22, 6/20 → 5/24; bunny 77/38 → 100/48, 116/40 → 119/48 (its
+    /// sharp edges are scan noise); with feature-vertex alignment fandisk
+    /// 10 → 32, rocker-arm 22 → 24 flips. (Before the sliver rule:
+    /// fandisk 192 and 46, rocker-arm 27 and 25, bunny 129 and 150.)
+    /// Zero-area triangles count as flipped (`degenerate_triangles` counts
+    /// them apart): of the bunny's 77 without features 54 have zero area,
+    /// 48 of them with two boundary corners at the same (u, v) (its small
+    /// holes, whose boundary edges lie on isolines of both coordinates,
+    /// collapse); fandisk's 24 with 60° curves have 6.
     pub feature_curve_degrees: f64,
+    /// Of two feature curve segments closer than this many target edges
+    /// (away from a corner they share), the shorter is no feature curve
+    /// (`drop_close_curves`): both on integer isolines less than half a
+    /// unit apart round onto one isoline and the strip between them
+    /// collapses (fandisk's narrow faces between parallel creases: a
+    /// 61-triangle strip at u = 6), and up to a unit apart they round
+    /// either onto one or a unit apart, a stretch. 0 keeps them all.
+    /// Default 0.75. With 60° curves, flipped triangles / cones /
+    /// misalignment / shear (°) with 0 → 0.75 at the default target and
+    /// at 1000 vertices: fandisk 124/30/4.22/6.91 → 24/30/5.41/6.72,
+    /// 40/30/3.91/5.22 → 24/30/4.32/5.63; rocker-arm 16/24/20.74/5.54 →
+    /// 9/22/18.80/5.10, 15/26/18.59/4.55 → 5/24/18.69/4.45; bunny
+    /// 114/54/22.89/6.23 → 100/48/22.85/5.96, 139/52/24.28/6.50 →
+    /// 119/48/23.86/6.73; spot has no 60° curves. With feature-vertex
+    /// alignment: fandisk 59 → 32, rocker-arm 34 → 24 flips. At 0.5:
+    /// fandisk 34 and 34, rocker-arm 9 and 16 flips; at 1: fandisk 17
+    /// flips but 18 cones and misalignment 7.36°.
+    pub feature_curve_spacing: f64,
+    /// With feature curves: cones of the field off the curves but nearer a
+    /// vertex of them (two or more feature edges) than this many target
+    /// edges move onto it (its sectors get the cone's quarter turns, and
+    /// the period jumps are rounded again, `cross_field::snap_cones`): a
+    /// cone at an integer point less than half a unit from a curve's
+    /// integer isoline is rounded onto it and the ring between folds; on
+    /// fandisk four +¼ cones sit a ring off rounded corners of the curves
+    /// (sectors of 158° and 180° at four vertices each). 0 (the default)
+    /// leaves them: with 60° curves, flipped triangles / cones / shear /
+    /// misalignment (°) with 0 → 0.5 at the default target: fandisk
+    /// 24/30/6.72/5.41 → 15/30/6.41/5.15, rocker-arm 9/22/5.10/18.80 →
+    /// 7/22/5.77/19.96, bunny 100/48/5.96/22.85 → 92/44/5.86/22.54; but at
+    /// 1000 vertices fandisk 24 → 29 and bunny 119 → 144 flips (rocker-arm
+    /// 5 → 5): the moved cone's old neighbourhood is not re-solved, only
+    /// the period jumps re-rounded.
+    pub feature_cone_snap: f64,
     /// Campen §4.3's topology constraints: around every boundary loop of a
     /// filtered cyclic smooth region with turning number zero (only with
     /// smooth-region alignment), one coordinate comes back to its start
     /// value through the transitions, so isolines close there (no
     /// helix). Default true: on a capsule the closure error (the smaller
-    /// holonomy component around the loops) is 4 without and 0 with it
+    /// holonomy component around the loops) is 3 without and 0 with it,
+    /// and with a helical field there 7 without and 0 with it
     /// (tests/param.rs). The closed component is the one whose closing
     /// costs the least energy (`seamless::close_loops`): choosing it by
     /// the loop's direction closed, on spot at 1000 vertices, the
@@ -198,6 +242,8 @@ impl Default for Params {
             truncation: 2.0,
             alignment: Alignment::None,
             feature_curve_degrees: 0.0,
+            feature_curve_spacing: 0.75,
+            feature_cone_snap: 0.0,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
             region_cross_weight: Some(1.0),
@@ -274,12 +320,18 @@ pub struct Prepared {
 /// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
 /// calibrated field), topology.
 pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
+    prepare_timed(mesh, params, &|| 0.0).0
+}
+
+/// [`prepare`] and the milliseconds (by `clock`) of the filtered normals.
+fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (Prepared, f64) {
     let mut ap = params.analysis;
     ap.filtered_normals.mode = FilteredNormalsMode::Off;
     let mut analysis = analysis::analyze(mesh, &ap, &params.sizing);
     let target = crate::pipeline::target_vertex_count(mesh.vertex_count(), &params.sizing);
     crate::pipeline::calibrate_to_vertex_count(&mut analysis, target);
     let face_sizing = face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0);
+    let filtering = clock();
     let normals = if params.filtered_normals {
         let sigma: Vec<f64> = face_sizing
             .iter()
@@ -304,6 +356,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         .iter()
         .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
         .collect();
+    let filtered_ms = clock() - filtering;
     let topology = EdgeTopology::new(mesh);
     let fans = vertex_fans(mesh, &topology);
     let regions = matches!(params.alignment, Alignment::SmoothRegions | Alignment::Both)
@@ -316,7 +369,7 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         &face_sizing,
         params,
     );
-    Prepared {
+    let prepared = Prepared {
         analysis,
         face_sizing,
         normals,
@@ -324,7 +377,8 @@ pub fn prepare(mesh: &TriMesh, params: &Params) -> Prepared {
         fans,
         regions,
         feature_edges,
-    }
+    };
+    (prepared, filtered_ms)
 }
 
 /// The feature-curve edges: interior edges whose faces' normals differ by
@@ -358,6 +412,7 @@ fn feature_curves(
         edges.push((f, e, g, ge, s.a, s.b));
     }
     drop_sliver_sectors(mesh, fans, &mut edges);
+    drop_close_curves(mesh, face_sizing, params.feature_curve_spacing, &mut edges);
     for &(_, _, _, _, a, b) in &edges {
         curves.union(a, b);
     }
@@ -382,6 +437,154 @@ fn feature_curves(
 /// A feature edge as (face, local edge, face across, its local edge, end
 /// vertices).
 type FeatureEdge = (usize, usize, usize, usize, u32, u32);
+
+/// Two feature curves less than half a target edge apart cannot both lie
+/// on integer isolines of a map with unit target edges unless the strip
+/// between them collapses onto one isoline (both round to the same
+/// integer; the strip's triangles become degenerate or fold). Ebke §3
+/// merges features closer than the target edge in the normal field; here,
+/// of two curve segments (chains of feature edges between vertices with
+/// other than two feature edges) that come closer than S/2 away from any
+/// feature path of length S joining them (so not merely at a shared
+/// corner), the shorter one stops being a feature curve, until no such
+/// pair is left.
+fn drop_close_curves(
+    mesh: &TriMesh,
+    face_sizing: &[f64],
+    spacing: f64,
+    edges: &mut Vec<FeatureEdge>,
+) {
+    if spacing <= 0.0 {
+        return;
+    }
+    let nv = mesh.vertex_count();
+    let position = |v: u32| mesh.positions[v as usize];
+    let length = |k: &FeatureEdge| position(k.4).distance(position(k.5));
+    let sizing = |k: &FeatureEdge| 0.5 * (face_sizing[k.0] + face_sizing[k.2]);
+    let mut at_vertex: Vec<Vec<usize>> = vec![Vec::new(); nv];
+    for (k, e) in edges.iter().enumerate() {
+        at_vertex[e.4 as usize].push(k);
+        at_vertex[e.5 as usize].push(k);
+    }
+    // Segments: chains through vertices with exactly two feature edges.
+    let mut segment = vec![usize::MAX; edges.len()];
+    let mut segment_length = Vec::new();
+    for start in 0..edges.len() {
+        if segment[start] != usize::MAX {
+            continue;
+        }
+        let id = segment_length.len();
+        let mut total = 0.0;
+        let mut stack = vec![start];
+        segment[start] = id;
+        while let Some(k) = stack.pop() {
+            total += length(&edges[k]);
+            for v in [edges[k].4, edges[k].5] {
+                let here = &at_vertex[v as usize];
+                if here.len() != 2 {
+                    continue;
+                }
+                for &j in here {
+                    if segment[j] == usize::MAX {
+                        segment[j] = id;
+                        stack.push(j);
+                    }
+                }
+            }
+        }
+        segment_length.push(total);
+    }
+    // Close pairs of segments: an edge's midpoint nearer than S/2 to an
+    // edge of another segment that no feature path of length S from it
+    // reaches.
+    let midpoint = |k: &FeatureEdge| 0.5 * (position(k.4) + position(k.5));
+    let distance_to = |p: DVec3, k: &FeatureEdge| {
+        let (a, b) = (position(k.4), position(k.5));
+        let d = b - a;
+        let t = ((p - a).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
+        p.distance(a + d * t)
+    };
+    // Grid cells of the mean search radius (edges search as many cells as
+    // their own radius needs).
+    let cell = (edges.iter().map(sizing).sum::<f64>() / edges.len().max(1) as f64).max(1e-12)
+        * spacing.max(0.1);
+    let key = |p: DVec3| (p / cell).floor().as_i64vec3().to_array();
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> =
+        std::collections::HashMap::new();
+    for (k, e) in edges.iter().enumerate() {
+        grid.entry(key(midpoint(e))).or_default().push(k);
+    }
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for (k, e) in edges.iter().enumerate() {
+        let (m, s) = (midpoint(e), sizing(e));
+        let reach = (spacing * s + length(e)) / cell;
+        let r = reach.ceil() as i64;
+        let c = key(m);
+        let mut near = Vec::new();
+        for dx in -r..=r {
+            for dy in -r..=r {
+                for dz in -r..=r {
+                    if let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                        near.extend(list.iter().copied().filter(|&j| {
+                            segment[j] != segment[k] && distance_to(m, &edges[j]) < spacing * s
+                        }));
+                    }
+                }
+            }
+        }
+        if near.is_empty() {
+            continue;
+        }
+        // Feature paths of length S from the edge's ends (Dijkstra).
+        let mut reached = std::collections::HashSet::new();
+        let mut best: std::collections::HashMap<u32, f64> = std::collections::HashMap::new();
+        let mut queue = vec![(e.4, 0.0), (e.5, 0.0)];
+        while let Some((v, d)) = queue.pop() {
+            if best.get(&v).is_some_and(|&b| b <= d) {
+                continue;
+            }
+            best.insert(v, d);
+            for &j in &at_vertex[v as usize] {
+                reached.insert(j);
+                let o = if edges[j].4 == v {
+                    edges[j].5
+                } else {
+                    edges[j].4
+                };
+                let nd = d + length(&edges[j]);
+                if nd < s {
+                    queue.push((o, nd));
+                }
+            }
+        }
+        for j in near {
+            if !reached.contains(&j) {
+                let (a, b) = (segment[k].min(segment[j]), segment[k].max(segment[j]));
+                pairs.push((a, b));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut dropped = vec![false; segment_length.len()];
+    for (a, b) in pairs {
+        if dropped[a] || dropped[b] {
+            continue;
+        }
+        let shorter = if segment_length[a] <= segment_length[b] {
+            a
+        } else {
+            b
+        };
+        dropped[shorter] = true;
+    }
+    let mut k = 0;
+    edges.retain(|_| {
+        let keep = !dropped[segment[k]];
+        k += 1;
+        keep
+    });
+}
 
 /// Feature edges less than 45° apart around a vertex bound a sector that
 /// rounds to no quarter turn; the integer grid can only give it one (90°:
@@ -528,6 +731,12 @@ pub fn cross_field_of(
         soft_constraints: &soft,
         soft_weight: params.region_cross_weight.unwrap_or(0.0),
         feature_edges: &p.feature_edges,
+        face_sizing: &p.face_sizing,
+        snap_distance: if params.feature_curve_degrees > 0.0 {
+            params.feature_cone_snap
+        } else {
+            0.0
+        },
     })
     .ok_or(ParamError::Solve("cross field"))
 }
@@ -553,17 +762,19 @@ pub fn grid_map_of(
     field: &CrossField,
     params: &Params,
 ) -> Result<GridMap, ParamError> {
-    grid_map_with_progress(mesh, p, field, params, &mut |_| true)
+    grid_map_with_progress(mesh, p, field, params, &|| 0.0, &mut |_| true).map(|(m, _)| m)
 }
 
-/// [`grid_map_of`] asking `go_on(fraction rounded)` before every solve.
+/// [`grid_map_of`] asking `go_on(fraction rounded)` before every solve,
+/// with its stages' milliseconds by `clock`.
 fn grid_map_with_progress(
     mesh: &TriMesh,
     p: &Prepared,
     field: &CrossField,
     params: &Params,
+    clock: &dyn Fn() -> f64,
     go_on: &mut dyn FnMut(f32) -> bool,
-) -> Result<GridMap, ParamError> {
+) -> Result<(GridMap, seamless::MapTimings), ParamError> {
     let dirs: Option<Vec<Option<DVec3>>> = p.regions.as_ref().map(|r| {
         r.selected_faces()
             .iter()
@@ -583,7 +794,7 @@ fn grid_map_with_progress(
         feature_edges: &p.feature_edges,
         cyclic_loops: &loops,
     };
-    seamless::grid_map_with(&input, go_on).map_err(|e| match e {
+    seamless::grid_map_timed(&input, clock, go_on).map_err(|e| match e {
         seamless::MapStop::Solve => ParamError::Solve("parametrization"),
         seamless::MapStop::Cancelled => ParamError::Cancelled,
     })
@@ -592,9 +803,25 @@ fn grid_map_with_progress(
 /// Milliseconds per stage of [`run`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Timings {
+    /// Curvature, features, the calibrated sizing, topology, smooth
+    /// regions and feature curves: [`prepare`] without the filtered normals.
     pub analysis_ms: f64,
+    /// Ebke §3's filtered normals (σ = factor · S(f)).
+    pub filtered_normals_ms: f64,
+    /// The cross field, its period jumps and cones.
     pub cross_field_ms: f64,
+    /// Combing, the cut graph through the cones, wedges (MIQ §4).
+    pub cut_ms: f64,
+    /// The seamless map's constraints and energy, the condensed system's
+    /// sparse factorization and Campen §4.3's loop constraints.
+    pub seamless_ms: f64,
+    /// The greedy integer rounding with its re-solves (or the relaxation's
+    /// one solve) and the continuous unknowns' back-substitution.
+    pub rounding_ms: f64,
+    /// `cut_ms + seamless_ms + rounding_ms`.
     pub parametrization_ms: f64,
+    /// Flips and Campen §5's measures.
+    pub measures_ms: f64,
 }
 
 /// Everything [`run`] computes.
@@ -626,13 +853,13 @@ pub fn run_with_progress(
 ) -> Result<Run, ParamError> {
     let t0 = clock();
     progress.report(0.0, "analysis")?;
-    let prepared = prepare(mesh, params);
+    let (prepared, filtered_normals_ms) = prepare_timed(mesh, params, clock);
     let t1 = clock();
     progress.report(0.15, "cross field")?;
     let field = cross_field_of(mesh, &prepared, params)?;
     let t2 = clock();
     progress.report(0.3, "seamless map")?;
-    let map = grid_map_with_progress(mesh, &prepared, &field, params, &mut |f| {
+    let (map, stages) = grid_map_with_progress(mesh, &prepared, &field, params, clock, &mut |f| {
         progress
             .report(0.3 + 0.7 * f, "seamless map, integer rounding")
             .is_ok()
@@ -644,15 +871,21 @@ pub fn run_with_progress(
         |r| r.faces.clone(),
     );
     let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
+    let t4 = clock();
     Ok(Run {
         prepared,
         field,
         map,
         measures,
         timings: Timings {
-            analysis_ms: t1 - t0,
+            analysis_ms: t1 - t0 - filtered_normals_ms,
+            filtered_normals_ms,
             cross_field_ms: t2 - t1,
+            cut_ms: stages.cut_ms,
+            seamless_ms: stages.seamless_ms,
+            rounding_ms: stages.rounding_ms,
             parametrization_ms: t3 - t2,
+            measures_ms: t4 - t3,
         },
     })
 }
