@@ -600,7 +600,7 @@ pub fn metrics(mesh: &PolyMesh, input: &TriMesh, input_index: &SurfaceIndex) -> 
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     #[test]
@@ -669,7 +669,7 @@ mod tests {
 
     /// A quad grid over [−1, 1]² with `n × n` cells, without the cells whose
     /// centre fails `keep`.
-    fn quad_grid(n: u32, keep: impl Fn(f64, f64) -> bool) -> PolyMesh {
+    pub(crate) fn quad_grid(n: u32, keep: impl Fn(f64, f64) -> bool) -> PolyMesh {
         let at = |i: u32| -1.0 + 2.0 * i as f64 / n as f64;
         let p: Vec<DVec3> = (0..=n)
             .flat_map(|j| (0..=n).map(move |i| DVec3::new(at(i), at(j), 0.0)))
@@ -698,7 +698,7 @@ mod tests {
     }
 
     /// The input: a fine triangulated grid without the cells failing `keep`.
-    fn tri_grid(keep: impl Fn(f64, f64) -> bool) -> TriMesh {
+    pub(crate) fn tri_grid(keep: impl Fn(f64, f64) -> bool) -> TriMesh {
         let q = quad_grid(60, keep);
         let tris = q.to_face_list().triangulate(&q.positions);
         TriMesh::new(q.positions.clone(), tris).unwrap()

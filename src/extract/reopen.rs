@@ -107,40 +107,7 @@ pub fn reopen_closed_loops(
 mod tests {
     use super::*;
     use crate::metrics::preservation_metrics;
-    use glam::DVec3;
-
-    /// A quad grid over [−1, 1]² with `n × n` cells, without the cells whose
-    /// centre fails `keep` (only the vertices the kept cells use).
-    fn quad_grid(n: u32, keep: impl Fn(f64, f64) -> bool) -> PolyMesh {
-        let at = |i: u32| -1.0 + 2.0 * i as f64 / n as f64;
-        let id = |i: u32, j: u32| (j * (n + 1) + i) as usize;
-        let mut index = vec![u32::MAX; ((n + 1) * (n + 1)) as usize];
-        let mut positions = Vec::new();
-        let mut faces = FaceList::new();
-        for j in 0..n {
-            for i in 0..n {
-                let c = 1.0 / n as f64;
-                if !keep(at(i) + c, at(j) + c) {
-                    continue;
-                }
-                let quad = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(i, j)| {
-                    if index[id(i, j)] == u32::MAX {
-                        index[id(i, j)] = positions.len() as u32;
-                        positions.push(DVec3::new(at(i), at(j), 0.0));
-                    }
-                    index[id(i, j)]
-                });
-                faces.push(&quad);
-            }
-        }
-        PolyMesh::from_faces(positions, &faces).unwrap()
-    }
-
-    fn tri_grid(keep: impl Fn(f64, f64) -> bool) -> TriMesh {
-        let q = quad_grid(60, keep);
-        let tris = q.to_face_list().triangulate(&q.positions);
-        TriMesh::new(q.positions.clone(), tris).unwrap()
-    }
+    use crate::metrics::tests::{quad_grid, tri_grid};
 
     #[test]
     fn the_faces_over_a_closed_hole_go_and_nothing_else_does() {
