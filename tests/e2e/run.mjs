@@ -766,26 +766,25 @@ test('design mode: a click while the analysis runs answers without it; an Enter 
   await enterDesign(page);
   const hits = await surfaceGrid(page);
   const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
-  // The commit's analysis then runs in its worker: click at once. The
-  // torus' analysis takes a few hundred ms; when it has already ended by
-  // the time the page is asked, another strip is committed (at most 4).
-  let analyses = 0;
-  let runningAtClick = false;
-  for (let attempt = 0; attempt < 4 && !runningAtClick; attempt++) {
-    analyses = await page.evaluate(() => window.quadrille.design.analyses);
-    await hoverAndCommit(page, byX[Math.floor(byX.length * (0.05 + 0.1 * attempt))]);
-    runningAtClick = await page.evaluate((n) => window.quadrille.design.analyses === n, analyses);
-  }
+  // The commit's analysis then runs in its worker. It is held at its first
+  // step (a test hook) so that it surely runs when the click comes; racing
+  // it (up to four commits) lost every race on a loaded machine.
+  await page.evaluate(() => window.quadrille.holdDesignAnalysis(true));
+  const analyses = await page.evaluate(() => window.quadrille.design.analyses);
+  await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
+  const committed = await page.evaluate(() => window.quadrille.design.state.revision);
+  await page.waitForFunction((r) => window.quadrille.design.heldAnalysis === r, committed, DESIGN_WAIT);
   const p = byX[Math.floor(byX.length * 0.6)];
   const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
   await page.mouse.click(p.x, p.y);
   await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
   const click = await page.evaluate((n) => ({ ms: window.quadrille.design.actionLatencies.addAnchor.at(-1), stillRunning: window.quadrille.design.analyses === n,
     anchors: window.quadrille.design.state.anchors.length / 3 }), analyses);
+  await page.evaluate(() => window.quadrille.holdDesignAnalysis(false));
   await page.waitForFunction((n) => window.quadrille.design.analyses > n, analyses, DESIGN_WAIT);
   const analysisMs = await page.evaluate(() => window.quadrille.design.analysisMs);
-  console.log(`      [${env.backend}] torus: click during the analysis answered (drawn) in ${click.ms.toFixed(1)} ms; the analysis ${click.stillRunning ? 'was still running then' : 'had finished by then'} (it took ${analysisMs.toFixed(0)} ms)`);
-  assert(runningAtClick, 'the click was made while the analysis ran');
+  console.log(`      [${env.backend}] torus: click during the (held) analysis answered (drawn) in ${click.ms.toFixed(1)} ms; the analysis took ${analysisMs.toFixed(0)} ms once let go`);
+  assert(click.stillRunning, 'the click was answered while the analysis ran');
   assert(click.anchors === 1, `the click placed an anchor: ${click.anchors}`);
   // A second click and Enter at once: the Enter waits for the click's
   // answer, then commits the loop through both anchors.
