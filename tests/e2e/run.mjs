@@ -768,7 +768,10 @@ test('design mode: a click while the analysis runs answers without it; an Enter 
   const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
   // The commit's analysis then runs in its worker. It is held at its first
   // step (a test hook) so that it surely runs when the click comes; racing
-  // it (up to four commits) lost every race on a loaded machine.
+  // it (up to four commits) lost every race on a loaded machine. The
+  // mode's first analysis ends first: a held earlier analysis would block
+  // the worker before the commit's could start.
+  await waitForAnalysis(page);
   await page.evaluate(() => window.quadrille.holdDesignAnalysis(true));
   const analyses = await page.evaluate(() => window.quadrille.design.analyses);
   await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
