@@ -359,17 +359,9 @@ pub fn shape_metrics(
     (topology, quad, edges)
 }
 
-/// Distances between the output and the input surface.
-pub fn distance_metrics(
-    mesh: &PolyMesh,
-    input: &TriMesh,
-    input_index: &SurfaceIndex,
-) -> DistanceMetrics {
-    distances(mesh, input_index, input_to_output(mesh, input).as_deref())
-}
-
-/// [`distance_metrics`] with the input's vertices' distances to the output
-/// given (`None`: the output has no faces to measure against).
+/// Distances between the output and the input surface, with the input's
+/// vertices' distances to the output given (`None`: the output has no
+/// faces to measure against).
 fn distances(mesh: &PolyMesh, input_index: &SurfaceIndex, back: Option<&[f64]>) -> DistanceMetrics {
     let mut d = DistanceMetrics::default();
     let mut samples: Vec<DVec3> = mesh.positions.clone();
@@ -445,6 +437,8 @@ pub enum LoopFate {
 pub struct LoopAudit {
     pub s: f64,
     pub arcs: crate::mesh::BoundaryArcs,
+    /// The input's boundary edges (edges of one triangle), as vertex pairs.
+    pub boundary_edges: Vec<[u32; 2]>,
     pub fates: Vec<LoopFate>,
 }
 
@@ -474,7 +468,8 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
             .collect(),
         s,
     );
-    // The input's boundary edges (on one triangle), each with its loop.
+    // The input's boundary edges (on one triangle), each tagged with its
+    // loop and its start's arc length.
     let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
     let on_loop = |v: u32| arcs.loop_of[v as usize] != u32::MAX;
     for t in &input.triangles {
@@ -485,10 +480,14 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
             }
         }
     }
-    let input_boundary: Vec<([DVec3; 2], (u32, f64))> = count
+    let boundary_edges: Vec<[u32; 2]> = count
         .into_iter()
         .filter(|&(_, n)| n == 1)
-        .map(|((a, b), _)| {
+        .map(|((a, b), _)| [a, b])
+        .collect();
+    let input_boundary: Vec<([DVec3; 2], (u32, f64))> = boundary_edges
+        .iter()
+        .map(|&[a, b]| {
             let tag = (arcs.loop_of[a as usize], arcs.arc[a as usize]);
             (
                 [input.positions[a as usize], input.positions[b as usize]],
@@ -540,13 +539,18 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
             }
         })
         .collect();
-    LoopAudit { s, arcs, fates }
+    LoopAudit {
+        s,
+        arcs,
+        boundary_edges,
+        fates,
+    }
 }
 
 /// [`preservation_metrics`] with the input's vertices' distances to the
 /// output given.
 fn preservation(mesh: &PolyMesh, input: &TriMesh, back: Option<&[f64]>) -> PreservationMetrics {
-    let LoopAudit { s, arcs, fates } = loop_audit(mesh, input);
+    let LoopAudit { s, arcs, fates, .. } = loop_audit(mesh, input);
     let mut p = PreservationMetrics {
         input_loops: fates.len(),
         ..Default::default()

@@ -28,29 +28,13 @@ pub fn reopen_closed_loops(
     if !audit.fates.contains(&LoopFate::ClosedOver) {
         return None;
     }
-    // The rims of the loops closed over (their edges on one triangle),
-    // each edge tagged with its loop.
-    let closed = |v: u32| {
-        let l = audit.arcs.loop_of[v as usize];
-        (l != u32::MAX && audit.fates[l as usize] == LoopFate::ClosedOver).then_some(l)
-    };
-    let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
-    for t in &input.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            if let (Some(l), Some(m)) = (closed(a), closed(b))
-                && l == m
-            {
-                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-    }
-    let rims: Vec<_> = count
-        .into_iter()
-        .filter(|&(_, n)| n == 1)
-        .filter_map(|((a, b), _)| {
-            let l = closed(a)?;
-            Some((
+    // The rims of the loops closed over, each edge tagged with its loop.
+    let rims: Vec<_> = audit
+        .boundary_edges
+        .iter()
+        .filter_map(|&[a, b]| {
+            let l = audit.arcs.loop_of[a as usize];
+            (audit.fates[l as usize] == LoopFate::ClosedOver).then_some((
                 [input.positions[a as usize], input.positions[b as usize]],
                 l,
             ))

@@ -630,49 +630,40 @@ impl Condensed {
             }
             subtract_inverse_forms(&mut forward, &k_fz, &b_f, &mut s, &mut b_z)
                 .ok_or(MapStop::Solve)?;
-            let s = (&s + s.transpose()) * 0.5;
-            return Ok(Condensed {
-                z_index,
-                z_vars,
-                f_vars,
-                factor,
-                k_fz,
-                b_f,
-                s,
-                b_z,
-            });
-        }
-        // A simplicial factor: block solves.
-        // Column None is b_F, Some(z) the column of K_FZ.
-        let columns: Vec<Option<usize>> = std::iter::once(None).chain((0..nz).map(Some)).collect();
-        for chunk in columns.chunks(BLOCK) {
-            if !go_on() {
-                return Err(MapStop::Cancelled);
-            }
-            let mut x = Mat::<f64>::zeros(nf, chunk.len());
-            for (j, c) in chunk.iter().enumerate() {
-                match *c {
-                    None => {
-                        for (i, &b) in b_f.iter().enumerate() {
-                            x[(i, j)] = b;
+        } else {
+            // A simplicial factor: block solves.
+            // Column None is b_F, Some(z) the column of K_FZ.
+            let columns: Vec<Option<usize>> =
+                std::iter::once(None).chain((0..nz).map(Some)).collect();
+            for chunk in columns.chunks(BLOCK) {
+                if !go_on() {
+                    return Err(MapStop::Cancelled);
+                }
+                let mut x = Mat::<f64>::zeros(nf, chunk.len());
+                for (j, c) in chunk.iter().enumerate() {
+                    match *c {
+                        None => {
+                            for (i, &b) in b_f.iter().enumerate() {
+                                x[(i, j)] = b;
+                            }
                         }
-                    }
-                    Some(z) => {
-                        for &(i, v) in &k_fz[z] {
-                            x[(i, j)] = v;
+                        Some(z) => {
+                            for &(i, v) in &k_fz[z] {
+                                x[(i, j)] = v;
+                            }
                         }
                     }
                 }
-            }
-            if !factor.solve_in_place(x.as_mut()) {
-                return Err(MapStop::Solve);
-            }
-            for (j, c) in chunk.iter().enumerate() {
-                for (z2, col) in k_fz.iter().enumerate() {
-                    let d: f64 = col.iter().map(|&(i, v)| v * x[(i, j)]).sum();
-                    match *c {
-                        None => b_z[z2] -= d,
-                        Some(z) => s[(z2, z)] -= d,
+                if !factor.solve_in_place(x.as_mut()) {
+                    return Err(MapStop::Solve);
+                }
+                for (j, c) in chunk.iter().enumerate() {
+                    for (z2, col) in k_fz.iter().enumerate() {
+                        let d: f64 = col.iter().map(|&(i, v)| v * x[(i, j)]).sum();
+                        match *c {
+                            None => b_z[z2] -= d,
+                            Some(z) => s[(z2, z)] -= d,
+                        }
                     }
                 }
             }
