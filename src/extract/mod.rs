@@ -18,6 +18,7 @@ pub mod clusters;
 pub mod faces;
 pub mod postprocess;
 pub mod pure_quad;
+pub mod qex;
 pub mod reopen;
 pub mod repair;
 pub mod snap;
