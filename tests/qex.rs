@@ -139,6 +139,7 @@ fn clean_shared_meshes_give_closed_pure_quads_of_their_genus() {
         assert_pure_quads(m);
         assert!(m.boundary_loops().is_empty(), "{name}");
         assert_eq!(m.euler_characteristic(), chi, "{name}");
+        assert_eq!(q.report.euler_characteristic, [chi, chi], "{name}");
         let v = m.vertex_count() as f64;
         assert!(
             (v / target as f64 - 1.0).abs() <= 0.1,

@@ -74,6 +74,10 @@ pub struct QexReport {
     pub fill_vertices: usize,
     /// Holes of odd length, which quads cannot close: left open.
     pub holes_left_open: usize,
+    /// V − E + F of the input and of the output: they differ where the
+    /// map ironed over a handle below the target scale (Ebke §6) — or
+    /// where folds the extraction could not resolve cut the surface.
+    pub euler_characteristic: [i64; 2],
 }
 
 /// The extracted quad mesh, in the coordinates of the map's mesh.
@@ -347,18 +351,19 @@ pub fn extract(
     }
     progress.report(0.9, "half-edge mesh")?;
     let positions: Vec<DVec3> = x.vertices.iter().map(|v| v.position).collect();
-    let (mesh, dropped, kept) = manifold_mesh(positions, faces)?;
+    let (out, dropped, kept) = manifold_mesh(positions, faces)?;
     report.non_manifold_dropped = dropped;
     report.isolated_vertices = x.vertices.len() - kept.len();
     let on_input_boundary: Vec<bool> = kept
         .iter()
         .map(|&g| x.vertices[g as usize].star.period == 0)
         .collect();
-    let mesh = fill_extraction_holes(mesh, &on_input_boundary, &mut report);
-    report.grid_vertices = mesh.vertex_count();
-    report.faces = mesh.face_count();
+    let out = fill_extraction_holes(out, &on_input_boundary, &mut report);
+    report.grid_vertices = out.vertex_count();
+    report.faces = out.face_count();
+    report.euler_characteristic = [tri_euler_characteristic(mesh), out.euler_characteristic()];
     progress.report(1.0, "done")?;
-    Ok(Quadrangulation { mesh, report })
+    Ok(Quadrangulation { mesh: out, report })
 }
 
 /// The half-edge mesh of `faces`, dropping faces that would make an edge
@@ -1192,4 +1197,19 @@ fn fill_extraction_holes(
             mesh
         }
     }
+}
+
+/// V − E + F of a triangle mesh (vertices used by a face).
+fn tri_euler_characteristic(mesh: &TriMesh) -> i64 {
+    let mut used = vec![false; mesh.positions.len()];
+    let mut edges = std::collections::HashSet::new();
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            used[t[i] as usize] = true;
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    let v = used.iter().filter(|&&u| u).count() as i64;
+    v - edges.len() as i64 + mesh.triangles.len() as i64
 }
