@@ -175,3 +175,39 @@ fn messy_shared_meshes_give_a_valid_mesh_or_a_clear_error() {
         }
     }
 }
+
+/// Ebke Fig. 9: an accordion of pleats finer than the target edge adds no
+/// quad loops with filtered normals — the crosses projected from the
+/// filtered (flat) normal field measure the pleats by their flat width —
+/// while without the filter every pleat's slope lengthens the grid.
+#[test]
+fn pleats_below_the_target_edge_add_no_quad_loops() {
+    use quadrille::mesh::generate::height_field;
+    // Zig-zag pleats of wavelength 0.1 and slope 3 across x (arc length
+    // 3.2 times the width), target edge 0.4.
+    let pleat = |x: f64, _y: f64| {
+        let t = (x / 0.1).rem_euclid(1.0);
+        0.15 * if t < 0.5 { t } else { 1.0 - t }
+    };
+    let flat = flat_grid(1.0, 120);
+    let pleated = height_field(1.0, 120, pleat);
+    let count = |mesh: &TriMesh, filtered: bool| {
+        let mut p = Params::default();
+        p.sizing.method = EdgeLengthMethod::Uniform;
+        p.sizing.edge_length = Some(0.4);
+        p.sizing.target_vertex_count = None;
+        p.filtered_normals = filtered;
+        quads(mesh, &p).1.mesh.vertex_count()
+    };
+    let (v_flat, v_filtered, v_unfiltered) = (
+        count(&flat, true),
+        count(&pleated, true),
+        count(&pleated, false),
+    );
+    println!("pleats: flat {v_flat}, pleated {v_filtered} filtered, {v_unfiltered} unfiltered");
+    assert!(
+        (v_filtered as f64) <= 1.15 * v_flat as f64,
+        "{v_filtered} vertices against {v_flat} on the flat square"
+    );
+    assert!(v_unfiltered as f64 > 1.5 * v_flat as f64, "{v_unfiltered}");
+}
