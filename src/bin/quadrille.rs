@@ -40,8 +40,9 @@ enum Command {
         #[arg(long)]
         reference: PathBuf,
     },
-    /// Run the whole pipeline and write the quad-dominant mesh (OBJ, PLY or
-    /// OFF by the output's extension, polygons kept).
+    /// Run the whole pipeline and write the quad mesh (OBJ, PLY or OFF by
+    /// the output's extension, polygons kept): quad-dominant in the local
+    /// mode, pure quads in the global mode (`--mode global`).
     Remesh(RemeshArgs),
     /// Fit a Catmull–Clark control mesh to a reference surface, starting
     /// from any polygon mesh (a retopology, another remesher's output):
@@ -125,6 +126,11 @@ struct RemeshArgs {
     /// Seed of the random initialisation.
     #[arg(long)]
     seed: Option<u64>,
+    /// Remeshing mode (overrides `remesh.mode` of --params): local
+    /// (Instant Meshes' fields as in the thesis, quad-dominant; the
+    /// default) or global (integer-grid map and QEx extraction, pure quads).
+    #[arg(long, value_parser = ["local", "global"])]
+    mode: Option<String>,
     /// Pipeline parameters as JSON (every field optional).
     #[arg(long)]
     params: Option<PathBuf>,
@@ -184,6 +190,9 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     if let Some(s) = args.seed {
         params.field.seed = s;
     }
+    if let Some(mode) = &args.mode {
+        params.remesh.mode = mode.parse()?;
+    }
     let input_vertices = imported.mesh.vertex_count();
     quadrille::pipeline::check_target(input_vertices, &params.sizing)
         .map_err(|e| format!("{}: {e}", args.input.display()))?;
@@ -207,7 +216,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     };
     pipeline
         .run(&mut sink, &mut |_, _| {}, &clock)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| format!("{}: {e}", args.input.display()))?;
     let surface = pipeline.surface();
     let post = pipeline
         .postprocess
@@ -282,10 +291,21 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             timings.insert(stage.name().into(), serde_json::json!(ms));
         }
         timings.insert("metrics".into(), serde_json::json!(metrics_ms));
-        let extraction = pipeline.extraction.as_ref().map(|e| &e.extracted.report);
+        let extracted = pipeline.extraction.as_ref().map(|e| &e.extracted);
+        let extraction = extracted.and_then(|e| e.local()).map(|e| &e.report);
+        let qex = extracted.and_then(|e| e.qex());
+        let parametrization = pipeline.parametrization.as_ref().map(|s| {
+            serde_json::json!({
+                "cones": s.run.map.cones.len(),
+                "measures": s.run.measures,
+                "integer_conflicts": s.run.map.conflicts,
+                "timings": s.run.timings,
+            })
+        });
         let json = serde_json::json!({
             "input": args.input.display().to_string(),
             "output": name,
+            "mode": pipeline.params.remesh.mode,
             "target_vertices": target,
             "achieved_vertices": mesh.vertex_count(),
             "vertex_count_error_percent": target.map(|t| 100.0 * (mesh.vertex_count() as f64 - t as f64) / t as f64),
@@ -293,6 +313,8 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             "frame_scale": frame.scale,
             "metrics": metrics,
             "extraction": extraction,
+            "parametrization": parametrization,
+            "qex": qex,
             "postprocess": post.result.report,
             "postprocess_repair": post.result.repair,
             "limit_surface": fitted.map(|r| &r.summary),

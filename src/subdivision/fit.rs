@@ -1,6 +1,8 @@
 //! Control-mesh fitting (Kloiber 2018 §3.8, the method of Thaller,
 //! Augsdörfer and Fellner 2016): one Catmull–Clark step makes the
-//! quad-dominant mesh pure quad; then, repeatedly, every interior control
+//! quad-dominant mesh pure quad (a mesh that is already pure quad is a
+//! control mesh as it is, and with [`FitSplit::NonQuads`] is fitted
+//! without the step, at a quarter of the control vertices); then, repeatedly, every interior control
 //! vertex moves by the offset between its limit point and the point where
 //! the line through the limit point along the limit normal meets the input.
 //! Stops after `max_iterations` (20) or when the largest move is below
@@ -67,6 +69,26 @@ pub struct FitParams {
     /// degrees are feature curves, and the mesh's edges along them become
     /// sharp creases (module docs); 0 turns creases off.
     pub crease_degrees: f64,
+    /// Whether the mesh is split once (Catmull–Clark) before fitting.
+    /// Default [`FitSplit::Auto`].
+    pub split: FitSplit,
+}
+
+/// Whether the fitting starts with one Catmull–Clark step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FitSplit {
+    /// The pipeline's global mode (pure quads) fits its mesh as it is; the
+    /// local mode, and any mesh fitted on its own (`quadrille fit`), split
+    /// first as [`FitSplit::Always`].
+    #[default]
+    Auto,
+    /// One step first whatever the mesh (a quad mesh's control vertices
+    /// quadruple): the thesis.
+    Always,
+    /// One step only when a face is not a quad; a pure-quad mesh is fitted
+    /// as it is.
+    NonQuads,
 }
 
 impl Default for FitParams {
@@ -79,6 +101,7 @@ impl Default for FitParams {
             error_levels: 2,
             measure_before: true,
             crease_degrees: 40.0,
+            split: FitSplit::Auto,
         }
     }
 }
@@ -137,6 +160,8 @@ pub struct FitSummary {
     pub control_faces: usize,
     /// Edges of the quad-dominant mesh made sharp creases.
     pub crease_edges: usize,
+    /// Whether the mesh was split once before fitting ([`FitSplit`]).
+    pub split: bool,
     pub before: LimitError,
     pub after: LimitError,
 }
@@ -155,13 +180,30 @@ pub fn fit_control_mesh(
     progress: &mut Progress,
 ) -> Result<FitResult, Cancelled> {
     let rule = params.boundary;
-    progress.report(0.0, "subdividing to a pure quad mesh")?;
+    let split = match params.split {
+        FitSplit::Auto | FitSplit::Always => true,
+        FitSplit::NonQuads => {
+            (0..quad_dominant.face_count()).any(|f| quad_dominant.degree(f as u32) != 4)
+        }
+    };
+    progress.report(
+        0.0,
+        if split {
+            "subdividing to a pure quad mesh"
+        } else {
+            "a pure quad mesh: fitted as it is"
+        },
+    )?;
     let features = feature_curves(reference, params.crease_degrees);
     let creases = match &features {
         Some(curves) => crease_edges(quad_dominant, curves),
         None => Vec::new(),
     };
-    let (mut control, sharp) = subdivide_creased(quad_dominant, rule, &creases);
+    let (mut control, sharp) = if split {
+        subdivide_creased(quad_dominant, rule, &creases)
+    } else {
+        (quad_dominant.clone(), creases.clone())
+    };
     let start = control.positions.clone();
     let scale = reference
         .bbox()
@@ -175,6 +217,7 @@ pub fn fit_control_mesh(
             summary: FitSummary {
                 control_vertices: control.vertex_count(),
                 control_faces: control.face_count(),
+                split,
                 ..FitSummary::default()
             },
             control,
@@ -221,6 +264,7 @@ pub fn fit_control_mesh(
         control_vertices: control.vertex_count(),
         control_faces: control.face_count(),
         crease_edges: creases.iter().filter(|&&c| c).count(),
+        split,
         ..FitSummary::default()
     };
     let max_iterations = params.max_iterations;
