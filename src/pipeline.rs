@@ -447,7 +447,7 @@ pub struct ParametrizationStage {
 pub enum ExtractedMesh {
     /// The local mode's mesh from the position field, with its graph and
     /// report.
-    Local(Extracted),
+    Local(Box<Extracted>),
     /// The global mode's quads from the integer-grid map.
     Global(Quadrangulation),
 }
@@ -977,7 +977,7 @@ impl Pipeline {
         extracted.report.position_seed = position.seed;
         self.position = Some(position);
         self.extraction = Some(ExtractionStage {
-            extracted: ExtractedMesh::Local(extracted),
+            extracted: ExtractedMesh::Local(Box::new(extracted)),
             target_vertices: target,
         });
         Ok(())

@@ -195,7 +195,11 @@ fn remesh_mode_is_chosen_on_the_command_line_and_reported() {
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
     assert_eq!(json["mode"], "local", "--mode overrides the parameter file");
     assert!(json["qex"].is_null() && json["parametrization"].is_null());
-    assert!(json["extraction"]["attempts"].is_number(), "{}", json["extraction"]);
+    assert!(
+        json["extraction"]["attempts"].is_number(),
+        "{}",
+        json["extraction"]
+    );
 
     let run = remesh(&["--mode", "sideways"]);
     let stderr = String::from_utf8_lossy(&run.stderr);
@@ -209,7 +213,10 @@ fn remesh_mode_is_chosen_on_the_command_line_and_reported() {
         .output()
         .unwrap();
     let help = String::from_utf8_lossy(&help.stdout);
-    assert!(help.contains("--mode <MODE>") && help.contains("global"), "{help}");
+    assert!(
+        help.contains("--mode <MODE>") && help.contains("global"),
+        "{help}"
+    );
     // A parameter file's unknown mode is refused too, naming the file.
     std::fs::write(&params, r#"{ "remesh": { "mode": "sideways" } }"#).unwrap();
     let run = remesh(&[]);
@@ -281,7 +288,13 @@ fn remesh_global_mode_gives_a_closed_pure_quad_mesh_fitted_without_a_split() {
     assert_eq!(fit["split"], false);
     assert_eq!(fit["control_vertices"], r.vertices);
     assert_eq!(read(&control).report.vertices, r.vertices);
-    for key in ["analysis", "parametrization", "extraction", "postprocess", "fit"] {
+    for key in [
+        "analysis",
+        "parametrization",
+        "extraction",
+        "postprocess",
+        "fit",
+    ] {
         assert!(json["timings_ms"][key].is_number(), "timing of {key}");
     }
     assert!(json["timings_ms"]["hierarchy"].is_null());

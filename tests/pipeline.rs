@@ -236,7 +236,10 @@ fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
     assert_eq!(changed(&|p| p.field.orientation_iterations += 1), None);
     assert_eq!(changed(&|p| p.field.seed += 1), None);
     assert_eq!(changed(&|p| p.extraction.min_cluster_fraction = 0.3), None);
-    assert_eq!(changed(&|p| p.extraction.post.smoothing_iterations = 7), None);
+    assert_eq!(
+        changed(&|p| p.extraction.post.smoothing_iterations = 7),
+        None
+    );
     assert_eq!(
         changed(&|p| p.alignment.mode = quadrille::pipeline::AlignmentMode::SmoothRegions),
         Some(Stage::Parametrization)
@@ -257,10 +260,7 @@ fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
     // The same changes in the local mode.
     let mut other = local.clone();
     other.field.orientation_iterations += 1;
-    assert_eq!(
-        local.first_changed_stage(&other),
-        Some(Stage::Orientation)
-    );
+    assert_eq!(local.first_changed_stage(&other), Some(Stage::Orientation));
 
     // Switching the mode keeps the analysis and drops the other mode's
     // outputs; the global run starts with the map. (Cancelled when the

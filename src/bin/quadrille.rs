@@ -173,26 +173,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     let start = std::time::Instant::now();
     let imported = import(&args.input)?;
     let import_ms = start.elapsed().as_secs_f64() * 1e3;
-    if let Some(v) = args.vertices {
-        if v < 4 {
-            return Err("--vertices must be at least 4".into());
-        }
-        params.sizing.target_vertex_count = Some(v);
-        params.sizing.edge_length = None;
-    }
-    if let Some(l) = args.edge_length {
-        if !(l.is_finite() && l > 0.0) {
-            return Err("--edge-length must be a positive number".into());
-        }
-        // The pipeline works in the normalised frame.
-        params.sizing.edge_length = Some(l / imported.frame.scale);
-    }
-    if let Some(s) = args.seed {
-        params.field.seed = s;
-    }
-    if let Some(mode) = &args.mode {
-        params.remesh.mode = mode.parse()?;
-    }
+    command_line_params(&args, &mut params, imported.frame.scale)?;
     let input_vertices = imported.mesh.vertex_count();
     quadrille::pipeline::check_target(input_vertices, &params.sizing)
         .map_err(|e| format!("{}: {e}", args.input.display()))?;
@@ -322,6 +303,36 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         });
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
         std::fs::write(stats, text).map_err(|e| format!("{}: {e}", stats.display()))?;
+    }
+    Ok(())
+}
+
+/// The command line's options over the parameter file's values (the
+/// explicit edge length from file units to the normalised frame, whose
+/// largest axis is `frame_scale` file units).
+fn command_line_params(
+    args: &RemeshArgs,
+    params: &mut quadrille::pipeline::Params,
+    frame_scale: f64,
+) -> Result<(), String> {
+    if let Some(v) = args.vertices {
+        if v < 4 {
+            return Err("--vertices must be at least 4".into());
+        }
+        params.sizing.target_vertex_count = Some(v);
+        params.sizing.edge_length = None;
+    }
+    if let Some(l) = args.edge_length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err("--edge-length must be a positive number".into());
+        }
+        params.sizing.edge_length = Some(l / frame_scale);
+    }
+    if let Some(s) = args.seed {
+        params.field.seed = s;
+    }
+    if let Some(mode) = &args.mode {
+        params.remesh.mode = mode.parse()?;
     }
     Ok(())
 }

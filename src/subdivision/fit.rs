@@ -91,6 +91,16 @@ pub enum FitSplit {
     NonQuads,
 }
 
+impl FitSplit {
+    /// Whether `mesh` is split once before fitting.
+    pub fn splits(self, mesh: &PolyMesh) -> bool {
+        match self {
+            FitSplit::Auto | FitSplit::Always => true,
+            FitSplit::NonQuads => (0..mesh.face_count()).any(|f| mesh.degree(f as u32) != 4),
+        }
+    }
+}
+
 impl Default for FitParams {
     fn default() -> Self {
         FitParams {
@@ -180,30 +190,11 @@ pub fn fit_control_mesh(
     progress: &mut Progress,
 ) -> Result<FitResult, Cancelled> {
     let rule = params.boundary;
-    let split = match params.split {
-        FitSplit::Auto | FitSplit::Always => true,
-        FitSplit::NonQuads => {
-            (0..quad_dominant.face_count()).any(|f| quad_dominant.degree(f as u32) != 4)
-        }
-    };
-    progress.report(
-        0.0,
-        if split {
-            "subdividing to a pure quad mesh"
-        } else {
-            "a pure quad mesh: fitted as it is"
-        },
-    )?;
+    let split = params.split.splits(quad_dominant);
+    progress.report(0.0, "the pure quad control mesh")?;
     let features = feature_curves(reference, params.crease_degrees);
-    let creases = match &features {
-        Some(curves) => crease_edges(quad_dominant, curves),
-        None => Vec::new(),
-    };
-    let (mut control, sharp) = if split {
-        subdivide_creased(quad_dominant, rule, &creases)
-    } else {
-        (quad_dominant.clone(), creases.clone())
-    };
+    let (mut control, sharp, crease_count) =
+        start_mesh(quad_dominant, rule, features.as_ref(), split);
     let start = control.positions.clone();
     let scale = reference
         .bbox()
@@ -263,7 +254,7 @@ pub fn fit_control_mesh(
     let mut summary = FitSummary {
         control_vertices: control.vertex_count(),
         control_faces: control.face_count(),
-        crease_edges: creases.iter().filter(|&&c| c).count(),
+        crease_edges: crease_count,
         split,
         ..FitSummary::default()
     };
@@ -351,6 +342,25 @@ pub fn fit_control_mesh(
         after,
         summary,
     })
+}
+
+/// The control mesh the fitting starts from, its sharp edges and how many
+/// edges of `mesh` became creases: `mesh` with its edges along `curves`
+/// sharp, split once (Catmull–Clark) when `split`, else as it is.
+fn start_mesh(
+    mesh: &PolyMesh,
+    rule: BoundaryRule,
+    curves: Option<&CurveIndex>,
+    split: bool,
+) -> (PolyMesh, Vec<bool>, usize) {
+    let creases = curves.map_or_else(Vec::new, |curves| crease_edges(mesh, curves));
+    let count = creases.iter().filter(|&&c| c).count();
+    let (control, sharp) = if split {
+        subdivide_creased(mesh, rule, &creases)
+    } else {
+        (mesh.clone(), creases)
+    };
+    (control, sharp, count)
 }
 
 /// The reference's feature curves: its interior edges whose faces' normals

@@ -962,7 +962,11 @@ impl Session {
         };
         let mut sink = crate::progress::Progress::new(&mut sink, "parametrization");
         // The global mode's map is the pipeline's own: no second computation.
-        if let Some(s) = p.parametrization.as_ref().filter(|_| p.mode() == RemeshMode::Global) {
+        if let Some(s) = p
+            .parametrization
+            .as_ref()
+            .filter(|_| p.mode() == RemeshMode::Global)
+        {
             let ms = p
                 .timings
                 .iter()
