@@ -235,7 +235,6 @@ fn remesh_mode_is_chosen_on_the_command_line_and_reported() {
 /// mesh itself (no Catmull–Clark split: as many control vertices as quad
 /// vertices).
 #[test]
-#[ignore = "needs the QEx extraction (src/extract/qex.rs, issue 19): run with --ignored once it is in"]
 fn remesh_global_mode_gives_a_closed_pure_quad_mesh_fitted_without_a_split() {
     let dir = std::env::temp_dir().join(format!("quadrille-cli-global-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -298,5 +297,22 @@ fn remesh_global_mode_gives_a_closed_pure_quad_mesh_fitted_without_a_split() {
         assert!(json["timings_ms"][key].is_number(), "timing of {key}");
     }
     assert!(json["timings_ms"]["hierarchy"].is_null());
+    // A target edge longer than the whole mesh: no integer point, said as
+    // the local mode says a too-small target.
+    let run = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .arg("remesh")
+        .arg(common::path("spot.obj"))
+        .arg("-o")
+        .arg(&out)
+        .args(["--mode", "global", "--edge-length", "20"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(
+        stderr.contains("spot.obj: extraction: no quads")
+            && stderr.contains("target vertex count too small"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

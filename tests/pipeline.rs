@@ -295,6 +295,59 @@ fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
     assert_eq!(run(&mut p), Stage::LOCAL[1..].to_vec());
 }
 
+/// The global mode end to end on a sphere: its stages, closed pure quads
+/// near the target, the map's cones (their indices sum to the Euler
+/// characteristic, 2 = 8 quarters), and the fit without the split (the
+/// quad mesh is the control mesh).
+#[test]
+fn the_global_mode_gives_closed_pure_quads_fitted_as_they_are() {
+    let mut params = Params::default();
+    params.remesh.mode = quadrille::pipeline::RemeshMode::Global;
+    params.sizing.target_vertex_count = Some(300);
+    let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 4)), params);
+    p.fit_enabled = true;
+    let mut all = Stage::GLOBAL.to_vec();
+    all.push(Stage::Fit);
+    assert_eq!(run(&mut p), all);
+    assert!(p.hierarchy.is_none() && p.orientation.is_none() && p.position.is_none());
+    let cones = &p.parametrization.as_ref().unwrap().run.map.cones;
+    assert_eq!(
+        cones.iter().map(|c| c.quarters).sum::<i32>(),
+        8,
+        "{cones:?}"
+    );
+    let mesh = p.postprocess.as_ref().unwrap().mesh().clone();
+    mesh.validate().unwrap();
+    let faces = mesh.to_face_list();
+    assert!(faces.iter().all(|f| f.len() == 4));
+    assert_eq!(
+        mesh.vertex_count() - mesh.edge_count() + mesh.face_count(),
+        2
+    );
+    assert!(
+        (0..mesh.edge_count() as u32)
+            .all(|e| !mesh.is_boundary_halfedge(2 * e) && !mesh.is_boundary_halfedge(2 * e + 1))
+    );
+    let n = mesh.vertex_count() as f64;
+    assert!((n - 300.0).abs() <= 30.0, "{n} vertices for 300");
+    let qex = p.extraction.as_ref().unwrap().extracted.qex().unwrap();
+    assert_eq!(qex.faces, mesh.face_count());
+    let fit = &p.fit.as_ref().unwrap().result;
+    assert!(!fit.summary.split);
+    assert_eq!(fit.control.vertex_count(), mesh.vertex_count());
+    assert!(fit.after.stats.mean < 0.5 * fit.before.stats.mean);
+    // The fit alone again with the split asked for: four times the vertices.
+    let mut params = p.params.clone();
+    params.fit.split = quadrille::subdivision::FitSplit::Always;
+    assert_eq!(p.set_params(params), Some(Stage::Fit));
+    assert_eq!(run(&mut p), vec![Stage::Fit]);
+    let fit = &p.fit.as_ref().unwrap().result;
+    assert_eq!(
+        fit.control.vertex_count(),
+        mesh.vertex_count() + mesh.edge_count() + mesh.face_count()
+    );
+}
+
 #[test]
 fn cancelling_stops_the_field_stage() {
     let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 4)), Params::default());
