@@ -52,9 +52,6 @@ async function canvasInk(page, file) {
 
 const tests = [];
 const test = (name, fn) => tests.push({ name, fn });
-// A test that waits for a part not yet built (as Rust's #[ignore]): listed
-// as skipped with the reason, run with E2E_PENDING=1.
-const pending = (reason, name, fn) => tests.push({ name, fn, pending: reason });
 const assert = (cond, message) => { if (!cond) throw new Error(message); };
 
 test('page loads without console errors, runs the default sample and draws it', async (env) => {
@@ -317,7 +314,7 @@ test('the remeshing mode selector switches the stage list and the layers; the gl
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
-pending('needs the QEx extraction (src/extract/qex.rs, issue 19)', 'the global mode remeshes spot into closed pure quads, fitted without the split, from the kept analysis', async (env) => {
+test('the global mode remeshes spot into closed pure quads, fitted without the split, from the kept analysis', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
   const before = await page.evaluate(() => window.quadrille.lastRun);
@@ -1602,12 +1599,8 @@ try {
     if (!config) throw new Error(`unknown configuration ${backend}`);
     const context = await launch(config.flags);
     try {
-      for (const { name, fn, pending: waitsFor } of tests) {
+      for (const { name, fn } of tests) {
         if (only && !only.test(name)) continue;
-        if (waitsFor && !process.env.E2E_PENDING) {
-          console.log(`skip  [${backend}] ${name} (${waitsFor}; E2E_PENDING=1 runs it)`);
-          continue;
-        }
         const started = Date.now();
         try {
           await fn({ context, url, backend, query: config.query });
