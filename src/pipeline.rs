@@ -449,7 +449,7 @@ pub enum ExtractedMesh {
     /// report.
     Local(Box<Extracted>),
     /// The global mode's quads from the integer-grid map.
-    Global(Quadrangulation),
+    Global(Box<Quadrangulation>),
 }
 
 impl ExtractedMesh {
@@ -1040,7 +1040,7 @@ impl Pipeline {
             ));
         }
         Ok(ExtractionStage {
-            extracted: ExtractedMesh::Global(quads),
+            extracted: ExtractedMesh::Global(Box::new(quads)),
             target_vertices: target_vertex_count(
                 self.input.mesh.vertex_count(),
                 &self.params.sizing,
