@@ -698,6 +698,12 @@ impl Session {
             Some(p) => p.set_params(params.clone()),
             None => None,
         };
+        // The other mode's stage times go with its outputs (`summary`'s
+        // `stages` and `total_ms` are the current mode's).
+        let mode = Stage::remeshing(params.remesh.mode);
+        self.timings.retain(|(s, _)| {
+            s == "import" || s == Stage::Fit.name() || mode.iter().any(|m| m.name() == s)
+        });
         self.params = params;
         if let Some(stage) = changed {
             self.next = self.next.min(1);

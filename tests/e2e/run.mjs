@@ -328,6 +328,8 @@ test('the global mode remeshes spot into closed pure quads, fitted without the s
   assert(run.parameters.remesh.mode === 'global' && run.counts.mode === 'global', `the run is the global mode's: ${status}`);
   assert(run.stagesRun.join() === 'parametrization,extraction,postprocess,fit', `only the global stages after the kept analysis: ${run.stagesRun}`);
   assert(run.stages.analysis === before.stages.analysis, 'the analysis is the first run\u2019s');
+  assert(Object.keys(run.stages).sort().join() === 'analysis,extraction,fit,import,parametrization,postprocess',
+    `the stage times are the global mode's: ${Object.keys(run.stages)}`);
   assert(/ · 100\.0 % quads · \d+ cones/.test(status), `the status line reports pure quads and the cones: ${status}`);
   const t = run.metrics.topology;
   assert(t.non_quad_percent === 0 && t.boundary_edges === 0 && t.nonmanifold_edges === 0, `closed pure quads: ${JSON.stringify(t)}`);
