@@ -587,6 +587,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
                 region_alignment: None,
                 feature_edges: &prepared.feature_edges,
                 cyclic_loops: used,
+                stiffening: 0,
             })
             .expect("a map");
             assert_eq!(m.conflicts, 0);

@@ -74,6 +74,13 @@ pub struct QexReport {
     pub fill_vertices: usize,
     /// Holes of odd length, which quads cannot close: left open.
     pub holes_left_open: usize,
+    /// Parts of one to three quads next to a larger part (left where the
+    /// map collapsed a small hole), removed.
+    pub specks_removed: usize,
+    /// V − E + F of the input and of the output: they differ where the
+    /// map ironed over a handle below the target scale (Ebke §6) — or
+    /// where folds the extraction could not resolve cut the surface.
+    pub euler_characteristic: [i64; 2],
 }
 
 /// The extracted quad mesh, in the coordinates of the map's mesh.
@@ -347,18 +354,20 @@ pub fn extract(
     }
     progress.report(0.9, "half-edge mesh")?;
     let positions: Vec<DVec3> = x.vertices.iter().map(|v| v.position).collect();
-    let (mesh, dropped, kept) = manifold_mesh(positions, faces)?;
+    let (out, dropped, kept) = manifold_mesh(positions, faces)?;
     report.non_manifold_dropped = dropped;
     report.isolated_vertices = x.vertices.len() - kept.len();
     let on_input_boundary: Vec<bool> = kept
         .iter()
         .map(|&g| x.vertices[g as usize].star.period == 0)
         .collect();
-    let mesh = fill_extraction_holes(mesh, &on_input_boundary, &mut report);
-    report.grid_vertices = mesh.vertex_count();
-    report.faces = mesh.face_count();
+    let out = fill_extraction_holes(out, &on_input_boundary, &mut report);
+    let out = drop_specks(out, &mut report)?;
+    report.grid_vertices = out.vertex_count();
+    report.faces = out.face_count();
+    report.euler_characteristic = [tri_euler_characteristic(mesh), out.euler_characteristic()];
     progress.report(1.0, "done")?;
-    Ok(Quadrangulation { mesh, report })
+    Ok(Quadrangulation { mesh: out, report })
 }
 
 /// The half-edge mesh of `faces`, dropping faces that would make an edge
@@ -1192,4 +1201,66 @@ fn fill_extraction_holes(
             mesh
         }
     }
+}
+
+/// V − E + F of a triangle mesh (vertices used by a face).
+fn tri_euler_characteristic(mesh: &TriMesh) -> i64 {
+    let mut used = vec![false; mesh.positions.len()];
+    let mut edges = std::collections::HashSet::new();
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            used[t[i] as usize] = true;
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    let v = used.iter().filter(|&&u| u).count() as i64;
+    v - edges.len() as i64 + mesh.triangles.len() as i64
+}
+
+/// Removes the parts of fewer than four quads when a larger part exists:
+/// what remains of a collapsed small hole's rim, not a part of the input
+/// (the preservation metrics report an input part that is lost).
+fn drop_specks(mesh: PolyMesh, report: &mut QexReport) -> Result<PolyMesh, QexError> {
+    let nf = mesh.face_count();
+    let mut part = vec![u32::MAX; nf];
+    let mut sizes = Vec::new();
+    for start in 0..nf {
+        if part[start] != u32::MAX {
+            continue;
+        }
+        let id = sizes.len() as u32;
+        let mut stack = vec![start as u32];
+        part[start] = id;
+        let mut size = 0;
+        while let Some(f) = stack.pop() {
+            size += 1;
+            for h in mesh.face_halfedges(f) {
+                let t = mesh.twin(h);
+                if !mesh.is_boundary_halfedge(t) {
+                    let g = mesh.face(t);
+                    if part[g as usize] == u32::MAX {
+                        part[g as usize] = id;
+                        stack.push(g);
+                    }
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    let largest = sizes.iter().copied().max().unwrap_or(0);
+    let specks: Vec<bool> = sizes.iter().map(|&n| n < 4 && largest >= 4).collect();
+    if !specks.contains(&true) {
+        return Ok(mesh);
+    }
+    report.specks_removed = specks.iter().filter(|&&s| s).count();
+    let faces: Vec<[u32; 4]> = (0..nf as u32)
+        .filter(|&f| !specks[part[f as usize] as usize])
+        .map(|f| {
+            let v: Vec<u32> = mesh.face_vertices(f).collect();
+            [v[0], v[1], v[2], v[3]]
+        })
+        .collect();
+    let (out, _, _) = manifold_mesh(mesh.positions.clone(), faces)?;
+    Ok(out)
 }

@@ -130,7 +130,14 @@ pub struct MapInput<'a> {
     /// one coordinate must come back to its start value through the
     /// transitions, so that isolines close around them (empty: none).
     pub cyclic_loops: &'a [Vec<u32>],
+    /// Re-solves of MIQ's stiffening after the rounding (see
+    /// [`super::Params::stiffening`]); 0: none.
+    pub stiffening: usize,
 }
+
+/// The factor on a flipped face's E_orient weight per stiffening re-solve
+/// (its edge neighbours get its square root).
+const STIFFENING_FACTOR: f64 = 4.0;
 
 /// The integer-grid map.
 #[derive(Debug, Clone, PartialEq)]
@@ -445,6 +452,7 @@ fn energy_rows(
     c: &Cut,
     frames: &[[DVec3; 2]],
     lay: &Layout,
+    stiffness: Option<&[f64]>,
 ) -> Vec<(Vec<(usize, f64)>, f64)> {
     let mesh = input.mesh;
     let mut rows = Vec::with_capacity(4 * mesh.triangles.len());
@@ -458,7 +466,7 @@ fn energy_rows(
         }
         let n = nrm / area2;
         let projected = 0.5 * area2 * n.dot(input.field.normals[f]).abs().max(1e-3);
-        let w = projected.sqrt();
+        let w = (projected * stiffness.map_or(1.0, |k| k[f])).sqrt();
         let grad: [DVec3; 3] =
             std::array::from_fn(|i| n.cross(p[(i + 2) % 3] - p[(i + 1) % 3]) / area2);
         for comp in 0..2 {
@@ -1116,7 +1124,7 @@ pub fn grid_map_timed(
         quantities.push(vec![(lay.t(s, 1), 1.0)]);
     }
     quantities.extend(boundary);
-    let rows = energy_rows(input, &c, &frames, &lay);
+    let rows = energy_rows(input, &c, &frames, &lay, None);
     if !go_on(0.0) {
         return Err(MapStop::Cancelled);
     }
@@ -1150,13 +1158,52 @@ pub fn grid_map_timed(
         (x, e, 0, 0, 1)
     };
     conflicts += more;
-    let uv = (0..nf)
-        .map(|f| {
-            std::array::from_fn(|i| {
-                DVec2::new(x[lay.w(c.wedge[f][i], 0)], x[lay.w(c.wedge[f][i], 1)])
+    let face_uv = |x: &[f64]| -> Vec<[DVec2; 3]> {
+        (0..nf)
+            .map(|f| {
+                std::array::from_fn(|i| {
+                    DVec2::new(x[lay.w(c.wedge[f][i], 0)], x[lay.w(c.wedge[f][i], 1)])
+                })
             })
-        })
-        .collect();
+            .collect()
+    };
+    // MIQ's stiffening (Bommes et al. 2009 §5): with the integers fixed,
+    // faces flipped against a cross that is not flipped themselves (Ebke
+    // §6's deliberate folds have flipped crosses and are kept) weigh more
+    // in E_orient, and the map is solved again.
+    let mut x = x;
+    if input.round && input.stiffening > 0 {
+        let mut stiffness = vec![1.0; nf];
+        for _ in 0..input.stiffening {
+            let uv = face_uv(&x);
+            let flipped: Vec<usize> = (0..nf)
+                .filter(|&f| {
+                    let q = uv[f];
+                    (q[1] - q[0]).perp_dot(q[2] - q[0]) <= 0.0
+                        && mesh.face_normal_unnormalized(f).dot(input.field.normals[f]) > 0.0
+                })
+                .collect();
+            if flipped.is_empty() {
+                break;
+            }
+            for &f in &flipped {
+                stiffness[f] *= STIFFENING_FACTOR;
+                for e in 0..3 {
+                    if let Some((g, _)) = input.topology.across(f, e) {
+                        stiffness[g] *= STIFFENING_FACTOR.sqrt();
+                    }
+                }
+            }
+            if !go_on(1.0) {
+                return Err(MapStop::Cancelled);
+            }
+            let rows = energy_rows(input, &c, &frames, &lay, Some(&stiffness));
+            let sys = Condensed::new(&el, &rows, &[], &mut || go_on(1.0))?;
+            let y = sys.solve(&el).ok_or(MapStop::Solve)?;
+            x = sys.expand(&el, &y).ok_or(MapStop::Solve)?;
+        }
+    }
+    let uv = face_uv(&x);
     let map = GridMap {
         uv,
         cut: c,
