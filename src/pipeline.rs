@@ -433,8 +433,8 @@ pub struct PositionStage {
     pub seed: u64,
 }
 
-/// The global mode's integer-grid map of the field mesh
-/// ([`Pipeline::field_mesh`]).
+/// The global mode's integer-grid map of the input
+/// ([`Pipeline::map_mesh`]).
 pub struct ParametrizationStage {
     pub run: crate::param::Run,
     /// The map's parameters ([`crate::param::Params::from_pipeline`], with
@@ -858,6 +858,16 @@ impl Pipeline {
             .unwrap_or(&self.input.mesh)
     }
 
+    /// The mesh the global mode's map and extraction work on: the input
+    /// itself, as `quadrille param` and the page's on-demand map. Not the
+    /// field mesh: its long-edge split (`field.split_long_edges`, Instant
+    /// Meshes' need) only adds slivers to the map, which fold — at the
+    /// default target spot's extraction met 29 flipped triangles on the
+    /// split mesh (6,332 faces) against 6 on the input (5,856).
+    pub fn map_mesh(&self) -> &TriMesh {
+        &self.input.mesh
+    }
+
     pub fn surface(&mut self) -> Option<std::sync::Arc<SurfaceIndex>> {
         if self.surface.is_none() {
             self.surface = SurfaceIndex::new(&self.input.mesh).map(std::sync::Arc::new);
@@ -983,9 +993,9 @@ impl Pipeline {
         Ok(())
     }
 
-    /// The global mode's integer-grid map of the field mesh, with the
-    /// pipeline's target vertex count (the input's, not the refined
-    /// mesh's, so one unit is one target edge of the same target).
+    /// The global mode's integer-grid map of [`Pipeline::map_mesh`], with
+    /// the pipeline's target vertex count (one unit is one target edge of
+    /// the local mode's target).
     fn run_parametrization(
         &self,
         progress: &mut Progress<'_>,
@@ -996,7 +1006,7 @@ impl Pipeline {
             params.sizing.target_vertex_count =
                 target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
         }
-        let run = crate::param::run_with_progress(self.field_mesh(), &params, clock, progress)
+        let run = crate::param::run_with_progress(self.map_mesh(), &params, clock, progress)
             .map_err(|e| match e {
                 crate::param::ParamError::Cancelled => PipelineError::Cancelled,
                 e => PipelineError::Failed {
@@ -1008,7 +1018,7 @@ impl Pipeline {
     }
 
     /// The global mode's extraction: the quads of the integer-grid map
-    /// (QEx), in the field mesh's coordinates (the input's frame).
+    /// (QEx), in the input's (normalised) coordinates.
     fn run_qex(&self, progress: &mut Progress<'_>) -> Result<ExtractionStage, PipelineError> {
         let map = &self
             .parametrization
@@ -1020,7 +1030,7 @@ impl Pipeline {
             stage: Stage::Extraction,
             message,
         };
-        let quads = match extract::qex::extract(self.field_mesh(), map, progress) {
+        let quads = match extract::qex::extract(self.map_mesh(), map, progress) {
             Ok(q) => q,
             Err(QexError::Cancelled) => return Err(PipelineError::Cancelled),
             Err(QexError::Empty) => {

@@ -619,7 +619,7 @@ fn stage_result(
             let Some(s) = &p.parametrization else {
                 return Ok(JsValue::UNDEFINED);
             };
-            parametrization_layers(&r, mesh, &s.run, &s.params, ms)?;
+            parametrization_layers(&r, p.map_mesh(), &s.run, &s.params, ms)?;
         }
         Stage::Extraction => {
             let Some(e) = &p.extraction else {
@@ -979,7 +979,7 @@ impl Session {
                 .find(|(stage, _)| *stage == Stage::Parametrization)
                 .map_or(0.0, |t| t.1);
             let r = StageResult::new("parametrization", ms)?;
-            parametrization_layers(&r, p.field_mesh(), &s.run, &s.params, ms)?;
+            parametrization_layers(&r, p.map_mesh(), &s.run, &s.params, ms)?;
             emit.call1(&JsValue::NULL, &r.obj)
                 .map_err(|_| js_err("could not send the parametrization"))?;
             return Ok(true);
