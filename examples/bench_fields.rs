@@ -17,13 +17,13 @@ fn main() {
     let input = quadrille::io::import(&bytes, &path).unwrap_or_else(|e| panic!("{e}"));
     let start = Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1e3;
-    let mut times: Vec<Vec<f64>> = vec![Vec::new(); Stage::ALL.len()];
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); Stage::LOCAL.len()];
     let mut singularities = 0;
     for _ in 0..runs {
         let mut p = Pipeline::new(input.clone(), Params::default());
         p.run(&mut |_, _, _| true, &mut |_, _| {}, &clock).unwrap();
         for (stage, ms) in &p.timings {
-            times[Stage::ALL.iter().position(|s| s == stage).unwrap()].push(*ms);
+            times[Stage::LOCAL.iter().position(|s| s == stage).unwrap()].push(*ms);
         }
         singularities = p.orientation.as_ref().unwrap().singularities.len();
     }
@@ -31,7 +31,7 @@ fn main() {
         "{path}: {} vertices, {runs} runs, {singularities} orientation singularities",
         input.mesh.vertex_count()
     );
-    for (stage, mut t) in Stage::ALL.into_iter().zip(times) {
+    for (stage, mut t) in Stage::LOCAL.into_iter().zip(times) {
         t.sort_by(f64::total_cmp);
         println!("{:>12}: median {:8.1} ms", stage.name(), t[t.len() / 2]);
     }

@@ -8,10 +8,13 @@ target/bench/results.json, docs/RESULTS.md and the README's headline block.
    target/bench/), each run a fresh process, REPEATS times: per-stage
    milliseconds (the CLI's `timings_ms`), wall time and peak RSS (wait4's
    ru_maxrss of that process); medians. The shared meshes are also run with
-   RAYON_NUM_THREADS=1, the fair partner of the single-threaded wasm build.
+   RAYON_NUM_THREADS=1, the fair partner of the single-threaded wasm build,
+   and in the global mode (`--mode global`: analysis, parametrization, QEx
+   extraction; `--skip-global` leaves it out).
 2. Browser: tests/e2e/bench.mjs runs the web app in headless Chromium (wasm
    in the worker) on the same meshes; the page's per-stage milliseconds.
-3. Competitors: scripts/compare.py (Instant Meshes, QuadriFlow).
+3. Competitors: scripts/compare.py (Quadrille local and global, Instant
+   Meshes, QuadriFlow).
 4. The global path: `quadrille param IN -o OUT.obj --stats S.json` (the
    integer-grid map, issue 18) on the bunny, fandisk, rocker-arm and spot at
    the default target, PARAM_REPEATS fresh processes each: per-stage
@@ -21,7 +24,7 @@ target/bench/results.json, docs/RESULTS.md and the README's headline block.
 
 Usage: scripts/bench.py [--repeats N] [--large-repeats N] [--largest-repeats N] [--browser-repeats N]
          [--large-browser-repeats N] [--param-repeats N] [--skip-native] [--skip-large]
-         [--skip-browser] [--skip-compare] [--skip-param] [--only-param] [--render-only]
+         [--skip-browser] [--skip-global] [--skip-compare] [--skip-param] [--only-param] [--render-only]
 `--only-param` measures the parametrization alone (step 4) and rewrites
 only its section of docs/RESULTS.md, keeping the rest as it was measured.
 Per mesh, the native, one-thread and browser runs follow each other (similar
@@ -48,6 +51,7 @@ SUBDIVIDE = os.path.join(ROOT, "target", "release", "examples", "subdivide")
 SHARED = ["stanford-bunny", "fandisk", "rocker-arm", "spot", "cow", "teapot", "suzanne", "beetle"]
 LARGE = [("stanford-bunny-x4", 1), ("stanford-bunny-x16", 2)]  # subdivision levels
 STAGES = ["import", "analysis", "hierarchy", "orientation", "position", "extraction", "postprocess"]
+GLOBAL_STAGES = ["import", "analysis", "parametrization", "extraction", "postprocess"]
 EXTRA = ["fit", "metrics"]
 PARAM_MESHES = ["stanford-bunny", "fandisk", "rocker-arm", "spot"]
 # The stats' `timings` keys (without `_ms`), in pipeline order.
@@ -102,37 +106,39 @@ def meshes(args):
 
 # ------------------------------------------------------------ native
 
-def native_runs(mesh, repeats, threads=None):
+def native_runs(mesh, repeats, threads=None, mode="local"):
     env = dict(os.environ)
     if threads:
         env["RAYON_NUM_THREADS"] = str(threads)
-    out = os.path.join(BENCH, "native", mesh["name"] + ".obj")
-    stats = os.path.join(BENCH, "native", mesh["name"] + ".json")
+    suffix = "" if mode == "local" else "-" + mode
+    out = os.path.join(BENCH, "native", mesh["name"] + suffix + ".obj")
+    stats = os.path.join(BENCH, "native", mesh["name"] + suffix + ".json")
     os.makedirs(os.path.dirname(out), exist_ok=True)
     runs = []
     for i in range(repeats):
-        rc, _, err, wall, rss = run_measured([BIN, "remesh", mesh["path"], "-o", out, "--stats", stats], env=env)
+        rc, _, err, wall, rss = run_measured([BIN, "remesh", mesh["path"], "-o", out, "--stats", stats,
+                                              "--mode", mode], env=env)
         if rc != 0:
             runs.append({"error": (err or "").strip()[-300:]})
-            print(f"bench: native {mesh['name']} failed: {err.strip()[-300:]}", file=sys.stderr)
+            print(f"bench: native {mode} {mesh['name']} failed: {err.strip()[-300:]}", file=sys.stderr)
             break
         s = json.load(open(stats))
         runs.append({"timings_ms": s["timings_ms"], "wall_ms": wall, "peak_rss_mib": rss / 1024,
                      "target_vertices": s["target_vertices"], "achieved_vertices": s["achieved_vertices"]})
-        print(f"bench: native{'' if not threads else f' ({threads} thread)'} {mesh['name']} "
+        print(f"bench: native{'' if not threads else f' ({threads} thread)'}{suffix} {mesh['name']} "
               f"run {i + 1}/{repeats}: {wall:.0f} ms, {rss / 1024:.0f} MiB", file=sys.stderr)
     return runs
 
 
-def summarize_native(runs):
+def summarize_native(runs, stage_names=STAGES):
     ok = [r for r in runs if "error" not in r]
     if not ok:
         return {"error": runs[0]["error"] if runs else "no runs"}
-    stages = {k: median([r["timings_ms"].get(k) for r in ok]) for k in STAGES + EXTRA}
+    stages = {k: median([r["timings_ms"].get(k) for r in ok]) for k in stage_names + EXTRA}
     return {
         "repeats": len(ok),
         "stages_ms": stages,
-        "pipeline_ms": median([sum(r["timings_ms"].get(k, 0) for k in STAGES) for r in ok]),
+        "pipeline_ms": median([sum(r["timings_ms"].get(k, 0) for k in stage_names) for r in ok]),
         "wall_ms": median([r["wall_ms"] for r in ok]),
         "peak_rss_mib": median([r["peak_rss_mib"] for r in ok]),
         "target_vertices": ok[0]["target_vertices"],
@@ -167,6 +173,8 @@ def measure(args, ms):
             entry["native"] = summarize_native(native_runs(m, reps))
             if not m["large"]:
                 entry["native_1_thread"] = summarize_native(native_runs(m, reps, threads=1))
+            if not m["large"] and not args.skip_global:
+                entry["native_global"] = summarize_native(native_runs(m, reps, mode="global"), GLOBAL_STAGES)
             results["meshes"][m["name"]] = entry
             write_json(RESULTS_JSON, results)
         if not args.skip_browser:
@@ -400,6 +408,23 @@ def render(results, browser_s, compare, param=None):
               " (no smoothing or projection: the same surface with more triangles; made under target/bench/, never committed)."]
     L += ["", "Times in milliseconds.", ""]
 
+    glob = {name: e["native_global"] for name, e in meshes.items() if e.get("native_global")}
+    if glob:
+        L += ["### Global mode", "",
+              "The shared meshes again with `--mode global` (the integer-grid map and its QEx extraction: pure quads; "
+              "`fit` = the pure-quad mesh fitted without the Catmull–Clark split).", "",
+              "| mesh | runs | " + " | ".join(GLOBAL_STAGES) + " | **pipeline** | fit | wall | peak MiB | output V |",
+              "|---|---|" + "---|" * (len(GLOBAL_STAGES) + 5)]
+        for name, g in glob.items():
+            if "error" in g:
+                L.append(f"| {name} | failed: {g['error'][:120]} |")
+                continue
+            s = g["stages_ms"]
+            L.append(f"| {name} | {g['repeats']} | " + " | ".join(f0(s.get(k)) for k in GLOBAL_STAGES) +
+                     f" | **{f0(g['pipeline_ms'])}** | {f0(s.get('fit'))} | {f0(g['wall_ms'])} "
+                     f"| {f0(g['peak_rss_mib'])} | {f0(g['achieved_vertices'])} |")
+        L.append("")
+
     L += ["## Browser (wasm in the Web Worker) vs native", ""]
     if not browser_s:
         L += ["Not measured in this run (`--skip-browser`, or the browser benchmark failed).", ""]
@@ -494,11 +519,13 @@ def headline(results, browser_s, compare):
     if compare and "stanford-bunny" in compare.get("meshes", {}):
         rows = compare["meshes"]["stanford-bunny"]["rows"]
         parts = []
-        for tool, label in [("quadrille", "Quadrille"), ("instant-meshes", "Instant Meshes"), ("quadriflow", "QuadriFlow")]:
+        for tool, label in [("quadrille", "Quadrille"), ("quadrille global", "Quadrille global"),
+                            ("instant-meshes", "Instant Meshes"), ("quadriflow", "QuadriFlow")]:
             r = rows.get(tool, {})
             fit = r.get("fit") or {}
             if "time_ms" in r and "after" in fit:
-                parts.append(f"{label} {r['time_ms'] / 1000:.2f} s, limit mean {fit['after']['stats']['mean']:.2e}")
+                parts.append(f"{label} {r['time_ms'] / 1000:.2f} s, limit mean {fit['after']['stats']['mean']:.2e}"
+                             + (f" ({fit['control_vertices']:,} control vertices)" if fit.get("control_vertices") else ""))
         if parts:
             out.append("- Bunny at the same vertex count (time; limit-surface mean distance after fitting): " + "; ".join(parts) + ".")
     if out:
@@ -532,6 +559,7 @@ def main():
     ap.add_argument("--skip-native", action="store_true")
     ap.add_argument("--skip-large", action="store_true")
     ap.add_argument("--skip-browser", action="store_true")
+    ap.add_argument("--skip-global", action="store_true", help="no native runs in the global mode")
     ap.add_argument("--skip-compare", action="store_true")
     ap.add_argument("--skip-param", action="store_true")
     ap.add_argument("--only-param", action="store_true",

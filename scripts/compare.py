@@ -2,8 +2,11 @@
 """Quadrille vs Instant Meshes and QuadriFlow on the same meshes, in one run.
 
 For each mesh, `quadrille remesh --stats` runs at its default target
-(input vertices / 16); then each competitor runs at the same target vertex
-count (one corrective re-run if its achieved count is more than 15 % off,
+(input vertices / 16), in the local mode (the default) and in the global
+mode (`--mode global`: integer-grid map, pure quads, fitted by the pipeline
+without the Catmull-Clark split, so its control mesh has about a quarter
+of the others' control vertices: the `control V` column); then each
+competitor runs at the same target vertex count (one corrective re-run if its achieved count is more than 15 % off,
 since their targets are not vertex counts in the same sense: QuadriFlow asks
 for faces, Instant Meshes' pure-quad mode subdivides once). Every output is
 measured by the same code: `quadrille metrics OUT --reference IN` (topology,
@@ -253,6 +256,25 @@ def run_competitor(args, tool, src, out, target):
             "peak_rss_mib": rss / 1024 if rss else None, "requested": target}
 
 
+def run_global(args, src, stem):
+    """Quadrille's global mode at the default target: its own fit (no
+    split: the pure-quad mesh is the control mesh)."""
+    out, stats = stem + "-quadrille-global.obj", stem + "-quadrille-global.json"
+    rc, _, err, wall, rss = run_measured([args.bin, "remesh", src, "-o", out, "--stats", stats, "--mode", "global"],
+                                         timeout=args.timeout)
+    if rc != 0:
+        print(f"compare: quadrille global failed: {(err or '').strip()[-200:]}", file=sys.stderr)
+        return {"error": (err or "").strip()[-300:] or f"exit {rc}"}
+    s = json.load(open(stats))
+    t = s["timings_ms"]
+    remesh_ms = sum(v for k, v in t.items() if k not in ("metrics", "fit"))
+    m = quadrille_json(args, ["metrics", out, "--reference", src], args.timeout)
+    print(f"compare: quadrille global {remesh_ms:.0f} ms, {s['achieved_vertices']} V", file=sys.stderr)
+    return {"time_ms": remesh_ms, "fit_ms": t.get("fit"), "process_ms": wall,
+            "peak_rss_mib": rss / 1024 if rss else None, "requested": s["target_vertices"],
+            "metrics": m, "fit": s.get("limit_surface"), "qex": s.get("qex")}
+
+
 def compare_mesh(args, name, src, status):
     # The input itself, measured the same way: the boundary and non-manifold
     # counts every output is read against (holes introduced or closed).
@@ -273,6 +295,7 @@ def compare_mesh(args, name, src, status):
                          "peak_rss_mib": rss / 1024 if rss else None, "requested": target,
                          "metrics": m, "fit": s.get("limit_surface")}
     print(f"compare {name}: quadrille {remesh_ms:.0f} ms, {s['achieved_vertices']} V", file=sys.stderr)
+    rows["quadrille global"] = run_global(args, src, stem)
     for tool in args.tools:
         if status.get(tool):
             rows[tool] = {"error": status[tool]}
@@ -310,7 +333,7 @@ def table_rows(name, target, rows):
         if r.get("degenerate_faces_dropped"):
             tool = f"{tool} ({r['degenerate_faces_dropped']} degenerate faces left out)"
         if "error" in r:
-            lines.append(f"| {name} | {tool} | {fmt(target, 'd')} | – | – | not run: {r['error'][:120]} |" + " – |" * 10)
+            lines.append(f"| {name} | {tool} | {fmt(target, 'd')} | – | – | not run: {r['error'][:120]} |" + " – |" * 11)
             continue
         m = r.get("metrics", {})
         time_ms = fmt(r.get("time_ms"), ".0f")
@@ -320,6 +343,7 @@ def table_rows(name, target, rows):
         lim = (f"{fmt(before.get('stats', {}).get('mean'), '.2e')} → {fmt(after.get('stats', {}).get('mean'), '.2e')}"
                if after else f"fit failed: {fit.get('error', '')[:60]}" if "error" in fit else "–")
         limh = f"{fmt(after.get('hausdorff'), '.2e')}" if after else "–"
+        control = fmt(fit.get("control_vertices"), "d") if "error" not in fit else "–"
         if "metrics" in m:
             M = m["metrics"]
             tp, q, d = M["topology"], M["quads"], M["distance"]
@@ -330,7 +354,7 @@ def table_rows(name, target, rows):
                 f"| {name} | {tool} | {target} | {time_ms} | {fmt(r.get('peak_rss_mib'), '.0f')} | {tp['vertices']} "
                 f"| {tp['non_quad_percent']:.1f} | {tp['extraordinary_vertex_percent']:.1f} | {q['quad_quality']:.3f} "
                 f"| {tp['boundary_edges']} ({tp['boundary_loops']}) | {tp['nonmanifold_edges']}/{tp['nonmanifold_vertices']} "
-                f"| {fmt(d['hausdorff'], '.2e')} | {fmt(d['output_to_input_mean'], '.2e')} | {fmt(d['face_centroid_mean'], '.2e')} | {lim} | {limh} |")
+                f"| {fmt(d['hausdorff'], '.2e')} | {fmt(d['output_to_input_mean'], '.2e')} | {fmt(d['face_centroid_mean'], '.2e')} | {lim} | {limh} | {control} |")
         elif "topology" in m:
             tp = m["topology"]
             if tool == "input":
@@ -338,15 +362,16 @@ def table_rows(name, target, rows):
             lines.append(
                 f"| {name} | {tool} | {target} | {time_ms} | {fmt(r.get('peak_rss_mib'), '.0f')} | {m['vertices']} "
                 f"| {m['non_quad_percent']:.1f} | – | – | {tp['boundary_edges']} | {tp['nonmanifold_edges']}/{tp['nonmanifold_vertices']} "
-                f"| {fmt(m['hausdorff'], '.2e')} | – | – | {lim} | {limh} |")
+                f"| {fmt(m['hausdorff'], '.2e')} | – | – | {lim} | {limh} | {control} |")
         else:
-            lines.append(f"| {name} | {tool} | {target} | {time_ms} | – | metrics failed: {m.get('error', '')[:80]} |" + " – |" * 10)
+            lines.append(f"| {name} | {tool} | {target} | {time_ms} | – | metrics failed: {m.get('error', '')[:80]} |" + " – |" * 11)
     return lines
 
 
 HEADER = ("| mesh | tool | target V | time ms | peak MiB | V | non-quad % | EV % | quad quality (0 best) "
-          "| boundary edges (loops) | non-manifold e/v | Hausdorff | mean dist | centroid dist | limit mean: before → after fit | limit Hausdorff after |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| boundary edges (loops) | non-manifold e/v | Hausdorff | mean dist | centroid dist | limit mean: before → after fit | limit Hausdorff after "
+          "| control V |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def markdown(results):

@@ -12,7 +12,13 @@ For each shared mesh at its default target (input vertices / 16):
                    no count correction, no restarts) and no post-processing
                    beyond Instant Meshes' (2 smoothing steps with reprojection);
   +<modification>  im-equivalent with one change (the overlays in ROWS);
-  default          Quadrille's defaults.
+  default          Quadrille's defaults;
+  global           Quadrille's global mode (`remesh.mode` global: the
+                   integer-grid map and QEx extraction, pure quads), its
+                   quad mesh fitted as it is (`fit.split` non-quads: the
+                   pure-quad mesh is the control mesh, no Catmull-Clark
+                   split; the `control V` column says how many control
+                   vertices each row's limit surface has).
 Every output: `quadrille metrics OUT --reference IN` and `quadrille fit
 --reference IN --mesh OUT` (the limit surface after fitting, for every tool
 alike). Writes docs/QUALITY.md (the tables) and target/quality/quality.json.
@@ -103,6 +109,8 @@ ROWS = {
     # length 5 target edges; src/field/scale_consistency.rs).
     "+scale consistency": {"field": {"scale_consistency": 5}},
     "default": None,
+    # The global mode (pure quads from the integer-grid map).
+    "global": ("default", {"remesh": {"mode": "global"}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -145,12 +153,16 @@ def merged(base, overlay):
     return out
 
 
-def measure(args, src, out):
+def measure(args, src, out, fit_params=None):
     m = compare.quadrille_json(args, ["metrics", out, "--reference", src], args.timeout)
     stem = out[:-4]
-    rc, _, err, _, _ = compare.run_measured(
-        [args.bin, "fit", "--reference", src, "--mesh", out, "-o", stem + "-control.obj",
-         "--stats", stem + "-fit.json"], timeout=args.timeout)
+    cmd = [args.bin, "fit", "--reference", src, "--mesh", out, "-o", stem + "-control.obj",
+           "--stats", stem + "-fit.json"]
+    if fit_params:
+        with open(stem + "-fit-params.json", "w") as f:
+            json.dump(fit_params, f)
+        cmd += ["--params", stem + "-fit-params.json"]
+    rc, _, err, _, _ = compare.run_measured(cmd, timeout=args.timeout)
     fit = json.load(open(stem + "-fit.json")) if rc == 0 else {"error": (err or "").strip()[-200:]}
     return m, fit
 
@@ -171,7 +183,12 @@ def run_quadrille(args, src, stem, overlay, target):
     s = json.load(open(stats))
     t = s["timings_ms"]
     row = {"time_ms": sum(v for k, v in t.items() if k not in ("metrics", "fit")), "process_ms": wall}
-    row["metrics"], row["fit"] = measure(args, src, out)
+    # The global mode's pure quads are a control mesh as they are (as the
+    # pipeline fits them); every other row's mesh is split once.
+    fit_params = {"split": "non-quads"} if s.get("mode") == "global" else None
+    row["metrics"], row["fit"] = measure(args, src, out, fit_params)
+    if s.get("qex") is not None:
+        row["qex"] = s["qex"]
     return row
 
 
@@ -195,7 +212,7 @@ def run_tool(args, tool, src, stem, target):
 # and its coarsening follow the vertex order), so the reproduction and
 # acceptance ratios are also read off medians over the same re-orderings
 # for every tool.
-ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default",
+ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default", "global",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept")
@@ -254,6 +271,7 @@ def cells(row):
             "maxcorner": q.get("max_corner_angle_degrees"),
             "hausdorff": d["hausdorff"], "out_in": d["output_to_input_mean"], "in_out": d["input_to_output_mean"],
             "limit": after.get("stats", {}).get("mean"), **limit_in(after), "loops": tp["boundary_loops"],
+            "controlV": fit.get("control_vertices") if fit else None,
             "manifold": tp["nonmanifold_edges"] == 0 and tp["nonmanifold_vertices"] == 0,
             "genus": tp.get("genus"), "time": row.get("time_ms"),
         }
@@ -264,6 +282,7 @@ def cells(row):
                 "ev": m.get("extraordinary_vertex_percent"), "corner": q.get("corner_angle_deviation_degrees"),
                 "distorted": q.get("distorted_quad_percent"), "maxcorner": q.get("max_corner_angle_degrees"),
                 "limit": after.get("stats", {}).get("mean"), **limit_in(after), "manifold": False,
+                "controlV": fit.get("control_vertices") if fit else None,
                 "time": row.get("time_ms"),
                 "loops": None}
     return None
@@ -274,27 +293,28 @@ def f(x, spec):
 
 
 HEADER = ("| configuration | V | non-quad % | EV % | corner dev ° | quads outside 45–135° % | max corner ° "
-          "| Hausdorff | mean out→in | mean in→out | limit mean after fit | limit in→out | boundary loops in/out "
-          "| loops closed over / parts lost | time ms |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| Hausdorff | mean out→in | mean in→out | limit mean after fit | limit in→out | control V "
+          "| boundary loops in/out | loops closed over / parts lost | time ms |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def mesh_table(name, entry):
     lines = [f"### {name} (target {entry['target']} V, input boundary loops {entry['input_loops']})", "", HEADER]
     for label, row in entry["rows"].items():
         if "error" in row:
-            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 13)
+            lines.append(f"| {label} | not run: {row['error'][:140]} |" + " – |" * 14)
             continue
         c = cells(row)
         if c is None:
-            lines.append(f"| {label} | metrics failed |" + " – |" * 13)
+            lines.append(f"| {label} | metrics failed |" + " – |" * 14)
             continue
         note = "" if c.get("manifold", True) else " (non-manifold)"
         lines.append(
             f"| {label}{note} | {f(c['V'], 'd')} | {f(c['nonquad'], '.1f')} | {f(c.get('ev'), '.1f')} "
             f"| {f(c.get('corner'), '.1f')} | {f(c.get('distorted'), '.1f')} | {f(c.get('maxcorner'), '.0f')} "
             f"| {f(c['hausdorff'], '.2e')} | {f(c.get('out_in'), '.2e')} | {f(c.get('in_out'), '.2e')} "
-            f"| {f(c['limit'], '.2e')} | {f(c.get('limit_in'), '.2e')} | {entry['input_loops']}/{f(c['loops'], 'd')} "
+            f"| {f(c['limit'], '.2e')} | {f(c.get('limit_in'), '.2e')} | {f(c.get('controlV'), 'd')} "
+            f"| {entry['input_loops']}/{f(c['loops'], 'd')} "
             f"| {f(c.get('closed'), 'd')} / {f(c.get('lost'), 'd')} | {f(c['time'], '.0f')} |")
     return lines
 
@@ -306,7 +326,7 @@ def ratio_table(results):
              "| limit after fit / IM | two-sided limit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|---|"]
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
-        for label in ("im-equivalent", "default"):
+        for label in ("im-equivalent", "default", "global"):
             row = entry["rows"].get(label)
             c = cells(row) if row and "error" not in row else None
             if not c:
@@ -383,8 +403,10 @@ def write_doc(args, results, rewritten=None):
         "**Instant-Meshes-equivalent configuration** (uniform sizing, no orientation constraints, the input's "
         "long edges bisected as Instant Meshes does, Instant Meshes' quad score and hole filling up to 6 corners, no count correction or restarts, no "
         "post-processing but 2 smoothing steps with reprojection), then that configuration plus **one** "
-        "modification per row, and Quadrille's defaults. The configuration overlays are `ROWS` in "
-        "scripts/quality.py.",
+        "modification per row, and Quadrille's defaults; *global* is Quadrille's global mode (integer-grid "
+        "map, QEx extraction: pure quads), whose quad mesh is fitted as it is (no Catmull–Clark split, so its "
+        "limit surface has a quarter of the others' control vertices: the *control V* column). The "
+        "configuration overlays are `ROWS` in scripts/quality.py.",
         "",
         "Every output is measured by the same code: `quadrille metrics OUT --reference IN` and `quadrille fit "
         "--reference IN --mesh OUT` (limit surface of the fitted Catmull–Clark control mesh, 2 levels). "

@@ -9,7 +9,10 @@
 //! features, filtered normals) → sizing field → multiresolution hierarchy →
 //! orientation field → position field → extraction into a half-edge
 //! [`mesh::PolyMesh`] → repair and post-processing → Catmull–Clark fitting →
-//! metrics.
+//! metrics. That is the local mode; in the global mode
+//! ([`pipeline::RemeshMode::Global`]) the analysis is followed by the
+//! integer-grid map ([`param`]) and its quads extracted in the manner of
+//! QEx ([`extract::qex`]): pure quads, fitted without the extra split.
 //!
 //! The sources, cited by section below and in each file's opening comment:
 //!

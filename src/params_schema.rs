@@ -96,6 +96,8 @@ const fn nullable(doc: ParamDoc) -> ParamDoc {
 #[rustfmt::skip]
 pub fn schema() -> Vec<ParamDoc> {
     vec![
+        // remesh
+        choice("remesh.mode", &["local", "global"], "Remeshing path: local (Instant Meshes' fields as in the thesis; quad-dominant) or global (integer-grid map, Ebke et al. 2014, quads extracted as in QEx; pure quads)."),
         // analysis
         choice("analysis.normal_weighting", &["angle", "area"], "How incident faces are weighted in a vertex normal."),
         choice("analysis.curvature.estimator", &["cubic_fit", "discrete_sums"], "Curvature estimator: cubic surface fit (Goldfeather & Interrante) or the faster discrete sums (Dong & Wang)."),
@@ -181,6 +183,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("fit.crease_degrees", 0.0, 180.0, "Input edges whose normals differ by more than this many degrees are feature curves; control edges along them become sharp creases. 0 turns creases off."),
         int("fit.error_levels", 0.0, 5.0, "Subdivision levels of the limit mesh the error is measured and shown on."),
         flag("fit.measure_before", "Also measure the limit error of the unfitted control mesh."),
+        choice("fit.split", &["auto", "always", "non-quads"], "One Catmull–Clark split before fitting: auto (in the local mode; the global mode's pure quads are fitted as they are), always, or only when a face is not a quad."),
     ]
 }
 

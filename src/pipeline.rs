@@ -22,6 +22,16 @@
 //!    Catmull–Clark control mesh fitted to the input and its limit surface
 //!    with the signed error per sample ([`crate::subdivision`], Kloiber §3.8).
 //!
+//! That is the `local` mode ([`RemeshMode::Local`], the default). In the
+//! `global` mode ([`RemeshMode::Global`]) the stages after the analysis
+//! are [`Stage::Parametrization`] (the integer-grid map of
+//! [`crate::param`], Ebke et al. 2014 / Campen et al. 2016), then
+//! [`Stage::Extraction`] by QEx ([`crate::extract::qex`]: pure quads),
+//! [`Stage::PostProcess`] (only what keeps the quads pure: the reopening of
+//! input holes the mesh closed over) and [`Stage::Fit`], fitted without the
+//! extra Catmull–Clark split ([`crate::subdivision::FitSplit`]);
+//! [`Stage::remeshing`] lists each mode's stages.
+//!
 //! Time is read through a clock the caller passes in (`std::time::Instant`
 //! does not exist in the browser).
 
@@ -30,6 +40,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::smooth_regions::{SmoothRegionParams, SmoothRegions, smooth_regions};
 use crate::analysis::{self, AnalysisParams, SurfaceAnalysis};
+use crate::extract::qex::{QexError, QexReport, Quadrangulation};
 use crate::extract::{self, ExtractInput, Extracted, ExtractionParams, PostProcessed};
 use crate::field::{
     self, FieldParams, Hierarchy, LevelSizing, OrientationConstraints, Singularity, mesh_links,
@@ -41,13 +52,15 @@ use crate::mesh::{PolyMesh, TriMesh, VertexAdjacency};
 use crate::progress::{Cancelled, Progress};
 use crate::sizing::{self, SizingParams};
 use crate::spatial::SurfaceIndex;
-use crate::subdivision::{self, FitParams, FitResult};
+use crate::subdivision::{self, FitParams, FitResult, FitSplit};
 
 /// Every parameter of the pipeline. `#[serde(default)]` everywhere: a JSON
 /// file with only the values to change is a valid parameter file.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Params {
+    /// Which remeshing path runs after the analysis.
+    pub remesh: RemeshParams,
     pub analysis: AnalysisParams,
     pub sizing: SizingParams,
     pub field: FieldParams,
@@ -55,6 +68,54 @@ pub struct Params {
     pub extraction: ExtractionParams,
     /// The control-mesh fitting of [`Stage::Fit`].
     pub fit: FitParams,
+}
+
+/// The remeshing path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RemeshMode {
+    /// The thesis' pipeline (Kloiber 2018 on Instant Meshes): hierarchy,
+    /// orientation and position fields, extraction from the position
+    /// field, post-processing; quad-dominant. The default until the
+    /// quality table shows the global mode ahead.
+    #[default]
+    Local,
+    /// The integer-grid map (Ebke et al. 2014, Campen et al. 2016 on
+    /// Bommes et al. 2009) and its quads extracted in the manner of QEx;
+    /// pure quads.
+    Global,
+}
+
+impl RemeshMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            RemeshMode::Local => "local",
+            RemeshMode::Global => "global",
+        }
+    }
+}
+
+impl std::str::FromStr for RemeshMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<RemeshMode, String> {
+        match s {
+            "local" => Ok(RemeshMode::Local),
+            "global" => Ok(RemeshMode::Global),
+            _ => Err(format!(
+                "unknown remeshing mode \"{s}\": local (Instant Meshes' field, quad-dominant) or \
+                 global (integer-grid map, pure quads)"
+            )),
+        }
+    }
+}
+
+/// The remeshing path's parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RemeshParams {
+    /// Default [`RemeshMode::Local`].
+    pub mode: RemeshMode,
 }
 
 /// Which principal-direction alignment constrains the fields.
@@ -156,6 +217,8 @@ pub enum Stage {
     Hierarchy,
     Orientation,
     Position,
+    /// The global mode's integer-grid map (after [`Stage::Analysis`]).
+    Parametrization,
     Extraction,
     #[serde(rename = "postprocess")]
     PostProcess,
@@ -163,9 +226,9 @@ pub enum Stage {
 }
 
 impl Stage {
-    /// The remeshing stages, which [`Pipeline::run`] always runs;
-    /// [`Stage::Fit`] follows them when [`Pipeline::fit_enabled`].
-    pub const ALL: [Stage; 6] = [
+    /// The local mode's remeshing stages, which [`Pipeline::run`] always
+    /// runs; [`Stage::Fit`] follows them when [`Pipeline::fit_enabled`].
+    pub const LOCAL: [Stage; 6] = [
         Stage::Analysis,
         Stage::Hierarchy,
         Stage::Orientation,
@@ -174,12 +237,42 @@ impl Stage {
         Stage::PostProcess,
     ];
 
+    /// The global mode's remeshing stages.
+    pub const GLOBAL: [Stage; 4] = [
+        Stage::Analysis,
+        Stage::Parametrization,
+        Stage::Extraction,
+        Stage::PostProcess,
+    ];
+
+    /// Every stage of either mode, in the order they run in (and of `Ord`).
+    pub const EVERY: [Stage; 8] = [
+        Stage::Analysis,
+        Stage::Hierarchy,
+        Stage::Orientation,
+        Stage::Position,
+        Stage::Parametrization,
+        Stage::Extraction,
+        Stage::PostProcess,
+        Stage::Fit,
+    ];
+
+    /// The remeshing stages of `mode`, in order ([`Stage::Fit`] follows
+    /// them when enabled).
+    pub fn remeshing(mode: RemeshMode) -> &'static [Stage] {
+        match mode {
+            RemeshMode::Local => &Stage::LOCAL,
+            RemeshMode::Global => &Stage::GLOBAL,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Stage::Analysis => "analysis",
             Stage::Hierarchy => "hierarchy",
             Stage::Orientation => "orientation",
             Stage::Position => "position",
+            Stage::Parametrization => "parametrization",
             Stage::Extraction => "extraction",
             Stage::PostProcess => "postprocess",
             Stage::Fit => "fit",
@@ -187,17 +280,57 @@ impl Stage {
     }
 }
 
+/// Why [`Pipeline::run`] stopped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PipelineError {
+    /// The progress sink asked to stop.
+    #[error("cancelled")]
+    Cancelled,
+    /// A stage could not make its output; the message says why.
+    #[error("{}: {message}", stage.name())]
+    Failed { stage: Stage, message: String },
+}
+
+impl From<Cancelled> for PipelineError {
+    fn from(_: Cancelled) -> PipelineError {
+        PipelineError::Cancelled
+    }
+}
+
+impl PipelineError {
+    pub fn is_cancelled(&self) -> bool {
+        matches!(self, PipelineError::Cancelled)
+    }
+}
+
 impl Params {
-    /// The first stage whose output differs between `self` and `other`.
+    /// The first stage, in `other`'s mode, whose output differs between
+    /// `self` and `other`. A change of the mode alone keeps the analysis:
+    /// the first stage after it runs again.
     pub fn first_changed_stage(&self, other: &Params) -> Option<Stage> {
+        if self.analysis_differs(other) {
+            Some(Stage::Analysis)
+        } else if self.remesh.mode != other.remesh.mode {
+            Some(Stage::remeshing(other.remesh.mode)[1])
+        } else {
+            match other.remesh.mode {
+                RemeshMode::Local => self.first_changed_local_stage(other),
+                RemeshMode::Global => self.first_changed_global_stage(other),
+            }
+        }
+    }
+
+    fn analysis_differs(&self, other: &Params) -> bool {
         let (a, b) = (&self.field, &other.field);
-        if self.analysis != other.analysis
+        self.analysis != other.analysis
             || self.sizing != other.sizing
             || a.filtered_normals != b.filtered_normals
             || a.split_long_edges != b.split_long_edges
-        {
-            Some(Stage::Analysis)
-        } else if a.level_sizing != b.level_sizing || a.seed != b.seed {
+    }
+
+    fn first_changed_local_stage(&self, other: &Params) -> Option<Stage> {
+        let (a, b) = (&self.field, &other.field);
+        if a.level_sizing != b.level_sizing || a.seed != b.seed {
             Some(Stage::Hierarchy)
         } else if a.orientation_iterations != b.orientation_iterations
             || self.alignment != other.alignment
@@ -209,6 +342,23 @@ impl Params {
         } else if extraction_differs(&self.extraction, &other.extraction) {
             Some(Stage::Extraction)
         } else if self.extraction != other.extraction {
+            Some(Stage::PostProcess)
+        } else if self.fit != other.fit {
+            Some(Stage::Fit)
+        } else {
+            None
+        }
+    }
+
+    /// The global mode reads the map's parameters
+    /// ([`crate::param::Params::from_pipeline`]), of the post-processing
+    /// only the reopening of input holes, and the fit.
+    fn first_changed_global_stage(&self, other: &Params) -> Option<Stage> {
+        if crate::param::Params::from_pipeline(self) != crate::param::Params::from_pipeline(other) {
+            Some(Stage::Parametrization)
+        } else if self.extraction.post.reopen_input_holes
+            != other.extraction.post.reopen_input_holes
+        {
             Some(Stage::PostProcess)
         } else if self.fit != other.fit {
             Some(Stage::Fit)
@@ -283,11 +433,55 @@ pub struct PositionStage {
     pub seed: u64,
 }
 
+/// The global mode's integer-grid map of the input
+/// ([`Pipeline::map_mesh`]).
+pub struct ParametrizationStage {
+    pub run: crate::param::Run,
+    /// The map's parameters ([`crate::param::Params::from_pipeline`], with
+    /// the pipeline's target vertex count).
+    pub params: crate::param::Params,
+}
+
+/// What the extraction made, by mode.
+#[derive(Debug, Clone)]
+pub enum ExtractedMesh {
+    /// The local mode's mesh from the position field, with its graph and
+    /// report.
+    Local(Box<Extracted>),
+    /// The global mode's quads from the integer-grid map.
+    Global(Box<Quadrangulation>),
+}
+
+impl ExtractedMesh {
+    pub fn mesh(&self) -> &PolyMesh {
+        match self {
+            ExtractedMesh::Local(e) => &e.mesh,
+            ExtractedMesh::Global(q) => &q.mesh,
+        }
+    }
+
+    /// The local mode's extraction (`None` in the global mode).
+    pub fn local(&self) -> Option<&Extracted> {
+        match self {
+            ExtractedMesh::Local(e) => Some(e),
+            ExtractedMesh::Global(_) => None,
+        }
+    }
+
+    /// The global mode's QEx report (`None` in the local mode).
+    pub fn qex(&self) -> Option<&QexReport> {
+        match self {
+            ExtractedMesh::Local(_) => None,
+            ExtractedMesh::Global(q) => Some(&q.report),
+        }
+    }
+}
+
 /// The extracted mesh (closed and manifold where the input is), with its
 /// per-vertex attributes and report.
 #[derive(Debug, Clone)]
 pub struct ExtractionStage {
-    pub extracted: Extracted,
+    pub extracted: ExtractedMesh,
     /// The vertex count the sizing field aimed at, if any.
     pub target_vertices: Option<usize>,
 }
@@ -320,6 +514,7 @@ pub struct Pipeline {
     pub hierarchy: Option<HierarchyStage>,
     pub orientation: Option<OrientationStage>,
     pub position: Option<PositionStage>,
+    pub parametrization: Option<ParametrizationStage>,
     pub extraction: Option<ExtractionStage>,
     pub postprocess: Option<PostProcessStage>,
     pub fit: Option<FitStage>,
@@ -342,6 +537,7 @@ impl Pipeline {
             hierarchy: None,
             orientation: None,
             position: None,
+            parametrization: None,
             extraction: None,
             postprocess: None,
             fit: None,
@@ -355,14 +551,24 @@ impl Pipeline {
     /// Returns the first stage that must run again.
     pub fn set_params(&mut self, params: Params) -> Option<Stage> {
         let changed = self.params.first_changed_stage(&params);
+        let mode_changed = self.params.remesh.mode != params.remesh.mode;
         self.params = params;
-        if let Some(stage) = changed {
+        if mode_changed {
+            // The other mode's outputs go: they would only hold memory.
+            self.invalidate_from(Stage::Hierarchy);
+        } else if let Some(stage) = changed {
             self.invalidate_from(stage);
         }
         changed
     }
 
-    /// Drops the output of `stage` and every later stage.
+    /// The remeshing mode of the current parameters.
+    pub fn mode(&self) -> RemeshMode {
+        self.params.remesh.mode
+    }
+
+    /// Drops the output of `stage` and every later stage (in the order of
+    /// [`Stage::EVERY`]: dropping a local field stage drops the map too).
     pub fn invalidate_from(&mut self, stage: Stage) {
         if stage <= Stage::Analysis {
             self.analysis = None;
@@ -376,6 +582,9 @@ impl Pipeline {
         if stage <= Stage::Position {
             self.position = None;
         }
+        if stage <= Stage::Parametrization {
+            self.parametrization = None;
+        }
         if stage <= Stage::Extraction {
             self.extraction = None;
         }
@@ -385,17 +594,21 @@ impl Pipeline {
         self.fit = None;
     }
 
-    /// Runs every stage that is not up to date. `sink` receives progress and
-    /// may cancel; `done` is called after each stage that ran; `clock`
-    /// returns milliseconds.
+    /// Runs every stage of the current mode that is not up to date
+    /// ([`Stage::remeshing`], then [`Stage::Fit`] if enabled). `sink`
+    /// receives progress and may cancel; `done` is called after each stage
+    /// that ran; `clock` returns milliseconds. A stage that cannot make its
+    /// output (the global mode's map or extraction) stops the run with
+    /// [`PipelineError::Failed`]; the earlier stages' outputs stay.
     pub fn run(
         &mut self,
         sink: &mut dyn FnMut(&str, f32, &str) -> bool,
         done: &mut dyn FnMut(Stage, &Pipeline),
         clock: &dyn Fn() -> f64,
-    ) -> Result<(), Cancelled> {
+    ) -> Result<(), PipelineError> {
         let fit = self.fit_enabled.then_some(Stage::Fit);
-        for stage in Stage::ALL.into_iter().chain(fit) {
+        let stages = Stage::remeshing(self.mode());
+        for &stage in stages.iter().chain(fit.iter()) {
             if self.has(stage) {
                 continue;
             }
@@ -410,7 +623,13 @@ impl Pipeline {
                     let seed = self.params.field.seed;
                     self.position = Some(self.run_position(&mut progress, 1.0, seed)?);
                 }
-                Stage::Extraction => self.run_extraction(&mut progress)?,
+                Stage::Parametrization => {
+                    self.parametrization = Some(self.run_parametrization(&mut progress, clock)?)
+                }
+                Stage::Extraction => match self.mode() {
+                    RemeshMode::Local => self.run_extraction(&mut progress)?,
+                    RemeshMode::Global => self.extraction = Some(self.run_qex(&mut progress)?),
+                },
                 Stage::PostProcess => self.postprocess = Some(self.run_postprocess(&mut progress)?),
                 Stage::Fit => self.fit = Some(self.run_fit(&mut progress)?),
             }
@@ -429,6 +648,7 @@ impl Pipeline {
             Stage::Hierarchy => self.hierarchy.is_some(),
             Stage::Orientation => self.orientation.is_some(),
             Stage::Position => self.position.is_some(),
+            Stage::Parametrization => self.parametrization.is_some(),
             Stage::Extraction => self.extraction.is_some(),
             Stage::PostProcess => self.postprocess.is_some(),
             Stage::Fit => self.fit.is_some(),
@@ -638,6 +858,16 @@ impl Pipeline {
             .unwrap_or(&self.input.mesh)
     }
 
+    /// The mesh the global mode's map and extraction work on: the input
+    /// itself, as `quadrille param` and the page's on-demand map. Not the
+    /// field mesh: its long-edge split (`field.split_long_edges`, Instant
+    /// Meshes' need) only adds slivers to the map, which fold — at the
+    /// default target spot's extraction met 29 flipped triangles on the
+    /// split mesh (6,332 faces) against 6 on the input (5,856).
+    pub fn map_mesh(&self) -> &TriMesh {
+        &self.input.mesh
+    }
+
     pub fn surface(&mut self) -> Option<std::sync::Arc<SurfaceIndex>> {
         if self.surface.is_none() {
             self.surface = SurfaceIndex::new(&self.input.mesh).map(std::sync::Arc::new);
@@ -757,10 +987,75 @@ impl Pipeline {
         extracted.report.position_seed = position.seed;
         self.position = Some(position);
         self.extraction = Some(ExtractionStage {
-            extracted,
+            extracted: ExtractedMesh::Local(Box::new(extracted)),
             target_vertices: target,
         });
         Ok(())
+    }
+
+    /// The global mode's integer-grid map of [`Pipeline::map_mesh`], with
+    /// the pipeline's target vertex count (one unit is one target edge of
+    /// the local mode's target).
+    fn run_parametrization(
+        &self,
+        progress: &mut Progress<'_>,
+        clock: &dyn Fn() -> f64,
+    ) -> Result<ParametrizationStage, PipelineError> {
+        let mut params = crate::param::Params::from_pipeline(&self.params);
+        if params.sizing.edge_length.is_none() {
+            params.sizing.target_vertex_count =
+                target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
+        }
+        let run = crate::param::run_with_progress(self.map_mesh(), &params, clock, progress)
+            .map_err(|e| match e {
+                crate::param::ParamError::Cancelled => PipelineError::Cancelled,
+                e => PipelineError::Failed {
+                    stage: Stage::Parametrization,
+                    message: format!("the integer-grid map failed: {e}"),
+                },
+            })?;
+        Ok(ParametrizationStage { run, params })
+    }
+
+    /// The global mode's extraction: the quads of the integer-grid map
+    /// (QEx), in the input's (normalised) coordinates.
+    fn run_qex(&self, progress: &mut Progress<'_>) -> Result<ExtractionStage, PipelineError> {
+        let map = &self
+            .parametrization
+            .as_ref()
+            .expect("the parametrization runs first")
+            .run
+            .map;
+        let failed = |message: String| PipelineError::Failed {
+            stage: Stage::Extraction,
+            message,
+        };
+        let quads = match extract::qex::extract(self.map_mesh(), map, progress) {
+            Ok(q) => q,
+            Err(QexError::Cancelled) => return Err(PipelineError::Cancelled),
+            Err(QexError::Empty) => {
+                return Err(failed(
+                    "no quads: the integer-grid map has no integer point (is the target vertex \
+                     count too small?)"
+                        .into(),
+                ));
+            }
+            Err(e @ QexError::Invalid(_)) => return Err(failed(e.to_string())),
+        };
+        if quads.mesh.face_count() == 0 {
+            return Err(failed(
+                "no quads: the integer-grid map gave an empty mesh (is the target vertex count \
+                 too small?)"
+                    .into(),
+            ));
+        }
+        Ok(ExtractionStage {
+            extracted: ExtractedMesh::Global(Box::new(quads)),
+            target_vertices: target_vertex_count(
+                self.input.mesh.vertex_count(),
+                &self.params.sizing,
+            ),
+        })
     }
 
     fn run_postprocess(
@@ -768,13 +1063,23 @@ impl Pipeline {
         progress: &mut Progress<'_>,
     ) -> Result<PostProcessStage, Cancelled> {
         let surface = self.surface();
-        let e = &self
+        let extracted = &self
             .extraction
             .as_ref()
             .expect("extraction runs first")
             .extracted;
-        let mut result =
-            extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?;
+        let mut result = match extracted {
+            ExtractedMesh::Local(e) => {
+                extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?
+            }
+            // The global mode's quads stay pure: none of the local mode's
+            // clean-up (it mends what the position field leaves).
+            ExtractedMesh::Global(q) => PostProcessed {
+                mesh: q.mesh.clone(),
+                report: Default::default(),
+                repair: Default::default(),
+            },
+        };
         if self.params.extraction.post.reopen_input_holes
             && let Some(surface) = surface.as_deref()
             && let Some((mesh, opened)) =
@@ -787,16 +1092,23 @@ impl Pipeline {
     }
 
     /// The control mesh fitted to the input, starting from the
-    /// post-processed mesh (whose one Catmull–Clark split is the pure-quad
-    /// start).
+    /// post-processed mesh. `fit.split` auto: the local mode's
+    /// quad-dominant mesh is split once (the pure-quad start); the global
+    /// mode's pure quads are a control mesh as they are.
     fn run_fit(&mut self, progress: &mut Progress<'_>) -> Result<FitStage, Cancelled> {
         let mesh = self
             .postprocess
             .as_ref()
             .expect("post-processing runs first")
             .mesh();
-        let result =
-            subdivision::fit_control_mesh(mesh, &self.input.mesh, &self.params.fit, progress)?;
+        let mut params = self.params.fit;
+        if params.split == FitSplit::Auto {
+            params.split = match self.params.remesh.mode {
+                RemeshMode::Local => FitSplit::Always,
+                RemeshMode::Global => FitSplit::NonQuads,
+            };
+        }
+        let result = subdivision::fit_control_mesh(mesh, &self.input.mesh, &params, progress)?;
         Ok(FitStage { result })
     }
 }

@@ -158,3 +158,161 @@ fn remesh_says_which_input_parts_it_lost() {
     assert_eq!(kept["loops_kept"], 1, "{kept}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--mode`: accepted and written to the stats (`mode`), overriding the
+/// parameter file's `remesh.mode`; an unknown mode is refused with the
+/// modes there are.
+#[test]
+fn remesh_mode_is_chosen_on_the_command_line_and_reported() {
+    let dir = std::env::temp_dir().join(format!("quadrille-cli-mode-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (params, out, stats) = (
+        dir.join("params.json"),
+        dir.join("out.obj"),
+        dir.join("stats.json"),
+    );
+    std::fs::write(&params, r#"{ "remesh": { "mode": "global" } }"#).unwrap();
+    let remesh = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_quadrille"))
+            .arg("remesh")
+            .arg(common::path("spot.obj"))
+            .arg("-o")
+            .arg(&out)
+            .arg("--stats")
+            .arg(&stats)
+            .arg("--params")
+            .arg(&params)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let run = remesh(&["--mode", "local"]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(json["mode"], "local", "--mode overrides the parameter file");
+    assert!(json["qex"].is_null() && json["parametrization"].is_null());
+    assert!(
+        json["extraction"]["attempts"].is_number(),
+        "{}",
+        json["extraction"]
+    );
+
+    let run = remesh(&["--mode", "sideways"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(
+        stderr.contains("'sideways'") && stderr.contains("local") && stderr.contains("global"),
+        "{stderr}"
+    );
+    let help = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .args(["remesh", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(
+        help.contains("--mode <MODE>") && help.contains("global"),
+        "{help}"
+    );
+    // A parameter file's unknown mode is refused too, naming the file.
+    std::fs::write(&params, r#"{ "remesh": { "mode": "sideways" } }"#).unwrap();
+    let run = remesh(&[]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(
+        stderr.contains("params.json") && stderr.contains("sideways"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The global mode end to end on spot (closed, genus 0): a closed,
+/// manifold, pure-quad mesh near the target, the stats say `global` with
+/// the QEx report and the map's cones, and the control mesh is the quad
+/// mesh itself (no Catmull–Clark split: as many control vertices as quad
+/// vertices).
+#[test]
+fn remesh_global_mode_gives_a_closed_pure_quad_mesh_fitted_without_a_split() {
+    let dir = std::env::temp_dir().join(format!("quadrille-cli-global-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (out, control, stats) = (
+        dir.join("spot.obj"),
+        dir.join("control.obj"),
+        dir.join("stats.json"),
+    );
+    let run = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .arg("remesh")
+        .arg(common::path("spot.obj"))
+        .arg("-o")
+        .arg(&out)
+        .arg("--control")
+        .arg(&control)
+        .arg("--stats")
+        .arg(&stats)
+        .args(["--mode", "global"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let read = |p: &PathBuf| {
+        quadrille::io::import(&std::fs::read(p).unwrap(), &p.display().to_string()).unwrap()
+    };
+    let quads = read(&out);
+    let r = &quads.report;
+    assert!(
+        r.face_degrees.iter().all(|&[d, _]| d == 4),
+        "{:?}",
+        r.face_degrees
+    );
+    assert_eq!(r.boundary_edges, 0);
+    assert_eq!((r.nonmanifold_edges, r.nonmanifold_vertices), (0, 0));
+    assert_eq!(r.inconsistent_edges, 0);
+    assert_eq!(r.genus, Some(0));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&stats).unwrap()).unwrap();
+    assert_eq!(json["mode"], "global");
+    assert!(json["extraction"].is_null());
+    assert_eq!(json["qex"]["faces"], r.faces, "{}", json["qex"]);
+    assert!(json["parametrization"]["cones"].as_u64().unwrap() >= 8);
+    assert_eq!(json["metrics"]["topology"]["non_quad_percent"], 0.0);
+    let target = json["target_vertices"].as_f64().unwrap();
+    let achieved = json["achieved_vertices"].as_f64().unwrap();
+    assert!(
+        (achieved - target).abs() <= 0.1 * target,
+        "{achieved} vertices for a target of {target}"
+    );
+    let fit = &json["limit_surface"];
+    assert_eq!(fit["split"], false);
+    assert_eq!(fit["control_vertices"], r.vertices);
+    assert_eq!(read(&control).report.vertices, r.vertices);
+    for key in [
+        "analysis",
+        "parametrization",
+        "extraction",
+        "postprocess",
+        "fit",
+    ] {
+        assert!(json["timings_ms"][key].is_number(), "timing of {key}");
+    }
+    assert!(json["timings_ms"]["hierarchy"].is_null());
+    // A target edge longer than the whole mesh: no integer point, said as
+    // the local mode says a too-small target.
+    let run = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .arg("remesh")
+        .arg(common::path("spot.obj"))
+        .arg("-o")
+        .arg(&out)
+        .args(["--mode", "global", "--edge-length", "20"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(
+        stderr.contains("spot.obj: extraction: no quads")
+            && stderr.contains("target vertex count too small"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -157,7 +157,7 @@ fn filtered_normals_remove_singularities_caused_by_small_bumps() {
 fn the_fit_stage_runs_last_when_enabled_and_alone_after_a_fit_parameter_change() {
     let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 3)), Params::default());
     p.fit_enabled = true;
-    let mut all = Stage::ALL.to_vec();
+    let mut all = Stage::LOCAL.to_vec();
     all.push(Stage::Fit);
     assert_eq!(run(&mut p), all);
     let fit = &p.fit.as_ref().unwrap().result;
@@ -183,15 +183,15 @@ fn the_fit_stage_runs_last_when_enabled_and_alone_after_a_fit_parameter_change()
 #[test]
 fn a_parameter_change_reruns_only_the_stages_after_it() {
     let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 3)), Params::default());
-    assert_eq!(run(&mut p), Stage::ALL.to_vec());
+    assert_eq!(run(&mut p), Stage::LOCAL.to_vec());
     assert!(run(&mut p).is_empty(), "nothing to do when nothing changed");
     let mut params = p.params.clone();
     params.field.position_iterations = 4;
     assert_eq!(p.set_params(params.clone()), Some(Stage::Position));
-    assert_eq!(run(&mut p), Stage::ALL[3..].to_vec());
+    assert_eq!(run(&mut p), Stage::LOCAL[3..].to_vec());
     params.field.orientation_iterations = 3;
     p.set_params(params.clone());
-    assert_eq!(run(&mut p), Stage::ALL[2..].to_vec());
+    assert_eq!(run(&mut p), Stage::LOCAL[2..].to_vec());
     params.extraction.post.smoothing_iterations = 1;
     assert_eq!(p.set_params(params.clone()), Some(Stage::PostProcess));
     assert_eq!(run(&mut p), vec![Stage::PostProcess]);
@@ -200,7 +200,152 @@ fn a_parameter_change_reruns_only_the_stages_after_it() {
     assert_eq!(run(&mut p), vec![Stage::Extraction, Stage::PostProcess]);
     params.sizing.epsilon = 0.01;
     p.set_params(params);
-    assert_eq!(run(&mut p), Stage::ALL.to_vec());
+    assert_eq!(run(&mut p), Stage::LOCAL.to_vec());
+}
+
+/// `remesh.mode`: the stages each mode runs, and what a parameter change
+/// re-runs in the global mode (only the map's parameters, the reopening of
+/// input holes and the fit matter there).
+#[test]
+fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
+    use quadrille::pipeline::RemeshMode;
+    assert_eq!(Stage::remeshing(RemeshMode::Local), &Stage::LOCAL[..]);
+    assert_eq!(
+        Stage::remeshing(RemeshMode::Global),
+        &[
+            Stage::Analysis,
+            Stage::Parametrization,
+            Stage::Extraction,
+            Stage::PostProcess
+        ][..]
+    );
+    let local = Params::default();
+    assert_eq!(local.remesh.mode, RemeshMode::Local, "the default");
+    let mut global = local.clone();
+    global.remesh.mode = RemeshMode::Global;
+    assert_eq!(
+        local.first_changed_stage(&global),
+        Some(Stage::Parametrization)
+    );
+    assert_eq!(global.first_changed_stage(&local), Some(Stage::Hierarchy));
+    let changed = |f: &dyn Fn(&mut Params)| {
+        let mut other = global.clone();
+        f(&mut other);
+        global.first_changed_stage(&other)
+    };
+    assert_eq!(changed(&|p| p.field.orientation_iterations += 1), None);
+    assert_eq!(changed(&|p| p.field.seed += 1), None);
+    assert_eq!(changed(&|p| p.extraction.min_cluster_fraction = 0.3), None);
+    assert_eq!(
+        changed(&|p| p.extraction.post.smoothing_iterations = 7),
+        None
+    );
+    assert_eq!(
+        changed(&|p| p.alignment.mode = quadrille::pipeline::AlignmentMode::SmoothRegions),
+        Some(Stage::Parametrization)
+    );
+    assert_eq!(
+        changed(&|p| p.alignment.position_weight = 1.0),
+        Some(Stage::Parametrization)
+    );
+    assert_eq!(
+        changed(&|p| p.sizing.target_vertex_count = Some(100)),
+        Some(Stage::Analysis)
+    );
+    assert_eq!(
+        changed(&|p| p.extraction.post.reopen_input_holes = false),
+        Some(Stage::PostProcess)
+    );
+    assert_eq!(changed(&|p| p.fit.max_iterations = 3), Some(Stage::Fit));
+    // The same changes in the local mode.
+    let mut other = local.clone();
+    other.field.orientation_iterations += 1;
+    assert_eq!(local.first_changed_stage(&other), Some(Stage::Orientation));
+
+    // Switching the mode keeps the analysis and drops the other mode's
+    // outputs; the global run starts with the map. (Cancelled when the
+    // extraction starts, so this holds whatever the extraction does.)
+    let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 3)), local.clone());
+    assert_eq!(run(&mut p), Stage::LOCAL.to_vec());
+    assert_eq!(p.set_params(global.clone()), Some(Stage::Parametrization));
+    assert!(p.analysis.is_some());
+    assert!(p.hierarchy.is_none() && p.orientation.is_none() && p.position.is_none());
+    assert!(p.extraction.is_none() && p.postprocess.is_none());
+    let mut ran = Vec::new();
+    let mut stages_reported = Vec::new();
+    let outcome = p.run(
+        &mut |stage, _, _| {
+            if stages_reported.last().is_none_or(|s: &String| s != stage) {
+                stages_reported.push(stage.to_string());
+            }
+            stage != "extraction"
+        },
+        &mut |s, _| ran.push(s),
+        &|| 0.0,
+    );
+    assert_eq!(outcome, Err(quadrille::pipeline::PipelineError::Cancelled));
+    assert_eq!(ran, vec![Stage::Parametrization]);
+    assert_eq!(stages_reported, ["parametrization", "extraction"]);
+    let map = &p.parametrization.as_ref().unwrap().run.map;
+    assert_eq!(map.uv.len(), p.input.mesh.face_count());
+    assert_eq!(map.conflicts, 0);
+    // And back: the local stages after the analysis, the map dropped.
+    assert_eq!(p.set_params(local), Some(Stage::Hierarchy));
+    assert!(p.analysis.is_some() && p.parametrization.is_none());
+    assert_eq!(run(&mut p), Stage::LOCAL[1..].to_vec());
+}
+
+/// The global mode end to end on a sphere: its stages, closed pure quads
+/// near the target, the map's cones (their indices sum to the Euler
+/// characteristic, 2 = 8 quarters), and the fit without the split (the
+/// quad mesh is the control mesh).
+#[test]
+fn the_global_mode_gives_closed_pure_quads_fitted_as_they_are() {
+    let mut params = Params::default();
+    params.remesh.mode = quadrille::pipeline::RemeshMode::Global;
+    params.sizing.target_vertex_count = Some(300);
+    let mut p = Pipeline::new(from_mesh(generate::icosphere(1.0, 4)), params);
+    p.fit_enabled = true;
+    let mut all = Stage::GLOBAL.to_vec();
+    all.push(Stage::Fit);
+    assert_eq!(run(&mut p), all);
+    assert!(p.hierarchy.is_none() && p.orientation.is_none() && p.position.is_none());
+    let cones = &p.parametrization.as_ref().unwrap().run.map.cones;
+    assert_eq!(
+        cones.iter().map(|c| c.quarters).sum::<i32>(),
+        8,
+        "{cones:?}"
+    );
+    let mesh = p.postprocess.as_ref().unwrap().mesh().clone();
+    mesh.validate().unwrap();
+    let faces = mesh.to_face_list();
+    assert!(faces.iter().all(|f| f.len() == 4));
+    assert_eq!(
+        mesh.vertex_count() - mesh.edge_count() + mesh.face_count(),
+        2
+    );
+    assert!(
+        (0..mesh.edge_count() as u32)
+            .all(|e| !mesh.is_boundary_halfedge(2 * e) && !mesh.is_boundary_halfedge(2 * e + 1))
+    );
+    let n = mesh.vertex_count() as f64;
+    assert!((n - 300.0).abs() <= 30.0, "{n} vertices for 300");
+    let qex = p.extraction.as_ref().unwrap().extracted.qex().unwrap();
+    assert_eq!(qex.faces, mesh.face_count());
+    let fit = &p.fit.as_ref().unwrap().result;
+    assert!(!fit.summary.split);
+    assert_eq!(fit.control.vertex_count(), mesh.vertex_count());
+    assert!(fit.after.stats.mean < 0.5 * fit.before.stats.mean);
+    // The fit alone again with the split asked for: four times the vertices.
+    let mut params = p.params.clone();
+    params.fit.split = quadrille::subdivision::FitSplit::Always;
+    assert_eq!(p.set_params(params), Some(Stage::Fit));
+    assert_eq!(run(&mut p), vec![Stage::Fit]);
+    let fit = &p.fit.as_ref().unwrap().result;
+    assert_eq!(
+        fit.control.vertex_count(),
+        mesh.vertex_count() + mesh.edge_count() + mesh.face_count()
+    );
 }
 
 #[test]

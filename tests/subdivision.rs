@@ -16,7 +16,7 @@ use quadrille::mesh::{FaceList, PolyMesh, generate};
 use quadrille::pipeline::{Params, Pipeline};
 use quadrille::progress::{Cancelled, Progress, silently};
 use quadrille::subdivision::{
-    BoundaryRule, FitParams, FitResult, fit_control_mesh, limit_mesh, limit_mesh_creased,
+    BoundaryRule, FitParams, FitResult, FitSplit, fit_control_mesh, limit_mesh, limit_mesh_creased,
     limit_normals, limit_positions, poly_mesh_in_frame, subdivide,
 };
 
@@ -300,6 +300,62 @@ fn fitting_to_a_sphere_brings_the_limit_surface_onto_it() {
     for (p, d) in r.limit.positions.iter().zip(&r.after.per_vertex_signed) {
         assert!((p.length() - 1.0 - d).abs() < 5e-4);
     }
+}
+
+/// `fit.split`: a pure-quad mesh is fitted as it is with `non-quads` (its
+/// vertices are the control vertices, a quarter of the split's), split
+/// with `always` and `auto` (the default of a mesh fitted on its own); a
+/// mesh with a triangle is split with `non-quads` too.
+#[test]
+fn a_pure_quad_mesh_is_fitted_without_the_split_when_asked() {
+    let sphere = generate::icosphere(1.0, 4);
+    let quads = cube_grid(6, true);
+    let with = |mesh: &PolyMesh, split: FitSplit| {
+        let params = FitParams {
+            split,
+            measure_before: false,
+            ..FitParams::default()
+        };
+        silently("fit", |p| fit_control_mesh(mesh, &sphere, &params, p)).unwrap()
+    };
+    let (v, e, f) = (quads.vertex_count(), quads.edge_count(), quads.face_count());
+    let direct = with(&quads, FitSplit::NonQuads);
+    eprintln!(
+        "cube grid on the sphere, fitted as it is: {} control vertices, limit mean {:.2e}",
+        direct.summary.control_vertices, direct.summary.after.stats.mean
+    );
+    assert!(!direct.summary.split);
+    assert_eq!(direct.summary.control_vertices, v);
+    assert_eq!(direct.control.face_count(), f);
+    direct.control.validate().unwrap();
+    // Fitted as it is, the 218-vertex cage still brings its limit onto the
+    // sphere (measured: mean 1.9e-4).
+    assert!(
+        direct.summary.after.stats.mean < 2e-3,
+        "{}",
+        direct.summary.after.stats.mean
+    );
+    for split in [FitSplit::Always, FitSplit::Auto] {
+        let r = with(&quads, split);
+        assert!(r.summary.split, "{split:?}");
+        assert_eq!(r.summary.control_vertices, v + e + f, "{split:?}");
+    }
+    // One quad cut into two triangles: not pure quads, so split anyway.
+    let mut faces: Vec<Vec<u32>> = quads.to_face_list().iter().map(|f| f.to_vec()).collect();
+    let q = faces.pop().unwrap();
+    faces.push(vec![q[0], q[1], q[2]]);
+    faces.push(vec![q[0], q[2], q[3]]);
+    let mut list = FaceList::new();
+    for f in &faces {
+        list.push(f);
+    }
+    let mixed = PolyMesh::from_faces(quads.positions.clone(), &list).unwrap();
+    let r = with(&mixed, FitSplit::NonQuads);
+    assert!(r.summary.split);
+    assert_eq!(
+        r.summary.control_vertices,
+        mixed.vertex_count() + mixed.edge_count() + mixed.face_count()
+    );
 }
 
 /// Distance of `p` from the surface of the cube [0, 1]³ (for points inside

@@ -62,7 +62,10 @@ function resultSummary(run) {
   const parts = [
     `${c.quad_mesh_vertices.toLocaleString('en-US')} vertices`,
     `${(100 * quads / faces).toFixed(1)} % quads`,
-    `${(c.orientation_singularities ?? 0).toLocaleString('en-US')} singularities`,
+    // The global mode's singularities are the map's cones.
+    c.mode === 'global'
+      ? `${(c.cones ?? 0).toLocaleString('en-US')} cones`
+      : `${(c.orientation_singularities ?? 0).toLocaleString('en-US')} singularities`,
   ];
   const l = run.limit_surface;
   if (l) parts.push(`limit error ${Number((100 * l.after.hausdorff).toPrecision(2))} % of the size`);
@@ -91,7 +94,14 @@ function showTimings(stages) {
 }
 
 const progressEl = $('progress');
-const STAGES = ['import', 'analysis', 'hierarchy', 'orientation', 'position', 'extraction', 'postprocess', 'fit'];
+// The stages of each remeshing mode (remesh.mode; src/pipeline.rs Stage::remeshing).
+const STAGES_OF = {
+  local: ['import', 'analysis', 'hierarchy', 'orientation', 'position', 'extraction', 'postprocess', 'fit'],
+  global: ['import', 'analysis', 'parametrization', 'extraction', 'postprocess', 'fit'],
+};
+const MODE_PATH = 'remesh.mode';
+const currentMode = () => (getPath(paramValues, MODE_PATH) === 'global' ? 'global' : 'local');
+const stagesOfMode = () => STAGES_OF[currentMode()];
 function showProgress(text, fraction, stage = null) {
   progressEl.hidden = false;
   progressEl.querySelector('.progress-text').textContent = text;
@@ -110,7 +120,7 @@ function showProgress(text, fraction, stage = null) {
   }
 }
 // One small bar per stage; stages that will not run (cached) start full.
-function resetStageBars(from = 'import', stages = STAGES) {
+function resetStageBars(from = 'import', stages = stagesOfMode()) {
   const start = stages.indexOf(from);
   $('progress-stages').replaceChildren(...stages.map((stage, i) => {
     const li = document.createElement('li');
@@ -530,6 +540,32 @@ function dropParametrization() {
   const layer = LAYERS.find((l) => l.name === PARAM_LAYER);
   if (layer) layer.label = 'Parametrization (computed on demand)';
 }
+// The line, point and surface layers only one mode's stages make (the
+// other stages' layers are replaced by the next run's).
+const MODE_LAYERS = {
+  local: ['cross field', 'orientation singularities', 'smooth regions', 'position field', 'position singularities'],
+  global: [],
+};
+let shownMode = 'local'; // the mode of the layers on screen
+function dropLayersOfMode(mode) {
+  for (const name of MODE_LAYERS[mode]) {
+    const layer = LAYERS.find((l) => l.name === name);
+    if (!layer) continue;
+    if (viewer) {
+      if (layer.kind === 'points') viewer.set_points(name, new Float32Array(0), new Uint8Array(4), 1);
+      else if (layer.kind === 'lines' && STYLES[name]?.glyph) viewer.set_glyphs(name, new Float32Array(0), new Uint8Array(4), 2, new Uint32Array());
+      else if (layer.kind === 'lines') viewer.set_lines(name, new Float32Array(0), new Uint8Array(4));
+    }
+    if (layer.kind === 'surface') delete extraSurfaces[name];
+    available.delete(name);
+    LAYERS = LAYERS.filter((l) => l.name !== name);
+    if (drawnSurface === name) showSurface();
+  }
+  // The global mode's map is the pipeline's: a local run computes its own on demand.
+  if (mode === 'global') dropParametrization();
+  updateLayersPanel();
+  requestRender();
+}
 function requestParametrization() {
   paramWanted = true;
   if (current || !lastInput) return; // started when the running job ends
@@ -764,7 +800,8 @@ function run(name, bytes, sample = null) {
   window.quadrille.progressGapsMs = {};
   workerHasInput = false;
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
-  current = { job: nextJob++, name, started: performance.now(), stages: {}, flag, deadline: 0 };
+  current = { job: nextJob++, name, started: performance.now(), stages: {}, flag, deadline: 0, mapKey: currentMapKey(), mode: currentMode() };
+  shownMode = currentMode();
   resetStageBars();
   showProgress(`${name}: reading ${(bytes.byteLength / 1024).toFixed(0)} KiB…`, 0);
   setStatus(`${name}: ${STAGE_TEXT.import}…`);
@@ -788,8 +825,11 @@ function rerun() {
     dropParametrization();
     if (LAYERS.find((l) => l.name === PARAM_LAYER)?.visible) paramWanted = true;
   }
+  // Another remeshing mode: the layers only the other mode makes go.
+  if (shownMode !== currentMode()) dropLayersOfMode(shownMode);
+  shownMode = currentMode();
   const flag = self.crossOriginIsolated ? new SharedArrayBuffer(4) : null;
-  current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0 };
+  current = { job: nextJob++, name: lastInput.name, started: performance.now(), stages: {}, flag, deadline: 0, mapKey: currentMapKey(), mode: currentMode() };
   resetStageBars('analysis');
   showProgress(`${lastInput.name}: new parameters…`, 0);
   setStatus(`Parameters changed: running ${lastInput.name} again from the first stage they affect…`);
@@ -1126,6 +1166,7 @@ function commitParam(e, v) {
     if (input.type !== 'checkbox' && document.activeElement !== input) input.value = e.kind === 'json' ? JSON.stringify(v) : v ?? '';
   }
   if (e.path === TARGET_PATH) updateTargetControl();
+  if (e.path === MODE_PATH) updateModeControl();
   clearTimeout(paramsTimer);
   paramsTimer = setTimeout(rerun, 250);
 }
@@ -1204,6 +1245,23 @@ function updateTargetControl() {
   $('target-note').textContent = edge != null
     ? `Ignored while sizing.edge_length is set (${edge}).`
     : r ? `Empty: auto, the input's vertices / 16. Valid for this mesh: ${r.min}–${r.max.toLocaleString('en-US')}.` : '';
+}
+
+// The remeshing mode, next to the target count: the same parameter as
+// remesh.mode in the panel.
+const modeEntry = () => schema.find((e) => e.path === MODE_PATH);
+function updateModeControl() {
+  const mode = currentMode();
+  $('remesh-mode').value = mode;
+  $('mode-note').textContent = mode === 'global'
+    ? 'Pure quads from a global integer-grid map (Ebke et al. 2014): its cones are the singularities.'
+    : 'Quad-dominant, from Instant Meshes\u2019 local fields as in the thesis.';
+}
+function attachModeControl() {
+  $('remesh-mode').addEventListener('change', () => {
+    const e = modeEntry();
+    if (e) commitParam(e, $('remesh-mode').value);
+  });
 }
 
 function attachTargetControl() {
@@ -1292,6 +1350,7 @@ function buildParamsPanel() {
   }));
   if ($('param-search').value) filterParams();
   updateTargetControl();
+  updateModeControl();
 }
 
 // Parameters from the address (`p=` JSON of { path: value }), over the defaults.
@@ -1506,6 +1565,7 @@ $('share').addEventListener('click', share);
 $('params-reset').addEventListener('click', resetParams);
 $('param-search').addEventListener('input', filterParams);
 attachTargetControl();
+attachModeControl();
 $('shortcuts-close').addEventListener('click', () => toggleShortcuts(false));
 
 // Dropping anywhere on the page opens the file.

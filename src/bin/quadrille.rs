@@ -40,8 +40,9 @@ enum Command {
         #[arg(long)]
         reference: PathBuf,
     },
-    /// Run the whole pipeline and write the quad-dominant mesh (OBJ, PLY or
-    /// OFF by the output's extension, polygons kept).
+    /// Run the whole pipeline and write the quad mesh (OBJ, PLY or OFF by
+    /// the output's extension, polygons kept): quad-dominant in the local
+    /// mode, pure quads in the global mode (`--mode global`).
     Remesh(RemeshArgs),
     /// Fit a Catmull–Clark control mesh to a reference surface, starting
     /// from any polygon mesh (a retopology, another remesher's output):
@@ -125,6 +126,11 @@ struct RemeshArgs {
     /// Seed of the random initialisation.
     #[arg(long)]
     seed: Option<u64>,
+    /// Remeshing mode (overrides `remesh.mode` of --params): local
+    /// (Instant Meshes' fields as in the thesis, quad-dominant; the
+    /// default) or global (integer-grid map and QEx extraction, pure quads).
+    #[arg(long, value_parser = ["local", "global"])]
+    mode: Option<String>,
     /// Pipeline parameters as JSON (every field optional).
     #[arg(long)]
     params: Option<PathBuf>,
@@ -167,23 +173,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     let start = std::time::Instant::now();
     let imported = import(&args.input)?;
     let import_ms = start.elapsed().as_secs_f64() * 1e3;
-    if let Some(v) = args.vertices {
-        if v < 4 {
-            return Err("--vertices must be at least 4".into());
-        }
-        params.sizing.target_vertex_count = Some(v);
-        params.sizing.edge_length = None;
-    }
-    if let Some(l) = args.edge_length {
-        if !(l.is_finite() && l > 0.0) {
-            return Err("--edge-length must be a positive number".into());
-        }
-        // The pipeline works in the normalised frame.
-        params.sizing.edge_length = Some(l / imported.frame.scale);
-    }
-    if let Some(s) = args.seed {
-        params.field.seed = s;
-    }
+    command_line_params(&args, &mut params, imported.frame.scale)?;
     let input_vertices = imported.mesh.vertex_count();
     quadrille::pipeline::check_target(input_vertices, &params.sizing)
         .map_err(|e| format!("{}: {e}", args.input.display()))?;
@@ -207,7 +197,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
     };
     pipeline
         .run(&mut sink, &mut |_, _| {}, &clock)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| format!("{}: {e}", args.input.display()))?;
     let surface = pipeline.surface();
     let post = pipeline
         .postprocess
@@ -282,10 +272,21 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             timings.insert(stage.name().into(), serde_json::json!(ms));
         }
         timings.insert("metrics".into(), serde_json::json!(metrics_ms));
-        let extraction = pipeline.extraction.as_ref().map(|e| &e.extracted.report);
+        let extracted = pipeline.extraction.as_ref().map(|e| &e.extracted);
+        let extraction = extracted.and_then(|e| e.local()).map(|e| &e.report);
+        let qex = extracted.and_then(|e| e.qex());
+        let parametrization = pipeline.parametrization.as_ref().map(|s| {
+            serde_json::json!({
+                "cones": s.run.map.cones.len(),
+                "measures": s.run.measures,
+                "integer_conflicts": s.run.map.conflicts,
+                "timings": s.run.timings,
+            })
+        });
         let json = serde_json::json!({
             "input": args.input.display().to_string(),
             "output": name,
+            "mode": pipeline.params.remesh.mode,
             "target_vertices": target,
             "achieved_vertices": mesh.vertex_count(),
             "vertex_count_error_percent": target.map(|t| 100.0 * (mesh.vertex_count() as f64 - t as f64) / t as f64),
@@ -293,6 +294,8 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
             "frame_scale": frame.scale,
             "metrics": metrics,
             "extraction": extraction,
+            "parametrization": parametrization,
+            "qex": qex,
             "postprocess": post.result.report,
             "postprocess_repair": post.result.repair,
             "limit_surface": fitted.map(|r| &r.summary),
@@ -300,6 +303,36 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         });
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
         std::fs::write(stats, text).map_err(|e| format!("{}: {e}", stats.display()))?;
+    }
+    Ok(())
+}
+
+/// The command line's options over the parameter file's values (the
+/// explicit edge length from file units to the normalised frame, whose
+/// largest axis is `frame_scale` file units).
+fn command_line_params(
+    args: &RemeshArgs,
+    params: &mut quadrille::pipeline::Params,
+    frame_scale: f64,
+) -> Result<(), String> {
+    if let Some(v) = args.vertices {
+        if v < 4 {
+            return Err("--vertices must be at least 4".into());
+        }
+        params.sizing.target_vertex_count = Some(v);
+        params.sizing.edge_length = None;
+    }
+    if let Some(l) = args.edge_length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err("--edge-length must be a positive number".into());
+        }
+        params.sizing.edge_length = Some(l / frame_scale);
+    }
+    if let Some(s) = args.seed {
+        params.field.seed = s;
+    }
+    if let Some(mode) = &args.mode {
+        params.remesh.mode = mode.parse()?;
     }
     Ok(())
 }

@@ -1,6 +1,8 @@
 //! Control-mesh fitting (Kloiber 2018 §3.8, the method of Thaller,
 //! Augsdörfer and Fellner 2016): one Catmull–Clark step makes the
-//! quad-dominant mesh pure quad; then, repeatedly, every interior control
+//! quad-dominant mesh pure quad (a mesh that is already pure quad is a
+//! control mesh as it is, and with [`FitSplit::NonQuads`] is fitted
+//! without the step, at a quarter of the control vertices); then, repeatedly, every interior control
 //! vertex moves by the offset between its limit point and the point where
 //! the line through the limit point along the limit normal meets the input.
 //! Stops after `max_iterations` (20) or when the largest move is below
@@ -67,6 +69,36 @@ pub struct FitParams {
     /// degrees are feature curves, and the mesh's edges along them become
     /// sharp creases (module docs); 0 turns creases off.
     pub crease_degrees: f64,
+    /// Whether the mesh is split once (Catmull–Clark) before fitting.
+    /// Default [`FitSplit::Auto`].
+    pub split: FitSplit,
+}
+
+/// Whether the fitting starts with one Catmull–Clark step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FitSplit {
+    /// The pipeline's global mode (pure quads) fits its mesh as it is; the
+    /// local mode, and any mesh fitted on its own (`quadrille fit`), split
+    /// first as [`FitSplit::Always`].
+    #[default]
+    Auto,
+    /// One step first whatever the mesh (a quad mesh's control vertices
+    /// quadruple): the thesis.
+    Always,
+    /// One step only when a face is not a quad; a pure-quad mesh is fitted
+    /// as it is.
+    NonQuads,
+}
+
+impl FitSplit {
+    /// Whether `mesh` is split once before fitting.
+    pub fn splits(self, mesh: &PolyMesh) -> bool {
+        match self {
+            FitSplit::Auto | FitSplit::Always => true,
+            FitSplit::NonQuads => (0..mesh.face_count()).any(|f| mesh.degree(f as u32) != 4),
+        }
+    }
 }
 
 impl Default for FitParams {
@@ -79,6 +111,7 @@ impl Default for FitParams {
             error_levels: 2,
             measure_before: true,
             crease_degrees: 40.0,
+            split: FitSplit::Auto,
         }
     }
 }
@@ -137,6 +170,8 @@ pub struct FitSummary {
     pub control_faces: usize,
     /// Edges of the quad-dominant mesh made sharp creases.
     pub crease_edges: usize,
+    /// Whether the mesh was split once before fitting ([`FitSplit`]).
+    pub split: bool,
     pub before: LimitError,
     pub after: LimitError,
 }
@@ -155,13 +190,11 @@ pub fn fit_control_mesh(
     progress: &mut Progress,
 ) -> Result<FitResult, Cancelled> {
     let rule = params.boundary;
-    progress.report(0.0, "subdividing to a pure quad mesh")?;
+    let split = params.split.splits(quad_dominant);
+    progress.report(0.0, "the pure quad control mesh")?;
     let features = feature_curves(reference, params.crease_degrees);
-    let creases = match &features {
-        Some(curves) => crease_edges(quad_dominant, curves),
-        None => Vec::new(),
-    };
-    let (mut control, sharp) = subdivide_creased(quad_dominant, rule, &creases);
+    let (mut control, sharp, crease_count) =
+        start_mesh(quad_dominant, rule, features.as_ref(), split);
     let start = control.positions.clone();
     let scale = reference
         .bbox()
@@ -175,6 +208,7 @@ pub fn fit_control_mesh(
             summary: FitSummary {
                 control_vertices: control.vertex_count(),
                 control_faces: control.face_count(),
+                split,
                 ..FitSummary::default()
             },
             control,
@@ -220,7 +254,8 @@ pub fn fit_control_mesh(
     let mut summary = FitSummary {
         control_vertices: control.vertex_count(),
         control_faces: control.face_count(),
-        crease_edges: creases.iter().filter(|&&c| c).count(),
+        crease_edges: crease_count,
+        split,
         ..FitSummary::default()
     };
     let max_iterations = params.max_iterations;
@@ -307,6 +342,25 @@ pub fn fit_control_mesh(
         after,
         summary,
     })
+}
+
+/// The control mesh the fitting starts from, its sharp edges and how many
+/// edges of `mesh` became creases: `mesh` with its edges along `curves`
+/// sharp, split once (Catmull–Clark) when `split`, else as it is.
+fn start_mesh(
+    mesh: &PolyMesh,
+    rule: BoundaryRule,
+    curves: Option<&CurveIndex>,
+    split: bool,
+) -> (PolyMesh, Vec<bool>, usize) {
+    let creases = curves.map_or_else(Vec::new, |curves| crease_edges(mesh, curves));
+    let count = creases.iter().filter(|&&c| c).count();
+    let (control, sharp) = if split {
+        subdivide_creased(mesh, rule, &creases)
+    } else {
+        (mesh.clone(), creases)
+    };
+    (control, sharp, count)
 }
 
 /// The reference's feature curves: its interior edges whose faces' normals

@@ -28,7 +28,7 @@ use crate::mesh::{FaceList, Frame, MeshError, PolyMesh, UnionFind, newell_normal
 
 pub use catmull_clark::{subdivide, subdivide_creased, subdivide_levels};
 pub use error::LimitError;
-pub use fit::{FitParams, FitResult, FitSummary, fit_control_mesh};
+pub use fit::{FitParams, FitResult, FitSplit, FitSummary, fit_control_mesh};
 pub use limit::{
     limit_mesh, limit_mesh_creased, limit_mesh_with_progress, limit_normals, limit_positions,
     limit_positions_creased,

@@ -6,8 +6,9 @@
 //! the worker transfers them instead of copying.
 //!
 //! Steps: `import`, then `pipeline` (analysis, hierarchy, orientation,
-//! position, extraction, post-processing, control-mesh fit;
-//! [`crate::pipeline::Pipeline::run`]). The worker goes back to its event
+//! position, extraction, post-processing, control-mesh fit in the local
+//! mode; analysis, parametrization, extraction, post-processing, fit in the
+//! global mode, `remesh.mode`; [`crate::pipeline::Pipeline::run`]). The worker goes back to its event
 //! loop between steps, where a `cancel` message is seen.
 //!
 //! Parameters: `setParams(object)` (serde-wasm-bindgen, like every small
@@ -40,7 +41,7 @@ use wasm_bindgen::prelude::*;
 use super::mesh_arrays::MeshArrays;
 use crate::field::Singularity;
 use crate::mesh::{PolyMesh, TriMesh};
-use crate::pipeline::{Params, Pipeline, Stage};
+use crate::pipeline::{Params, Pipeline, PipelineError, RemeshMode, Stage};
 
 const STEPS: [&str; 2] = ["import", "pipeline"];
 
@@ -90,12 +91,18 @@ pub fn limit_surface_object(f: &crate::subdivision::FitResult) -> Result<Object,
 
 /// What the integer-grid map depends on, for the page's parameters (an
 /// object shaped as [`Params`]): the JSON text of the map's own parameters
-/// ([`crate::param::Params::from_pipeline`]), a key the page compares; it
-/// keeps the map across a parameter change that leaves the key the same.
+/// ([`crate::param::Params::from_pipeline`]) and the remeshing mode (the
+/// global mode's map is the pipeline's own, on the mesh its fields use), a
+/// key the page compares; it keeps the map across a parameter change that
+/// leaves the key the same.
 #[wasm_bindgen(js_name = gridMapKey)]
 pub fn grid_map_key(params: JsValue) -> Result<String, JsError> {
     let params = params_from_js(params)?;
-    serde_json::to_string(&crate::param::Params::from_pipeline(&params)).map_err(js_err)
+    serde_json::to_string(&serde_json::json!({
+        "mode": params.remesh.mode,
+        "map": crate::param::Params::from_pipeline(&params),
+    }))
+    .map_err(js_err)
 }
 
 #[wasm_bindgen]
@@ -122,8 +129,7 @@ pub struct Session {
 fn record_timing(timings: &mut Vec<(String, f64)>, stage: &str, ms: f64) {
     let order = |name: &str| {
         std::iter::once("import")
-            .chain(Stage::ALL.iter().map(|s| s.name()))
-            .chain(std::iter::once(Stage::Fit.name()))
+            .chain(Stage::EVERY.iter().map(|s| s.name()))
             .position(|s| s == name)
             .unwrap_or(usize::MAX)
     };
@@ -476,6 +482,54 @@ fn position_layers(r: &StageResult, pos: &crate::pipeline::PositionStage) -> Res
     singularity_points(r, "position singularities", &pos.singularities)
 }
 
+/// The integer-grid map `run` of `mesh` as the page draws it: `surface`
+/// (per-corner `uv` and `colors`, flipped triangles tinted), the cones as
+/// the point layer `parametrization cones` (index +¼ blue, −¼ red),
+/// `counts` and `param` (timings and Campen §5's measures).
+fn parametrization_layers(
+    r: &StageResult,
+    mesh: &TriMesh,
+    run: &crate::param::Run,
+    params: &crate::param::Params,
+    ms: f64,
+) -> Result<(), JsError> {
+    let arrays = super::mesh_arrays::GridMapArrays::new(mesh, &run.map);
+    let surface = Object::new();
+    set(&surface, "name", "parametrization")?;
+    set(
+        &surface,
+        "positions",
+        Float32Array::from(&arrays.positions[..]),
+    )?;
+    set(
+        &surface,
+        "triangles",
+        Uint32Array::from(&arrays.triangles[..]),
+    )?;
+    set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
+    set(&surface, "uv", Float32Array::from(&arrays.uv[..]))?;
+    set(&surface, "colors", Uint8Array::from(&arrays.colors[..]))?;
+    set(&r.obj, "surface", surface)?;
+    let (mut positions, mut colors) = (Vec::new(), Vec::new());
+    for c in &run.map.cones {
+        push(&mut positions, mesh.positions[c.vertex as usize].as_vec3());
+        colors.extend_from_slice(&singularity_color(c.quarters));
+    }
+    r.points("parametrization cones", &positions, &colors)?;
+    r.count("parametrization cones", run.map.cones.len())?;
+    r.count("flipped triangles", arrays.flipped)?;
+    let summary = serde_json::json!({
+        "ms": ms,
+        "timings": run.timings,
+        "measures": run.measures,
+        "integer_conflicts": run.map.conflicts,
+        "rounding_steps": run.map.rounding_steps,
+        "alignment": params.alignment,
+        "closed_loops": run.map.closed_loops,
+    });
+    set(&r.obj, "param", to_js(&summary)?)
+}
+
 /// The page-facing result of one pipeline stage.
 fn stage_result(
     stage: Stage,
@@ -561,14 +615,24 @@ fn stage_result(
             };
             position_layers(&r, pos)?;
         }
+        Stage::Parametrization => {
+            let Some(s) = &p.parametrization else {
+                return Ok(JsValue::UNDEFINED);
+            };
+            parametrization_layers(&r, p.map_mesh(), &s.run, &s.params, ms)?;
+        }
         Stage::Extraction => {
             let Some(e) = &p.extraction else {
                 return Ok(JsValue::UNDEFINED);
             };
-            poly_mesh_layers(&r, "extracted mesh", &e.extracted.mesh, false)?;
+            poly_mesh_layers(&r, "extracted mesh", e.extracted.mesh(), false)?;
             // A restart kept another seed's position field: show that one.
-            if let (true, Some(pos)) = (e.extracted.report.attempts > 1, &p.position) {
+            let restarted = e.extracted.local().is_some_and(|x| x.report.attempts > 1);
+            if let (true, Some(pos)) = (restarted, &p.position) {
                 position_layers(&r, pos)?;
+            }
+            if let Some(q) = e.extracted.qex() {
+                set(&r.obj, "qex", to_js(q)?)?;
             }
         }
         Stage::PostProcess => {
@@ -634,6 +698,12 @@ impl Session {
             Some(p) => p.set_params(params.clone()),
             None => None,
         };
+        // The other mode's stage times go with its outputs (`summary`'s
+        // `stages` and `total_ms` are the current mode's).
+        let mode = Stage::remeshing(params.remesh.mode);
+        self.timings.retain(|(s, _)| {
+            s == "import" || s == Stage::Fit.name() || mode.iter().any(|m| m.name() == s)
+        });
         self.params = params;
         if let Some(stage) = changed {
             self.next = self.next.min(1);
@@ -855,12 +925,17 @@ impl Session {
         if let Some(e) = failure {
             return Err(e);
         }
-        self.cancelled = outcome.is_err();
+        match outcome {
+            Ok(()) => self.cancelled = false,
+            Err(PipelineError::Cancelled) => self.cancelled = true,
+            Err(e) => return Err(js_err(format!("{}: {e}", pipeline.input.name))),
+        }
         Ok(())
     }
 
     /// The parametrization layer, computed only when the page asks for it
-    /// (it takes seconds on big meshes): the integer-grid map of the input
+    /// (it takes seconds on big meshes) — in the global mode the pipeline's
+    /// own map, sent again without computing it twice: the integer-grid map of the input
     /// ([`crate::param::run_with_progress`], with the pipeline's analysis
     /// and sizing parameters, so one unit is one target edge of the run's
     /// target), emitted as a `parametrization` stage result with
@@ -892,6 +967,23 @@ impl Session {
                 .unwrap_or(true)
         };
         let mut sink = crate::progress::Progress::new(&mut sink, "parametrization");
+        // The global mode's map is the pipeline's own: no second computation.
+        if let Some(s) = p
+            .parametrization
+            .as_ref()
+            .filter(|_| p.mode() == RemeshMode::Global)
+        {
+            let ms = p
+                .timings
+                .iter()
+                .find(|(stage, _)| *stage == Stage::Parametrization)
+                .map_or(0.0, |t| t.1);
+            let r = StageResult::new("parametrization", ms)?;
+            parametrization_layers(&r, p.map_mesh(), &s.run, &s.params, ms)?;
+            emit.call1(&JsValue::NULL, &r.obj)
+                .map_err(|_| js_err("could not send the parametrization"))?;
+            return Ok(true);
+        }
         let started = js_sys::Date::now();
         let mesh = &p.input.mesh;
         let run =
@@ -901,42 +993,8 @@ impl Session {
                 Err(e) => return Err(js_err(format!("{}: parametrization: {e}", p.input.name))),
             };
         let ms = js_sys::Date::now() - started;
-        let arrays = super::mesh_arrays::GridMapArrays::new(mesh, &run.map);
         let r = StageResult::new("parametrization", ms)?;
-        let surface = Object::new();
-        set(&surface, "name", "parametrization")?;
-        set(
-            &surface,
-            "positions",
-            Float32Array::from(&arrays.positions[..]),
-        )?;
-        set(
-            &surface,
-            "triangles",
-            Uint32Array::from(&arrays.triangles[..]),
-        )?;
-        set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
-        set(&surface, "uv", Float32Array::from(&arrays.uv[..]))?;
-        set(&surface, "colors", Uint8Array::from(&arrays.colors[..]))?;
-        set(&r.obj, "surface", surface)?;
-        let (mut positions, mut colors) = (Vec::new(), Vec::new());
-        for c in &run.map.cones {
-            push(&mut positions, mesh.positions[c.vertex as usize].as_vec3());
-            colors.extend_from_slice(&singularity_color(c.quarters));
-        }
-        r.points("parametrization cones", &positions, &colors)?;
-        r.count("parametrization cones", run.map.cones.len())?;
-        r.count("flipped triangles", arrays.flipped)?;
-        let summary = serde_json::json!({
-            "ms": ms,
-            "timings": run.timings,
-            "measures": run.measures,
-            "integer_conflicts": run.map.conflicts,
-            "rounding_steps": run.map.rounding_steps,
-            "alignment": params.alignment,
-            "closed_loops": run.map.closed_loops,
-        });
-        set(&r.obj, "param", to_js(&summary)?)?;
+        parametrization_layers(&r, mesh, &run, &params, ms)?;
         emit.call1(&JsValue::NULL, &r.obj)
             .map_err(|_| js_err("could not send the parametrization"))?;
         Ok(true)
@@ -958,7 +1016,9 @@ impl Session {
                 "polygons": m.polygons.len(),
                 "feature_vertices": p.analysis.as_ref().map(|a| a.surface.features.indices().len()),
                 "hierarchy_levels": p.hierarchy.as_ref().map(|h| h.hierarchy.levels.len()),
+                "mode": p.mode(),
                 "orientation_singularities": p.orientation.as_ref().map(|o| o.singularities.len()),
+                "cones": p.parametrization.as_ref().map(|s| s.run.map.cones.len()),
                 "position_singularities": p.position.as_ref().map(|o| o.singularities.len()),
                 "quad_mesh_vertices": p.postprocess.as_ref().map(|q| q.mesh().vertex_count()),
                 "quad_mesh_faces": p.postprocess.as_ref().map(|q| q.mesh().face_count()),

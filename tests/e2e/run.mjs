@@ -265,6 +265,81 @@ test('the parameter panel lists every parameter; a change re-runs only from its 
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+// Switches the page on screen to `mode` with the selector next to the target count.
+async function selectMode(page, mode) {
+  await page.selectOption('#remesh-mode', mode);
+}
+const stageBars = (page) => page.evaluate(() => [...document.querySelectorAll('#progress-stages li')].map((li) => li.id.replace('progress-', '')));
+const layerLabels = (page) => page.evaluate(() => [...document.querySelectorAll('#layers li label')].map((l) => l.textContent));
+
+test('the remeshing mode selector switches the stage list and the layers; the global map is the pipeline\u2019s', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  assert((await stageBars(page)).join() === 'import,analysis,hierarchy,orientation,position,extraction,postprocess,fit', `local stage list: ${await stageBars(page)}`);
+  assert(await page.inputValue('#remesh-mode') === 'local', 'the default mode is local');
+  const options = await page.evaluate(() => [...document.querySelectorAll('#remesh-mode option')].map((o) => o.textContent));
+  assert(/Local/.test(options[0]) && /Global/.test(options[1]) && /integer-grid/.test(options[1]), `options: ${options}`);
+  assert(await page.evaluate(() => document.getElementById('remesh-mode').closest('#target-panel') !== null), 'next to the target count');
+  assert((await layerLabels(page)).includes('Cross field'), 'the local run shows its cross field');
+  assert(await page.evaluate(() => window.quadrille.lastParam == null), 'no map in the local mode until asked for');
+  // Global: the stage list is the global mode's, the panel's remesh.mode
+  // follows, the local fields' layers go, and the parametrization stage
+  // brings the map's layers (no on-demand job: it is the pipeline's).
+  await selectMode(page, 'global');
+  await page.waitForFunction(() => window.quadrille.lastParam, null, { timeout: 120000 });
+  assert((await stageBars(page)).join() === 'import,analysis,parametrization,extraction,postprocess,fit', `global stage list: ${await stageBars(page)}`);
+  assert(await page.evaluate(() => document.getElementById('param-remesh.mode').value) === 'global', 'the parameter panel follows the selector');
+  assert(await page.evaluate(() => !window.quadrille.paramJobs), 'the map came with the run, not from a job of its own');
+  await page.locator('#target-panel').screenshot({ path: join(artifacts, `mode-selector-${env.backend}.png`) });
+  await page.waitForFunction(() => document.getElementById('progress').hidden, null, { timeout: 120000 });
+  await settle(page);
+  const layers = await layerLabels(page);
+  assert(!layers.includes('Cross field') && !layers.includes('Position field') && !layers.includes('Orientation singularities'),
+    `the local fields' layers are gone: ${layers}`);
+  assert(layers.includes('Parametrization cones') && layers.includes('Parametrization'), `the map's layers: ${layers}`);
+  // Its checkerboard is offered at once (I), without a second computation.
+  await page.check('#layer-parametrization');
+  await settle(page);
+  assert(await page.evaluate(() => !window.quadrille.paramJobs), 'showing the checkerboard computes nothing');
+  await page.screenshot({ path: join(artifacts, `global-map-${env.backend}.png`) });
+  await page.uncheck('#layer-parametrization');
+  // Back to local: the map and its cones go (a local map is computed on demand).
+  await page.evaluate(() => { window.quadrille.runBefore = window.quadrille.lastRun; });
+  await selectMode(page, 'local');
+  await page.waitForFunction(() => window.quadrille.lastRun !== window.quadrille.runBefore, null, { timeout: 120000 });
+  assert((await stageBars(page)).join() === 'import,analysis,hierarchy,orientation,position,extraction,postprocess,fit', `local again: ${await stageBars(page)}`);
+  const back = await page.evaluate(() => window.quadrille.lastRun);
+  assert(back.stagesRun.join() === 'hierarchy,orientation,position,extraction,postprocess,fit', `back to local ran from the kept analysis: ${back.stagesRun}`);
+  assert(!(await layerLabels(page)).includes('Parametrization cones'), 'the global map\u2019s cones are gone');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('the global mode remeshes spot into closed pure quads, fitted without the split, from the kept analysis', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const before = await page.evaluate(() => window.quadrille.lastRun);
+  await selectMode(page, 'global');
+  await page.waitForFunction(() => document.getElementById('progress').hidden && window.quadrille.lastParam, null, { timeout: 120000 });
+  await settle(page);
+  const status = (await page.textContent('#status')).trim();
+  const run = await page.evaluate(() => window.quadrille.lastRun);
+  await page.screenshot({ path: join(artifacts, `global-mode-${env.backend}.png`) });
+  console.log(`      [${env.backend}] spot, global mode: ${status}`);
+  assert(run.parameters.remesh.mode === 'global' && run.counts.mode === 'global', `the run is the global mode's: ${status}`);
+  assert(run.stagesRun.join() === 'parametrization,extraction,postprocess,fit', `only the global stages after the kept analysis: ${run.stagesRun}`);
+  assert(run.stages.analysis === before.stages.analysis, 'the analysis is the first run\u2019s');
+  assert(Object.keys(run.stages).sort().join() === 'analysis,extraction,fit,import,parametrization,postprocess',
+    `the stage times are the global mode's: ${Object.keys(run.stages)}`);
+  assert(/ · 100\.0 % quads · \d+ cones/.test(status), `the status line reports pure quads and the cones: ${status}`);
+  const t = run.metrics.topology;
+  assert(t.non_quad_percent === 0 && t.boundary_edges === 0 && t.nonmanifold_edges === 0, `closed pure quads: ${JSON.stringify(t)}`);
+  assert(run.limit_surface.split === false && run.limit_surface.control_vertices === run.counts.quad_mesh_vertices,
+    `fitted without the split: ${run.limit_surface.control_vertices} control vertices for ${run.counts.quad_mesh_vertices}`);
+  const layers = await layerLabels(page);
+  assert(layers.includes('Quad mesh') && layers.includes('Quad mesh faces'), `the extracted quads are the quad mesh layers: ${layers}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('exported OBJ files parse and have the counts of lastRun; the limit surface shows its error', async (env) => {
   const { page, errors } = await open(env, 'sample=fandisk');
   await waitForRun(page, 'fandisk.obj');
