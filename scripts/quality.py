@@ -111,6 +111,11 @@ ROWS = {
     "default": None,
     # The global mode (pure quads from the integer-grid map).
     "global": ("default", {"remesh": {"mode": "global"}}),
+    # The global mode at four times the target: its control mesh (the quads
+    # themselves) then has about as many vertices as every other row's,
+    # whose meshes the fit splits once (V + E + F, about 4 V): the limit
+    # columns at equal control-vertex count (issue 19's criterion).
+    "global x4": ("default", {"remesh": {"mode": "global"}}, 4),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -169,6 +174,8 @@ def measure(args, src, out, fit_params=None):
 
 def run_quadrille(args, src, stem, overlay, target):
     out, stats = stem + ".obj", stem + ".json"
+    if isinstance(overlay, tuple) and len(overlay) == 3:
+        target *= overlay[2]
     cmd = [args.bin, "remesh", src, "-o", out, "--stats", stats, "--vertices", str(target)]
     if overlay is not None:
         pfile = stem + "-params.json"
@@ -212,7 +219,7 @@ def run_tool(args, tool, src, stem, target):
 # and its coarsening follow the vertex order), so the reproduction and
 # acceptance ratios are also read off medians over the same re-orderings
 # for every tool.
-ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default", "global",
+ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default", "global", "global x4",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept")
@@ -326,7 +333,7 @@ def ratio_table(results):
              "| limit after fit / IM | two-sided limit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|---|"]
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
-        for label in ("im-equivalent", "default", "global"):
+        for label in ("im-equivalent", "default", "global", "global x4"):
             row = entry["rows"].get(label)
             c = cells(row) if row and "error" not in row else None
             if not c:

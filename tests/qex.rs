@@ -211,3 +211,19 @@ fn pleats_below_the_target_edge_add_no_quad_loops() {
     );
     assert!(v_unfiltered as f64 > 1.5 * v_flat as f64, "{v_unfiltered}");
 }
+
+/// The bunny's holes: the map collapses the smaller ones (their rims lie
+/// on isolines of both coordinates), and the holes extraction leaves
+/// around them are the input's holes, not gaps to close with quads.
+#[test]
+fn the_bunny_keeps_its_holes_open() {
+    let mesh = common::mesh("stanford-bunny.obj");
+    let mut params = Params::default();
+    params.sizing.target_vertex_count = Some(mesh.positions.len() / 16);
+    let (_, q) = quads(&mesh, &params);
+    let m = &q.mesh;
+    println!("bunny: V {}, loops {}, report {:?}", m.vertex_count(), m.boundary_loops().len(), q.report);
+    assert_pure_quads(m);
+    assert_eq!(q.report.holes_filled, 0, "no quads over the input's holes");
+    assert!(m.boundary_loops().len() >= 3, "{} loops", m.boundary_loops().len());
+}

@@ -74,6 +74,9 @@ pub struct QexReport {
     pub fill_vertices: usize,
     /// Holes of odd length, which quads cannot close: left open.
     pub holes_left_open: usize,
+    /// Holes around an input hole (an input boundary vertex within the
+    /// hole's circumscribed ball): left open, as the input is.
+    pub holes_at_input_boundary: usize,
     /// Parts of one to three quads next to a larger part (left where the
     /// map collapsed a small hole), removed.
     pub specks_removed: usize,
@@ -361,7 +364,12 @@ pub fn extract(
         .iter()
         .map(|&g| x.vertices[g as usize].star.period == 0)
         .collect();
-    let out = fill_extraction_holes(out, &on_input_boundary, &mut report);
+    let input_boundary: Vec<DVec3> = (0..mesh.triangles.len())
+        .flat_map(|f| (0..3).map(move |e| (f, e)))
+        .filter(|&(f, e)| map.topology.across(f, e).is_none())
+        .map(|(f, e)| mesh.positions[mesh.triangles[f][e] as usize])
+        .collect();
+    let out = fill_extraction_holes(out, &on_input_boundary, &input_boundary, mesh, &mut report);
     let out = drop_specks(out, &mut report)?;
     report.grid_vertices = out.vertex_count();
     report.faces = out.face_count();
@@ -1121,6 +1129,8 @@ fn unfold(
 fn fill_extraction_holes(
     mesh: PolyMesh,
     on_input_boundary: &[bool],
+    input_boundary: &[DVec3],
+    input: &TriMesh,
     report: &mut QexReport,
 ) -> PolyMesh {
     let mut rings: Vec<Vec<u32>> = Vec::new();
@@ -1131,6 +1141,21 @@ fn fill_extraction_holes(
             .filter(|&&v| on_input_boundary[v as usize])
             .count();
         if 2 * on >= ring.len() {
+            continue;
+        }
+        // A hole around an input hole the map collapsed (its rim on no
+        // isoline of its own) is that input hole: kept open.
+        let centre = ring
+            .iter()
+            .map(|&v| mesh.positions[v as usize])
+            .sum::<DVec3>()
+            / ring.len() as f64;
+        let radius = ring
+            .iter()
+            .map(|&v| mesh.positions[v as usize].distance(centre))
+            .fold(0.0, f64::max);
+        if input_boundary.iter().any(|p| p.distance(centre) <= radius) {
+            report.holes_at_input_boundary += 1;
             continue;
         }
         if ring.len() % 2 == 1 {
@@ -1151,6 +1176,7 @@ fn fill_extraction_holes(
         })
         .collect();
     let (mut quads, mut added, mut filled) = (0, 0, 0);
+    let mut surface: Option<Option<crate::spatial::SurfaceIndex>> = None;
     for ring in &rings {
         let n = ring.len();
         let fill = if n == 4 {
@@ -1177,7 +1203,8 @@ fn fill_extraction_holes(
         let fill = fill.unwrap_or_else(|| {
             let c = positions.len() as u32;
             let centre = ring.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / n as f64;
-            positions.push(centre);
+            let index = surface.get_or_insert_with(|| crate::spatial::SurfaceIndex::new(input));
+            positions.push(index.as_ref().map_or(centre, |s| s.closest(centre).point));
             added += 1;
             (0..n / 2)
                 .map(|i| [ring[2 * i], ring[2 * i + 1], ring[(2 * i + 2) % n], c])
