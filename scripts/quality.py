@@ -116,6 +116,9 @@ ROWS = {
     # whose meshes the fit splits once (V + E + F, about 4 V): the limit
     # columns at equal control-vertex count (issue 19's criterion).
     "global x4": ("default", {"remesh": {"mode": "global"}}, 4),
+    # The global mode's modifications, one at a time.
+    "global + feature curves (60°)": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 60}}),
+    "global - stiffening": ("default", {"remesh": {"mode": "global", "stiffening": 0}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -333,7 +336,8 @@ def ratio_table(results):
              "| limit after fit / IM | two-sided limit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|---|"]
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
-        for label in ("im-equivalent", "default", "global", "global x4"):
+        for label in ("im-equivalent", "default", "global", "global x4", "global + feature curves (60°)",
+                      "global - stiffening"):
             row = entry["rows"].get(label)
             c = cells(row) if row and "error" not in row else None
             if not c:

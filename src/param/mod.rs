@@ -292,6 +292,8 @@ impl Params {
             alignment: p.alignment.mode.into(),
             smooth_regions: p.alignment.smooth_regions,
             region_weight: f64::from(p.alignment.position_weight),
+            feature_curve_degrees: p.remesh.feature_curve_degrees,
+            stiffening: p.remesh.stiffening,
             ..Params::default()
         }
     }
