@@ -222,8 +222,17 @@ fn the_bunny_keeps_its_holes_open() {
     params.sizing.target_vertex_count = Some(mesh.positions.len() / 16);
     let (_, q) = quads(&mesh, &params);
     let m = &q.mesh;
-    println!("bunny: V {}, loops {}, report {:?}", m.vertex_count(), m.boundary_loops().len(), q.report);
+    println!(
+        "bunny: V {}, loops {}, report {:?}",
+        m.vertex_count(),
+        m.boundary_loops().len(),
+        q.report
+    );
     assert_pure_quads(m);
     assert_eq!(q.report.holes_filled, 0, "no quads over the input's holes");
-    assert!(m.boundary_loops().len() >= 3, "{} loops", m.boundary_loops().len());
+    assert!(
+        m.boundary_loops().len() >= 3,
+        "{} loops",
+        m.boundary_loops().len()
+    );
 }

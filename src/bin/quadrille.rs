@@ -315,24 +315,41 @@ fn command_line_params(
     params: &mut quadrille::pipeline::Params,
     frame_scale: f64,
 ) -> Result<(), String> {
-    if let Some(v) = args.vertices {
-        if v < 4 {
-            return Err("--vertices must be at least 4".into());
-        }
-        params.sizing.target_vertex_count = Some(v);
-        params.sizing.edge_length = None;
-    }
-    if let Some(l) = args.edge_length {
-        if !(l.is_finite() && l > 0.0) {
-            return Err("--edge-length must be a positive number".into());
-        }
-        params.sizing.edge_length = Some(l / frame_scale);
-    }
+    target_overrides(
+        args.vertices,
+        args.edge_length,
+        &mut params.sizing,
+        frame_scale,
+    )?;
     if let Some(s) = args.seed {
         params.field.seed = s;
     }
     if let Some(mode) = &args.mode {
         params.remesh.mode = mode.parse()?;
+    }
+    Ok(())
+}
+
+/// `--vertices` and `--edge-length` (in file units; the mesh's largest
+/// axis is `frame_scale` file units) over the sizing parameters.
+fn target_overrides(
+    vertices: Option<usize>,
+    edge_length: Option<f64>,
+    sizing: &mut quadrille::sizing::SizingParams,
+    frame_scale: f64,
+) -> Result<(), String> {
+    if let Some(v) = vertices {
+        if v < 4 {
+            return Err("--vertices must be at least 4".into());
+        }
+        sizing.target_vertex_count = Some(v);
+        sizing.edge_length = None;
+    }
+    if let Some(l) = edge_length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err("--edge-length must be a positive number".into());
+        }
+        sizing.edge_length = Some(l / frame_scale);
     }
     Ok(())
 }
@@ -585,19 +602,12 @@ fn param(args: ParamArgs) -> Result<(), String> {
     };
     let start = std::time::Instant::now();
     let imported = import(&args.input)?;
-    if let Some(v) = args.vertices {
-        if v < 4 {
-            return Err("--vertices must be at least 4".into());
-        }
-        params.sizing.target_vertex_count = Some(v);
-        params.sizing.edge_length = None;
-    }
-    if let Some(l) = args.edge_length {
-        if !(l.is_finite() && l > 0.0) {
-            return Err("--edge-length must be a positive number".into());
-        }
-        params.sizing.edge_length = Some(l / imported.frame.scale);
-    }
+    target_overrides(
+        args.vertices,
+        args.edge_length,
+        &mut params.sizing,
+        imported.frame.scale,
+    )?;
     let clock = move || start.elapsed().as_secs_f64() * 1e3;
     let import_ms = clock();
     let mesh = &imported.mesh;

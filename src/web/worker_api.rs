@@ -72,19 +72,12 @@ pub fn limit_surface_object(f: &crate::subdivision::FitResult) -> Result<Object,
     set(&scalar, "min", -m)?;
     set(&scalar, "max", m)?;
     set(&scalar, "colormap", "violet-green")?;
-    let surface = Object::new();
-    set(&surface, "name", "limit surface")?;
-    set(
-        &surface,
-        "positions",
-        Float32Array::from(&arrays.positions[..]),
+    let surface = surface_object(
+        "limit surface",
+        &arrays.positions,
+        &arrays.triangles,
+        &arrays.normals,
     )?;
-    set(
-        &surface,
-        "triangles",
-        Uint32Array::from(&arrays.triangles[..]),
-    )?;
-    set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
     set(&surface, "scalar", scalar)?;
     Ok(surface)
 }
@@ -494,19 +487,12 @@ fn parametrization_layers(
     ms: f64,
 ) -> Result<(), JsError> {
     let arrays = super::mesh_arrays::GridMapArrays::new(mesh, &run.map);
-    let surface = Object::new();
-    set(&surface, "name", "parametrization")?;
-    set(
-        &surface,
-        "positions",
-        Float32Array::from(&arrays.positions[..]),
+    let surface = surface_object(
+        "parametrization",
+        &arrays.positions,
+        &arrays.triangles,
+        &arrays.normals,
     )?;
-    set(
-        &surface,
-        "triangles",
-        Uint32Array::from(&arrays.triangles[..]),
-    )?;
-    set(&surface, "normals", Float32Array::from(&arrays.normals[..]))?;
     set(&surface, "uv", Float32Array::from(&arrays.uv[..]))?;
     set(&surface, "colors", Uint8Array::from(&arrays.colors[..]))?;
     set(&r.obj, "surface", surface)?;
@@ -1040,4 +1026,20 @@ impl Session {
             "limit_surface": self.limit_surface,
         }))
     }
+}
+
+/// An extra surface for the page: its name, positions, triangles and
+/// normals as typed arrays.
+fn surface_object(
+    name: &str,
+    positions: &[f32],
+    triangles: &[u32],
+    normals: &[f32],
+) -> Result<Object, JsError> {
+    let surface = Object::new();
+    set(&surface, "name", name)?;
+    set(&surface, "positions", Float32Array::from(positions))?;
+    set(&surface, "triangles", Uint32Array::from(triangles))?;
+    set(&surface, "normals", Float32Array::from(normals))?;
+    Ok(surface)
 }
