@@ -134,6 +134,13 @@ pub struct RemeshParams {
     /// 9.7° → 14.3°, limit 3.17e-3 → 4.72e-3; bunny Hausdorff 4.74e-2 →
     /// 5.94e-2; fandisk, rocker-arm, teapot within 0.2° and 1 %.
     pub stiffening: usize,
+    /// The global mode's vertex-count correction: while the quads' vertex
+    /// count is more than 10 % off the target, the map is computed again
+    /// (up to twice) for a target from the power law through the last two
+    /// counts, and the closest result is kept: the map's density follows
+    /// the target, but the parts and folds the extraction drops do not,
+    /// and not linearly. Default on.
+    pub count_correction: bool,
 }
 
 impl Default for RemeshParams {
@@ -143,6 +150,7 @@ impl Default for RemeshParams {
             mode: RemeshMode::default(),
             feature_curve_degrees: map.feature_curve_degrees,
             stiffening: map.stiffening,
+            count_correction: true,
         }
     }
 }
@@ -396,6 +404,9 @@ impl Params {
         }
     }
 }
+
+/// Maps computed again by the global mode's vertex-count correction.
+const COUNT_CORRECTION_ATTEMPTS: usize = 2;
 
 /// Whether two extraction parameter sets differ in anything before the
 /// post-processing (which has its own stage).
@@ -657,7 +668,12 @@ impl Pipeline {
                 }
                 Stage::Extraction => match self.mode() {
                     RemeshMode::Local => self.run_extraction(&mut progress)?,
-                    RemeshMode::Global => self.extraction = Some(self.run_qex(&mut progress)?),
+                    RemeshMode::Global => {
+                        if self.run_global_extraction(&mut progress, clock)? {
+                            // The map was computed again: its layers too.
+                            done(Stage::Parametrization, self);
+                        }
+                    }
                 },
                 Stage::PostProcess => self.postprocess = Some(self.run_postprocess(&mut progress)?),
                 Stage::Fit => self.fit = Some(self.run_fit(&mut progress)?),
@@ -1030,10 +1046,20 @@ impl Pipeline {
         progress: &mut Progress<'_>,
         clock: &dyn Fn() -> f64,
     ) -> Result<ParametrizationStage, PipelineError> {
+        let target = target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
+        self.parametrization_for(target, progress, clock)
+    }
+
+    /// The map for `target` vertices (`None`: the sizing's edge length).
+    fn parametrization_for(
+        &self,
+        target: Option<usize>,
+        progress: &mut Progress<'_>,
+        clock: &dyn Fn() -> f64,
+    ) -> Result<ParametrizationStage, PipelineError> {
         let mut params = crate::param::Params::from_pipeline(&self.params);
         if params.sizing.edge_length.is_none() {
-            params.sizing.target_vertex_count =
-                target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
+            params.sizing.target_vertex_count = target;
         }
         let run = crate::param::run_with_progress(self.map_mesh(), &params, clock, progress)
             .map_err(|e| match e {
@@ -1044,6 +1070,76 @@ impl Pipeline {
                 },
             })?;
         Ok(ParametrizationStage { run, params })
+    }
+
+    /// The global mode's extraction with its vertex-count correction
+    /// ([`RemeshParams::count_correction`]); true when the map was
+    /// replaced by a corrected one.
+    fn run_global_extraction(
+        &mut self,
+        progress: &mut Progress<'_>,
+        clock: &dyn Fn() -> f64,
+    ) -> Result<bool, PipelineError> {
+        let first = self.run_qex(progress)?;
+        let target = target_vertex_count(self.input.mesh.vertex_count(), &self.params.sizing);
+        let Some(t) = target.filter(|_| self.params.remesh.count_correction) else {
+            self.extraction = Some(first);
+            return Ok(false);
+        };
+        let off = |v: usize| (v as f64 / t as f64 - 1.0).abs();
+        // (asked, got) per map; the best extraction and its map so far.
+        let mut samples = vec![(t as f64, first.extracted.mesh().vertex_count() as f64)];
+        let mut best = first;
+        let mut replaced = false;
+        for attempt in 0..COUNT_CORRECTION_ATTEMPTS {
+            let got = best.extracted.mesh().vertex_count();
+            if off(got) <= 0.1 || got == 0 {
+                break;
+            }
+            // The next target: the count follows the target as a power
+            // law; its exponent from the last two maps (1 from one).
+            let (asked, v) = samples[samples.len() - 1];
+            let exponent = match samples.len() {
+                1 => 1.0,
+                n => {
+                    let (a0, v0) = samples[n - 2];
+                    let e = (v / v0).ln() / (asked / a0).ln();
+                    if e.is_finite() && e > 0.25 { e } else { 1.0 }
+                }
+            };
+            let next = asked * (t as f64 / v.max(1.0)).powf(1.0 / exponent);
+            let next = (next.round() as usize)
+                .clamp(t / 4, 4 * t)
+                .max(MIN_TARGET_VERTICES);
+            progress.report(
+                0.5,
+                &format!(
+                    "vertex-count correction {}: the map for {next}",
+                    attempt + 1
+                ),
+            )?;
+            let map = self.parametrization_for(Some(next), progress, clock)?;
+            let kept = self.parametrization.replace(map);
+            match self.run_qex(progress) {
+                Ok(q) => {
+                    let v = q.extracted.mesh().vertex_count();
+                    samples.push((next as f64, v as f64));
+                    if off(v) < off(best.extracted.mesh().vertex_count()) {
+                        best = q;
+                        replaced = true;
+                    } else {
+                        self.parametrization = kept;
+                    }
+                }
+                Err(PipelineError::Cancelled) => return Err(PipelineError::Cancelled),
+                Err(_) => {
+                    self.parametrization = kept;
+                    break;
+                }
+            }
+        }
+        self.extraction = Some(best);
+        Ok(replaced)
     }
 
     /// The global mode's extraction: the quads of the integer-grid map
