@@ -17,7 +17,9 @@
 //! 5. three anchors apart: those two and a third random vertex;
 //! 6. the page's grab: on the loop through the two anchors apart, an anchor
 //!    inserted halfway from the first to the second, moved off the loop by a
-//!    few rings (what `tests/e2e/bench_design.mjs` times in the browser).
+//!    few rings (what `tests/e2e/bench_design.mjs` times in the browser);
+//! 7. the drag that follows it: the inserted anchor moved further off the
+//!    loop in four steps, each a query (`move2`; it runs `grab2` first).
 //!
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
 //! per case (mesh, trial, case, cost) for comparing loop energies between
@@ -75,7 +77,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t.elapsed().as_secs_f64()
         );
         let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
-        let mut times: [Vec<f64>; 6] = Default::default();
+        let mut times: [Vec<f64>; 7] = Default::default();
         let cases = std::env::var("BENCH_CASES").ok();
         let wanted = |case: &str| {
             cases
@@ -128,7 +130,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let w = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let two = [click[0], Anchor::positional(mesh.positions[w])];
             let mut through_two = None;
-            if wanted("apart2") || wanted("grab2") {
+            if wanted("apart2") || wanted("grab2") || wanted("move2") {
                 let (l, ms) = timed(&mut engine, &two);
                 if wanted("apart2") {
                     report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
@@ -141,7 +143,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let (l, ms) = timed(&mut engine, &three);
                 report(&mut lines, &label, trial, "apart3", &l, ms, &mut times[4]);
             }
-            if let Some(l2) = through_two.filter(|_| wanted("grab2")) {
+            if let Some(l2) = through_two.filter(|_| wanted("grab2") || wanted("move2")) {
                 // The loop starts at the first anchor: halfway to the second.
                 let (s1, s2) = (arc_of(&l2, two[0].position), arc_of(&l2, two[1].position));
                 let half = if s2 >= s1 {
@@ -155,11 +157,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let grab2 = [two[0], Anchor::positional(snap(&engine, off)), two[1]];
                 let (l, ms) = timed(&mut engine, &grab2);
                 report(&mut lines, &label, trial, "grab2", &l, ms, &mut times[5]);
+                if wanted("move2") {
+                    // The drag after that grab: the anchor moved further off
+                    // the loop, one step at a time (each its own query).
+                    let step = n.cross(tg).normalize_or_zero() * 0.01 * engine.graph.g.diagonal;
+                    for i in 1..=4 {
+                        let moved = [
+                            two[0],
+                            Anchor::positional(snap(&engine, off + step * i as f64)),
+                            two[1],
+                        ];
+                        let (l, ms) = timed(&mut engine, &moved);
+                        report(&mut lines, &label, trial, "move2", &l, ms, &mut times[6]);
+                    }
+                }
             }
         }
-        for (case, t) in ["click", "drag", "grab", "apart2", "apart3", "grab2"]
-            .iter()
-            .zip(&mut times)
+        for (case, t) in [
+            "click", "drag", "grab", "apart2", "apart3", "grab2", "move2",
+        ]
+        .iter()
+        .zip(&mut times)
         {
             t.sort_by(f64::total_cmp);
             if t.is_empty() {
