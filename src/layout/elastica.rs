@@ -235,20 +235,6 @@ impl ElasticaGraph {
         len + self.alpha * q + self.beta * g2 / m
     }
 
-    /// A factor c with `w(a → b) ≥ c · ½(|a| + |b|)` for every arc: the
-    /// length term `m·s(γ) + ½||a| − |b||` is at least `s(γ) · ½(|a| + |b|)`
-    /// and `s(γ) = γ / (2 tan(γ/2))` falls with γ ≤ `max_turn`; the
-    /// alignment and bending terms are not negative (0 if a parameter or a
-    /// `q` makes them so). A little below, for the rounding of f32 sums.
-    pub fn arc_length_factor(&self) -> f32 {
-        if !(self.alpha >= 0.0 && self.beta >= 0.0 && self.q.iter().all(|&q| q >= 0.0)) {
-            return 0.0;
-        }
-        let g2 = self.max_turn * self.max_turn;
-        let shrink = 1.0 - g2 / 12.0 - g2 * g2 / 720.0;
-        (shrink * (1.0 - 1e-3)).max(0.0)
-    }
-
     /// Calls `f(b, w(a → b))` for every successor node `b` of node `a`
     /// (the same values as [`Self::arc_weight`], with `a`'s data loaded once).
     #[inline(always)]

@@ -347,9 +347,6 @@ pub struct LoopEngine {
     layered: LayeredWorkspace,
     /// The state of [`LoopEngine::two_anchor_loop`]'s searches.
     pair: PairWorkspace,
-    /// c of [`VertexField`]: every g′ arc `a → b` weighs at least
-    /// `c · ½(|a| + |b|)`.
-    arc_bound: f32,
 }
 
 /// [`LoopEngine::two_anchor_loop`]: the distances from the second anchor's
@@ -365,11 +362,9 @@ struct PairWorkspace {
     /// Per anchor of a loop through three or more positional anchors, the
     /// same kind of field from its candidates, settled fully
     /// ([`LoopEngine::guided_starts`]).
-    fields: Vec<AnchorField>,
+    fields: Vec<GrowingField>,
     /// Recent anchors' fields by vertex, the most recent last.
     cache: Vec<(u32, GrowingField)>,
-    /// The anchor vertices of the previous [`LoopEngine::constrained_loop`].
-    previous: Vec<u32>,
 }
 
 /// The one settle loop of the engine's best-first searches: pops `heap` in
@@ -487,98 +482,6 @@ impl GrowingField {
             0.0
         } else {
             self.value(r as usize)
-        }
-    }
-}
-
-/// A lower bound of an anchor's field (the distances from the candidates
-/// of a positional anchor at vertex t) from the lengths of g alone: one
-/// Dijkstra over g's vertices (|V| nodes against g′'s |E|), so it costs
-/// about a hundredth of a g′ field. Every g′ arc `a → b` weighs at least
-/// `c · ½(|a| + |b|)` (its length term is `m·s(γ) + ½||a| − |b||` with
-/// `s(γ) = γ / (2 tan(γ/2)) ≥ s(γ_max) = c`, the other terms are not
-/// negative), so a g′ path from a candidate y = (t → …) to x = (u → w) costs
-/// at least `c · (D(u) − ½|y| + ½|x|)`, D the g distance from t: consistent
-/// (D(w) ≤ D(u) + |x|), 0 on the candidates. Weaker than the g′ field where
-/// direction matters (it ignores the turns), exact enough to guide.
-#[derive(Debug, Clone, Default)]
-struct VertexField {
-    /// D per vertex (∞ unreachable).
-    dist: Vec<f32>,
-    /// ½ of the longest out-edge of t.
-    half_reach: f32,
-    /// The lower bound factor c of the arc weights (0: no bound).
-    c: f32,
-}
-
-impl VertexField {
-    fn new(graph: &ElasticaGraph, t: usize, c: f32) -> VertexField {
-        let g = &graph.g;
-        let mut dist = vec![f32::INFINITY; g.vertex_count()];
-        let mut heap = RadixHeap::default();
-        dist[t] = 0.0;
-        heap.push(0f32.to_bits(), t as u32);
-        while let Some((k, u)) = heap.pop() {
-            let u = u as usize;
-            let d = f32::from_bits(k);
-            if d > dist[u] {
-                continue;
-            }
-            for e in g.out_edges(u) {
-                let w = g.target[e] as usize;
-                let nd = d + g.length[e];
-                if nd < dist[w] {
-                    dist[w] = nd;
-                    heap.push(nd.to_bits(), w as u32);
-                }
-            }
-        }
-        let half_reach = 0.5 * g.out_edges(t).map(|e| g.length[e]).fold(0.0f32, f32::max);
-        VertexField {
-            dist,
-            half_reach,
-            c,
-        }
-    }
-
-    /// The lower bound of the distance from the anchor's candidates to `x`.
-    #[inline]
-    fn value(&self, g: &SurfaceGraph, x: usize) -> f32 {
-        let d = self.dist[g.source[x] as usize] + 0.5 * g.length[x] - self.half_reach;
-        if d > 0.0 { self.c * d } else { 0.0 }
-    }
-}
-
-/// The field of one anchor of a loop through three or more positional
-/// anchors ([`LoopEngine::guided_starts`]): the g′ field where one is
-/// settled (fully, or partly: then also the vertex bound beyond its
-/// radius), else the vertex bound alone. Either way a consistent lower
-/// bound of the g′ distances from the anchor's candidates.
-#[derive(Debug, Clone, Default)]
-struct AnchorField {
-    settled: Option<GrowingField>,
-    bound: Option<VertexField>,
-}
-
-impl AnchorField {
-    #[inline]
-    fn value(&self, g: &SurfaceGraph, x: usize) -> f32 {
-        match (&self.settled, &self.bound) {
-            (Some(f), Some(b)) => f.value(x).max(b.value(g, x)),
-            (Some(f), None) => f.value(x),
-            (None, Some(b)) => b.value(g, x),
-            (None, None) => 0.0,
-        }
-    }
-
-    /// [`Self::value`] of `reverse(x)` (0 where x has no reverse).
-    #[inline]
-    fn value_of_reverse(&self, g: &SurfaceGraph, x: usize) -> f32 {
-        let r = g.reverse[x];
-        if r == NONE {
-            0.0
-        } else {
-            self.value(g, r as usize)
         }
     }
 }
@@ -752,7 +655,6 @@ impl LoopEngine {
         let has_boundary = g.boundary.iter().any(|&b| b);
         let graph = ElasticaGraph::new(g, params);
         let nodes = graph.node_count();
-        let arc_bound = graph.arc_length_factor();
         LoopEngine {
             graph,
             index,
@@ -767,7 +669,6 @@ impl LoopEngine {
             },
             layered: LayeredWorkspace::default(),
             pair: PairWorkspace::default(),
-            arc_bound,
         }
     }
 
@@ -902,13 +803,10 @@ impl LoopEngine {
         // One positional anchor: the hover query's loop (§4.1: a click
         // keeps the loop shown while hovering), not |ξ₀| full searches.
         if n == 1 && anchors[0].direction == DVec3::ZERO {
-            self.pair.previous = vec![verts[0] as u32];
             let (cost, kind) = self.best_through(verts[0], f32::INFINITY)?;
             return Some(self.make_loop(kind, cost));
         }
-        let found = self.layered_cycle(&verts, &layers, &close);
-        self.pair.previous = verts.iter().map(|&v| v as u32).collect();
-        let (cost, nodes, closed) = found?;
+        let (cost, nodes, closed) = self.layered_cycle(&verts, &layers, &close)?;
         Some(self.loop_from_nodes(nodes, cost as f64, closed))
     }
 
@@ -953,14 +851,6 @@ impl LoopEngine {
         let mut best: Option<(f32, Vec<u32>, bool)> = None;
         if positional && n >= 3 {
             self.take_anchor_fields(verts);
-            // The closing layer heads back to the start: start at an anchor
-            // with a g′ field (the smallest such layer).
-            let fields = &self.pair.fields;
-            let s = (0..n)
-                .filter(|&i| fields[i].settled.is_some())
-                .min_by_key(|&i| (layers[i].len(), i))
-                .unwrap_or(s);
-            let rotated: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
             let open = self.has_boundary;
             self.guided_starts(verts, layers, close, s, &rotated, open, &mut best);
             self.return_anchor_fields(verts);
@@ -1023,67 +913,42 @@ impl LoopEngine {
         Some((cost, full, false))
     }
 
-    /// Fills `self.pair.fields` with one field per anchor: a g′ field
-    /// settled fully (from the cache of recent anchors' fields where there,
-    /// possibly only partly settled by the two-anchor search before), but
-    /// for one anchor without a cached field only the vertex bound
-    /// ([`VertexField`]): the newest (at a vertex the previous query did not
-    /// have: the anchor a grab inserted or its drag moved), else the last.
-    /// The searches are guided past that anchor by the next anchor's field
-    /// ([`Self::layered_search`]), so a drag update settles no g′ field.
+    /// Fills `self.pair.fields` with one fully settled field per anchor
+    /// (the distances from its candidates, [`Self::field_sources`]), taken
+    /// from the cache of recent anchors' fields where there (possibly only
+    /// partly settled by the two-anchor search), else new.
     fn take_anchor_fields(&mut self, verts: &[usize]) {
         let nodes = self.graph.node_count();
-        let cached = |engine: &Self, k: usize| {
-            engine.pair.cache.iter().any(|c| c.0 == verts[k] as u32)
-                || verts[..k].contains(&verts[k])
-        };
-        let uncached: Vec<usize> = (0..verts.len()).filter(|&k| !cached(self, k)).collect();
-        let skip = uncached
-            .iter()
-            .rev()
-            .find(|&&k| !self.pair.previous.contains(&(verts[k] as u32)))
-            .or(uncached.last())
-            .copied();
-        let mut fields: Vec<AnchorField> = Vec::with_capacity(verts.len());
+        let mut fields = Vec::with_capacity(verts.len());
         for (k, &v) in verts.iter().enumerate() {
-            if let Some(j) = verts[..k].iter().position(|&w| w == v) {
-                // The same vertex again (not consecutive): its field.
-                let f = fields[j].clone();
-                fields.push(f);
-                continue;
-            }
-            if skip == Some(k) {
-                fields.push(AnchorField {
-                    settled: None,
-                    bound: Some(VertexField::new(&self.graph, v, self.arc_bound)),
-                });
-                continue;
-            }
-            let mut f = match self.pair.cache.iter().position(|c| c.0 == v as u32) {
+            let cached = self.pair.cache.iter().position(|c| c.0 == v as u32);
+            let mut f = match cached {
                 Some(i) => self.pair.cache.remove(i).1,
-                None => {
-                    let mut f = GrowingField::default();
-                    f.reset(nodes, &self.field_sources(v));
-                    f
-                }
+                None => match verts[..k].iter().position(|&w| w == v) {
+                    // The same vertex again (not consecutive): its field.
+                    Some(j) => std::mem::take(&mut fields[j]),
+                    None => {
+                        let mut f = GrowingField::default();
+                        f.reset(nodes, &self.field_sources(v));
+                        f
+                    }
+                },
             };
             self.ws.effort += f.grow(&self.graph, &self.disabled, f32::INFINITY);
-            fields.push(AnchorField {
-                settled: Some(f),
-                bound: None,
-            });
+            if let Some(j) = verts[..k].iter().position(|&w| w == v) {
+                fields[j] = f.clone();
+            }
+            fields.push(f);
         }
         self.pair.fields = fields;
     }
 
-    /// Puts the g′ fields of [`Self::take_anchor_fields`] back into the
-    /// cache (at most [`FIELD_CACHE`] fields, the most recent last).
+    /// Puts the fields of [`Self::take_anchor_fields`] back into the cache
+    /// (at most [`FIELD_CACHE`] fields, the most recent last).
     fn return_anchor_fields(&mut self, verts: &[usize]) {
         let fields = std::mem::take(&mut self.pair.fields);
         for (f, &v) in fields.into_iter().zip(verts) {
-            if let Some(s) = f.settled {
-                self.cache_field(v, s);
-            }
+            self.cache_field(v, f);
         }
     }
 
@@ -1124,30 +989,20 @@ impl LoopEngine {
         let n = layers.len();
         let fields = &self.pair.fields;
         let g = &self.graph.g;
-        // The anchors with a g′ field, in loop order from the start (which
-        // has one); an anchor without is passed on the way between them.
-        let hops: Vec<usize> = (1..n)
-            .filter(|&p| fields[rotated[p]].settled.is_some())
-            .collect();
-        let middle: f32 = hops
-            .windows(2)
-            .map(|w| {
-                layers[rotated[w[1]]]
+        let middle: f32 = (1..n - 1)
+            .map(|k| {
+                layers[rotated[k + 1]]
                     .iter()
-                    .map(|&y| fields[rotated[w[0]]].value(g, y as usize))
+                    .map(|&y| fields[rotated[k]].value(y as usize))
                     .fold(f32::INFINITY, f32::min)
             })
             .sum();
-        let (first, last) = match (hops.first(), hops.last()) {
-            (Some(&a), Some(&b)) => (rotated[a], rotated[b]),
-            _ => (rotated[1], rotated[n - 1]),
-        };
         let mut order: Vec<(f32, u32)> = layers[s]
             .iter()
             .map(|&a| {
-                let lb = fields[first].value_of_reverse(g, a as usize)
+                let lb = fields[rotated[1]].value_of_reverse(g, a as usize)
                     + middle
-                    + fields[last].value(g, a as usize);
+                    + fields[rotated[n - 1]].value(a as usize);
                 (lb, a)
             })
             .collect();
@@ -1593,72 +1448,25 @@ impl LoopEngine {
         }
         // Guided: also the fields of the anchors (F(reverse(x)) of the next
         // anchor's field, 0 on its out-edges), with their own bounds of the
-        // later segments; the larger of both heuristics. An anchor without a
-        // g′ field ([`Self::take_anchor_fields`]) is skipped: the layer
-        // heading to it is guided by the field of the first anchor after it
-        // that has one (the path passes it on the way), the layer's bound of
-        // the later segments is that anchor's (none after the last: 0).
+        // later segments; the larger of both heuristics.
         let guided = guided && self.pair.fields.len() == n;
         let fields = &self.pair.fields;
-        // Per layer, the position in `order` (`n`: back to order[0]) of the
-        // anchor whose field guides it (`usize::MAX`: none).
-        let ends = if closed { n } else { n - 1 };
-        let guide: Vec<usize> = (0..last)
-            .map(|l| {
-                (l + 1..=ends)
-                    .find(|&j| {
-                        fields
-                            .get(order[j % n])
-                            .is_some_and(|f| f.settled.is_some())
-                    })
-                    .unwrap_or(usize::MAX)
-            })
-            .collect();
         let fh = |l: usize, x: usize| -> f32 {
-            let j = guide[l];
-            if j == usize::MAX {
-                return 0.0;
-            }
-            let k = order[j % n];
-            if g.source[x] as usize == verts[k] {
+            if g.source[x] as usize == goals[l] {
                 0.0
             } else {
-                fields[k].value_of_reverse(g, x)
+                fields[order[(l + 1) % n]].value_of_reverse(g, x)
             }
         };
         let mut rest_f = vec![0.0f32; last + 1];
         if guided {
-            for l in (0..last).rev() {
-                let j = guide[l];
-                // After the guiding anchor: from its candidates on (layer j).
-                rest_f[l] = if j < last {
-                    let seg = layers[order[j]]
-                        .iter()
-                        .map(|&a| fh(j, a as usize))
-                        .fold(f32::INFINITY, f32::min)
-                        .max(0.0);
-                    seg + rest_f[j]
-                } else {
-                    0.0
-                };
-            }
-        }
-        // A layer heading to an anchor without a g′ field: also its vertex
-        // bound to it plus the next layer's heuristic at its candidates.
-        let mut rest_v = vec![f32::NAN; last + 1];
-        if guided {
-            for l in 0..last {
-                if guide[l] != l + 1 && fields[order[(l + 1) % n]].bound.is_some() {
-                    rest_v[l] = if l + 1 < last {
-                        layers[order[l + 1]]
-                            .iter()
-                            .map(|&a| fh(l + 1, a as usize) + rest_f[l + 1])
-                            .fold(f32::INFINITY, f32::min)
-                            .max(0.0)
-                    } else {
-                        0.0
-                    };
-                }
+            for l in (0..last.saturating_sub(1)).rev() {
+                let seg = layers[order[l + 1]]
+                    .iter()
+                    .map(|&a| fh(l + 1, a as usize))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0);
+                rest_f[l] = rest_f[l + 1] + seg;
             }
         }
         let h = |state: usize| -> f32 {
@@ -1666,12 +1474,7 @@ impl LoopEngine {
             if l >= last {
                 0.0
             } else if guided {
-                let f = (hs[l](x) + rest[l]).max(fh(l, x) + rest_f[l]);
-                if rest_v[l].is_nan() {
-                    f
-                } else {
-                    f.max(fields[order[(l + 1) % n]].value_of_reverse(g, x) + rest_v[l])
-                }
+                (hs[l](x) + rest[l]).max(fh(l, x) + rest_f[l])
             } else {
                 hs[l](x) + rest[l]
             }
