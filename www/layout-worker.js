@@ -110,6 +110,32 @@ function queueAnalysis() {
   analyzer.postMessage({ type: 'analyze', serial, input }, transferables(input));
 }
 
+// Idle time: after an action the distance fields that the loop through the
+// anchors reads (LayoutDesigner.prepareFields) are settled a slice at a
+// time, each slice a task of its own, so that a message waits for one slice
+// at most (a few milliseconds) and the next grab, drag update or click finds
+// them settled. The answers do not change, only how soon they come.
+const PREPARE_SLICE = 10000; // g′ nodes per slice
+const idle = new MessageChannel();
+let preparing = false;
+idle.port1.onmessage = () => {
+  preparing = false;
+  if (!designer) return;
+  let more = false;
+  try {
+    more = designer.prepareFields(PREPARE_SLICE);
+  } catch (error) {
+    fail(error);
+    return;
+  }
+  if (more) prepareSoon();
+};
+function prepareSoon() {
+  if (preparing) return;
+  preparing = true;
+  idle.port2.postMessage(null);
+}
+
 const ACTIONS = new Set(['addAnchor', 'setLastAnchorDirection', 'insertAnchorOnLoop', 'moveGrabbedAnchor', 'clearAnchors',
   'commit', 'deleteStrip', 'undo', 'redo', 'browse', 'moveLayoutVertex', 'setMirror']);
 
@@ -150,6 +176,7 @@ self.onmessage = async (event) => {
       const state = designer.state();
       self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t, serial: m.serial }, transferables(state));
       queueAnalysis();
+      prepareSoon();
     } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
       try {
         const value = m.type === 'export' ? designer.export(m.format)
