@@ -24,6 +24,8 @@
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
 //! per case (mesh, trial, case, cost) for comparing loop energies between
 //! versions; `BENCH_EFFORT=1` also prints the g′ states settled per case;
+//! `BENCH_IDLE=1` gives `grab2` and `move2` the layout worker's idle time
+//! before each query (the previous anchors' fields settled, untimed);
 //! `BENCH_CASES=apart2,apart3` runs only the named cases (the anchors are
 //! placed as in a full run).
 
@@ -155,46 +157,64 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let n = normal_at(&mesh, &engine, g);
                 let off = g + n.cross(tg).normalize_or_zero() * 0.03 * engine.graph.g.diagonal;
                 let grab2 = [two[0], Anchor::positional(snap(&engine, off)), two[1]];
+                idle(&mut engine, &two);
                 let (l, ms) = timed(&mut engine, &grab2);
                 report(&mut lines, &label, trial, "grab2", &l, ms, &mut times[5]);
                 if wanted("move2") {
                     // The drag after that grab: the anchor moved further off
                     // the loop, one step at a time (each its own query).
                     let step = n.cross(tg).normalize_or_zero() * 0.01 * engine.graph.g.diagonal;
+                    let mut before = grab2;
                     for i in 1..=4 {
                         let moved = [
                             two[0],
                             Anchor::positional(snap(&engine, off + step * i as f64)),
                             two[1],
                         ];
+                        idle(&mut engine, &before);
                         let (l, ms) = timed(&mut engine, &moved);
                         report(&mut lines, &label, trial, "move2", &l, ms, &mut times[6]);
+                        before = moved;
                     }
                 }
             }
         }
-        for (case, t) in [
-            "click", "drag", "grab", "apart2", "apart3", "grab2", "move2",
-        ]
-        .iter()
-        .zip(&mut times)
-        {
-            t.sort_by(f64::total_cmp);
-            if t.is_empty() {
-                continue;
-            }
-            println!(
-                "  {case}: median {:.1} ms, max {:.1} ms over {}",
-                t[t.len() / 2],
-                t[t.len() - 1],
-                t.len()
-            );
-        }
+        print_medians(&mut times);
     }
     if let Some(file) = std::env::var_os("BENCH_COSTS") {
         std::fs::write(file, lines)?;
     }
     Ok(())
+}
+
+/// Each case's median and maximum time.
+fn print_medians(times: &mut [Vec<f64>; 7]) {
+    for (case, t) in [
+        "click", "drag", "grab", "apart2", "apart3", "grab2", "move2",
+    ]
+    .iter()
+    .zip(times)
+    {
+        t.sort_by(f64::total_cmp);
+        if t.is_empty() {
+            continue;
+        }
+        println!(
+            "  {case}: median {:.1} ms, max {:.1} ms over {}",
+            t[t.len() / 2],
+            t[t.len() - 1],
+            t.len()
+        );
+    }
+}
+
+/// With `BENCH_IDLE` set: the idle time the layout worker has after an
+/// action (untimed), in which it settles the fields of that action's
+/// anchors (`LoopEngine::prepare_fields`, here to the end).
+fn idle(engine: &mut LoopEngine, anchors: &[Anchor]) {
+    if std::env::var_os("BENCH_IDLE").is_some() {
+        while engine.prepare_fields(anchors, u64::MAX) {}
+    }
 }
 
 fn timed(engine: &mut LoopEngine, anchors: &[Anchor]) -> (Option<DualLoop>, f64) {
