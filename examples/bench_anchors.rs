@@ -213,7 +213,11 @@ fn print_medians(times: &mut [Vec<f64>; 7]) {
 /// anchors (`LoopEngine::prepare_fields`, here to the end).
 fn idle(engine: &mut LoopEngine, anchors: &[Anchor]) {
     if std::env::var_os("BENCH_IDLE").is_some() {
+        let e0 = engine.settled_nodes();
         while engine.prepare_fields(anchors, u64::MAX) {}
+        if std::env::var_os("BENCH_EFFORT").is_some() {
+            println!("    idle: settled {}", engine.settled_nodes() - e0);
+        }
     }
 }
 

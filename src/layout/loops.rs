@@ -1030,6 +1030,7 @@ impl LoopEngine {
                 }
             };
             let settled = f.grow_by(&self.graph, &self.disabled, left);
+            self.ws.effort += settled;
             left = left.saturating_sub(settled.max(1));
             more |= f.radius.is_finite();
             self.cache_field(v, f);
