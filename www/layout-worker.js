@@ -86,7 +86,8 @@ function startAnalyzer() {
       return;
     }
     const a = r.analysis;
-    designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections);
+    // New covered directions drop the prepared fields: prepare them again.
+    if (designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections)) prepareSoon();
     delete a.coveredCounts;
     delete a.coveredDirections;
     self.postMessage({ type: 'analysis', analysis: a, ms: r.ms, serial: r.serial }, transferables(a));
