@@ -17,11 +17,15 @@
 //! 5. three anchors apart: those two and a third random vertex;
 //! 6. the page's grab: on the loop through the two anchors apart, an anchor
 //!    inserted halfway from the first to the second, moved off the loop by a
-//!    few rings (what `tests/e2e/bench_design.mjs` times in the browser).
+//!    few rings (what `tests/e2e/bench_design.mjs` times in the browser);
+//! 7. the drag that follows it: the inserted anchor moved further off the
+//!    loop in four steps, each a query (`move2`; it runs `grab2` first).
 //!
 //! Prints each case's time and loop cost; `BENCH_COSTS=file` writes one line
 //! per case (mesh, trial, case, cost) for comparing loop energies between
 //! versions; `BENCH_EFFORT=1` also prints the g′ states settled per case;
+//! `BENCH_IDLE=1` gives `grab2` and `move2` the layout worker's idle time
+//! before each query (the previous anchors' fields settled, untimed);
 //! `BENCH_CASES=apart2,apart3` runs only the named cases (the anchors are
 //! placed as in a full run).
 
@@ -75,7 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t.elapsed().as_secs_f64()
         );
         let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
-        let mut times: [Vec<f64>; 6] = Default::default();
+        let mut times: [Vec<f64>; 7] = Default::default();
         let cases = std::env::var("BENCH_CASES").ok();
         let wanted = |case: &str| {
             cases
@@ -128,7 +132,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let w = rng.next_u32() as usize % mesh.vertex_count().max(1);
             let two = [click[0], Anchor::positional(mesh.positions[w])];
             let mut through_two = None;
-            if wanted("apart2") || wanted("grab2") {
+            if wanted("apart2") || wanted("grab2") || wanted("move2") {
                 let (l, ms) = timed(&mut engine, &two);
                 if wanted("apart2") {
                     report(&mut lines, &label, trial, "apart2", &l, ms, &mut times[3]);
@@ -141,7 +145,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let (l, ms) = timed(&mut engine, &three);
                 report(&mut lines, &label, trial, "apart3", &l, ms, &mut times[4]);
             }
-            if let Some(l2) = through_two.filter(|_| wanted("grab2")) {
+            if let Some(l2) = through_two.filter(|_| wanted("grab2") || wanted("move2")) {
                 // The loop starts at the first anchor: halfway to the second.
                 let (s1, s2) = (arc_of(&l2, two[0].position), arc_of(&l2, two[1].position));
                 let half = if s2 >= s1 {
@@ -153,30 +157,68 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let n = normal_at(&mesh, &engine, g);
                 let off = g + n.cross(tg).normalize_or_zero() * 0.03 * engine.graph.g.diagonal;
                 let grab2 = [two[0], Anchor::positional(snap(&engine, off)), two[1]];
+                idle(&mut engine, &two);
                 let (l, ms) = timed(&mut engine, &grab2);
                 report(&mut lines, &label, trial, "grab2", &l, ms, &mut times[5]);
+                if wanted("move2") {
+                    // The drag after that grab: the anchor moved further off
+                    // the loop, one step at a time (each its own query).
+                    let step = n.cross(tg).normalize_or_zero() * 0.01 * engine.graph.g.diagonal;
+                    let mut before = grab2;
+                    for i in 1..=4 {
+                        let moved = [
+                            two[0],
+                            Anchor::positional(snap(&engine, off + step * i as f64)),
+                            two[1],
+                        ];
+                        idle(&mut engine, &before);
+                        let (l, ms) = timed(&mut engine, &moved);
+                        report(&mut lines, &label, trial, "move2", &l, ms, &mut times[6]);
+                        before = moved;
+                    }
+                }
             }
         }
-        for (case, t) in ["click", "drag", "grab", "apart2", "apart3", "grab2"]
-            .iter()
-            .zip(&mut times)
-        {
-            t.sort_by(f64::total_cmp);
-            if t.is_empty() {
-                continue;
-            }
-            println!(
-                "  {case}: median {:.1} ms, max {:.1} ms over {}",
-                t[t.len() / 2],
-                t[t.len() - 1],
-                t.len()
-            );
-        }
+        print_medians(&mut times);
     }
     if let Some(file) = std::env::var_os("BENCH_COSTS") {
         std::fs::write(file, lines)?;
     }
     Ok(())
+}
+
+/// Each case's median and maximum time.
+fn print_medians(times: &mut [Vec<f64>; 7]) {
+    for (case, t) in [
+        "click", "drag", "grab", "apart2", "apart3", "grab2", "move2",
+    ]
+    .iter()
+    .zip(times)
+    {
+        t.sort_by(f64::total_cmp);
+        if t.is_empty() {
+            continue;
+        }
+        println!(
+            "  {case}: median {:.1} ms, max {:.1} ms over {}",
+            t[t.len() / 2],
+            t[t.len() - 1],
+            t.len()
+        );
+    }
+}
+
+/// With `BENCH_IDLE` set: the idle time the layout worker has after an
+/// action (untimed), in which it settles the fields of that action's
+/// anchors (`LoopEngine::prepare_fields`, here to the end).
+fn idle(engine: &mut LoopEngine, anchors: &[Anchor]) {
+    if std::env::var_os("BENCH_IDLE").is_some() {
+        let e0 = engine.settled_nodes();
+        while engine.prepare_fields(anchors, u64::MAX) {}
+        if std::env::var_os("BENCH_EFFORT").is_some() {
+            println!("    idle: settled {}", engine.settled_nodes() - e0);
+        }
+    }
 }
 
 fn timed(engine: &mut LoopEngine, anchors: &[Anchor]) -> (Option<DualLoop>, f64) {

@@ -86,7 +86,8 @@ function startAnalyzer() {
       return;
     }
     const a = r.analysis;
-    designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections);
+    // New covered directions drop the prepared fields: prepare them again.
+    if (designer.applyCovered(r.revision, a.coveredCounts, a.coveredDirections)) prepareSoon();
     delete a.coveredCounts;
     delete a.coveredDirections;
     self.postMessage({ type: 'analysis', analysis: a, ms: r.ms, serial: r.serial }, transferables(a));
@@ -108,6 +109,32 @@ function queueAnalysis() {
   }
   unanswered += 1;
   analyzer.postMessage({ type: 'analyze', serial, input }, transferables(input));
+}
+
+// Idle time: after an action the distance fields that the loop through the
+// anchors reads (LayoutDesigner.prepareFields) are settled a slice at a
+// time, each slice a task of its own, so that a message waits for one slice
+// at most (a few milliseconds) and the next grab, drag update or click finds
+// them settled. The answers do not change, only how soon they come.
+const PREPARE_SLICE = 10000; // g′ nodes per slice
+const idle = new MessageChannel();
+let preparing = false;
+idle.port1.onmessage = () => {
+  preparing = false;
+  if (!designer) return;
+  let more = false;
+  try {
+    more = designer.prepareFields(PREPARE_SLICE);
+  } catch (error) {
+    fail(error);
+    return;
+  }
+  if (more) prepareSoon();
+};
+function prepareSoon() {
+  if (preparing) return;
+  preparing = true;
+  idle.port2.postMessage(null);
 }
 
 const ACTIONS = new Set(['addAnchor', 'setLastAnchorDirection', 'insertAnchorOnLoop', 'moveGrabbedAnchor', 'clearAnchors',
@@ -150,6 +177,7 @@ self.onmessage = async (event) => {
       const state = designer.state();
       self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t, serial: m.serial }, transferables(state));
       queueAnalysis();
+      prepareSoon();
     } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
       try {
         const value = m.type === 'export' ? designer.export(m.format)

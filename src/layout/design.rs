@@ -314,6 +314,14 @@ impl LayoutDesign {
         self.proposal()
     }
 
+    /// Idle time: settles up to `budget` g′ nodes of the distance fields
+    /// the next query through the current anchors reads
+    /// ([`LoopEngine::prepare_fields`]; nothing it answers changes, only
+    /// how soon). Returns whether more remains.
+    pub fn prepare_fields(&mut self, budget: u64) -> bool {
+        self.engine.prepare_fields(&self.state.anchors, budget)
+    }
+
     /// Escape: drops the anchors. Undoable (when there were any).
     pub fn clear_anchors(&mut self) {
         if self.state.anchors.is_empty() {

@@ -464,6 +464,60 @@ impl GrowingField {
         effort
     }
 
+    /// Settles at most `budget` more nodes, nearest first, and sets the
+    /// radius to the next distance (∞ once every node is settled): the same
+    /// field as [`Self::grow`] to that radius. Returns how many it settled.
+    fn grow_by(&mut self, graph: &ElasticaGraph, disabled: &[bool], budget: u64) -> u64 {
+        if !self.radius.is_finite() || budget == 0 {
+            return 0;
+        }
+        let g = &graph.g;
+        let blocked = |z: usize| -> bool {
+            let r = g.reverse[z];
+            disabled[z] && (r == NONE || disabled[r as usize])
+        };
+        let (dist, done) = (&mut self.dist, &mut self.done);
+        let mut bound = f32::INFINITY;
+        let mut left = budget;
+        let effort = settle(&mut self.heap, &mut bound, true, |x, heap, bound| {
+            let x = x as usize;
+            if done[x] {
+                return false;
+            }
+            done[x] = true;
+            let d = dist[x];
+            graph.for_each_arc(x, |y, w| {
+                if blocked(y) {
+                    return;
+                }
+                let nd = d + w;
+                if nd < dist[y] {
+                    dist[y] = nd;
+                    heap.push(nd.to_bits(), y as u32);
+                }
+            });
+            left -= 1;
+            if left == 0 {
+                // Stop at the next entry (put back).
+                *bound = f32::NEG_INFINITY;
+            }
+            true
+        });
+        // Every entry below the next key has been popped: every node
+        // closer than it is settled.
+        match self.heap.pop() {
+            Some((k, x)) => {
+                self.heap.push(k, x);
+                self.radius = self.radius.max(f32::from_bits(k));
+            }
+            None => {
+                self.heap = RadixHeap::default();
+                self.radius = f32::INFINITY;
+            }
+        }
+        effort
+    }
+
     /// The distance of `x`, or the radius when not settled (a lower bound).
     #[inline]
     fn value(&self, x: usize) -> f32 {
@@ -941,6 +995,47 @@ impl LoopEngine {
             fields.push(f);
         }
         self.pair.fields = fields;
+    }
+
+    /// Idle time (the design tool between events): settles up to `budget`
+    /// g′ nodes of the fields a loop through `anchors` reads (with two or
+    /// more anchors, the field of each positional anchor, the last
+    /// [`FIELD_CACHE`]), into the cache of recent anchors' fields, so that
+    /// the next query (a grab, a drag update, a further click) resumes them
+    /// instead of settling them then. A field is the same whichever call
+    /// settled it so far, so every loop stays the same. Returns whether a
+    /// field is still not fully settled.
+    pub fn prepare_fields(&mut self, anchors: &[Anchor], budget: u64) -> bool {
+        if anchors.len() < 2 {
+            return false;
+        }
+        let mut verts: Vec<usize> = Vec::new();
+        for a in anchors.iter().filter(|a| a.direction == DVec3::ZERO) {
+            if let Some(v) = self.nearest_vertex(a.position) {
+                verts.retain(|&w| w != v);
+                verts.push(v);
+            }
+        }
+        let keep = verts.len().saturating_sub(FIELD_CACHE);
+        let nodes = self.graph.node_count();
+        let mut left = budget;
+        let mut more = false;
+        for &v in &verts[keep..] {
+            let mut f = match self.pair.cache.iter().position(|c| c.0 == v as u32) {
+                Some(i) => self.pair.cache.remove(i).1,
+                None => {
+                    let mut f = GrowingField::default();
+                    f.reset(nodes, &self.field_sources(v));
+                    f
+                }
+            };
+            let settled = f.grow_by(&self.graph, &self.disabled, left);
+            self.ws.effort += settled;
+            left = left.saturating_sub(settled.max(1));
+            more |= f.radius.is_finite();
+            self.cache_field(v, f);
+        }
+        more
     }
 
     /// Puts the fields of [`Self::take_anchor_fields`] back into the cache
@@ -3031,6 +3126,100 @@ mod tests {
 
     /// §8.1: a figure eight (lemniscate of Gerono) on a plane crosses
     /// itself once, at the origin, at 90°; a circle never.
+    #[test]
+    fn a_field_grown_by_slices_is_the_fully_settled_field_below_its_radius() {
+        // Independent check: every node below the radius is settled at the
+        // distance of a field settled in one go, every other node is at
+        // least the radius away; slices end at the field settled fully.
+        let mesh = torus(2.0, 0.7, 20, 8);
+        let e = LoopEngine::new(&mesh, &ElasticaParams::default());
+        let nodes = e.graph.node_count();
+        let sources = e.field_sources(3);
+        let mut full = GrowingField::default();
+        full.reset(nodes, &sources);
+        full.grow(&e.graph, &e.disabled, f32::INFINITY);
+        let mut sliced = GrowingField::default();
+        sliced.reset(nodes, &sources);
+        let (mut slices, slice) = (0, nodes as u64 / 25 + 1);
+        while sliced.radius.is_finite() {
+            let settled = sliced.grow_by(&e.graph, &e.disabled, slice);
+            assert!(settled <= slice);
+            slices += 1;
+            for x in 0..nodes {
+                if sliced.done[x] {
+                    assert_eq!(
+                        sliced.dist[x], full.dist[x],
+                        "node {x} after {slices} slices"
+                    );
+                } else {
+                    assert!(
+                        full.dist[x] >= sliced.radius,
+                        "node {x} below the radius unsettled"
+                    );
+                }
+            }
+            assert!(slices < nodes, "slices never end");
+        }
+        assert!(slices > 10);
+        assert!((0..nodes).all(|x| sliced.value(x) == full.value(x)));
+    }
+
+    #[test]
+    fn fields_prepared_in_idle_time_change_no_loop() {
+        // The same anchor sequence as the page (two clicks, a grab, drag
+        // updates) on two engines, one of them preparing the fields by
+        // slices before each query: the same loops, node for node.
+        use rand_core::{RngCore, SeedableRng};
+        let meshes = [torus(2.0, 0.7, 30, 12), cylinder(1.0, 3.0, 24, 12)];
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(5);
+        let mut compared = 0;
+        for mesh in &meshes {
+            let mut plain = LoopEngine::new(mesh, &ElasticaParams::default());
+            let mut prepared = LoopEngine::new(mesh, &ElasticaParams::default());
+            let n = mesh.vertex_count();
+            let at = |e: &LoopEngine, v: usize| Anchor::positional(e.vertex_position(v));
+            for trial in 0..6 {
+                let mut anchors = vec![at(&plain, rng.next_u32() as usize % n)];
+                let mut steps = Vec::new();
+                for _ in 0..2 {
+                    anchors.push(at(&plain, rng.next_u32() as usize % n));
+                    steps.push(anchors.clone());
+                }
+                // A grab between the first two, then moved twice.
+                for _ in 0..3 {
+                    anchors[1] = at(&plain, rng.next_u32() as usize % n);
+                    steps.push(anchors.clone());
+                }
+                for (k, step) in steps.iter().enumerate() {
+                    // A different amount of idle time before each query:
+                    // none, a slice, most of it, all of it.
+                    let budget = [0u64, 500, 20_000, u64::MAX][(trial + k) % 4];
+                    let mut left = budget;
+                    while left > 0 && prepared.prepare_fields(step, left.min(3000)) {
+                        left = left.saturating_sub(3000);
+                    }
+                    let a = plain.constrained_loop(step);
+                    let b = prepared.constrained_loop(step);
+                    match (a, b) {
+                        (Some(a), Some(b)) => {
+                            assert_eq!(a.cost, b.cost, "trial {trial} step {k}");
+                            assert_eq!(a.closed, b.closed);
+                            assert_eq!(a.nodes, b.nodes, "trial {trial} step {k}");
+                            compared += 1;
+                        }
+                        (None, None) => {}
+                        (a, b) => panic!(
+                            "trial {trial} step {k}: {:?} / {:?}",
+                            a.map(|l| l.cost),
+                            b.map(|l| l.cost)
+                        ),
+                    }
+                }
+            }
+        }
+        assert!(compared >= 40, "{compared}");
+    }
+
     #[test]
     fn self_crossings_of_a_figure_eight_and_a_circle() {
         let e = LoopEngine::new(&flat_grid(1.0, 12), &ElasticaParams::default());

@@ -292,6 +292,14 @@ impl LayoutDesigner {
         Ok(())
     }
 
+    /// Idle time (between messages): settles a slice of `budget` g′ nodes
+    /// of the distance fields the next grab, drag update or click reads;
+    /// returns whether more remains. Changes no answer, only its time.
+    #[wasm_bindgen(js_name = prepareFields)]
+    pub fn prepare_fields(&mut self, budget: u32) -> bool {
+        self.design.prepare_fields(budget as u64)
+    }
+
     #[wasm_bindgen(js_name = clearAnchors)]
     pub fn clear_anchors(&mut self) {
         self.design.clear_anchors();
