@@ -1024,7 +1024,7 @@ fn quarter_floor(phi: f64) -> i64 {
 fn fan_charts(fan: &Fan, tr: &[[Option<Tr>; 3]]) -> Option<Vec<(u8, DVec2)>> {
     let mut out = Vec::with_capacity(fan.corners.len());
     let (mut k, mut t) = (0u8, DVec2::ZERO);
-    for (j, &(h, c)) in fan.corners.iter().enumerate() {
+    for j in 0..fan.corners.len() {
         if j > 0 {
             let (ph, pc) = fan.corners[j - 1];
             let step = tr[ph as usize][(pc as usize + 2) % 3]?;
@@ -1032,7 +1032,6 @@ fn fan_charts(fan: &Fan, tr: &[[Option<Tr>; 3]]) -> Option<Vec<(u8, DVec2)>> {
             t = crate::param::rotate(step.k, t) + st;
             k = (k + step.k) % 4;
         }
-        let _ = (h, c);
         out.push((k, t));
     }
     Some(out)

@@ -372,6 +372,38 @@ struct PairWorkspace {
 /// `keep`, so that the search can be resumed); every other entry goes to
 /// `visit(node, heap, bound)`, which returns whether it settled the node
 /// (false: a stale entry) and may lower `*bound`. Returns the number of
+/// Settles node `x` of a growing field: marks it done and lowers the
+/// distances of its arcs' heads, except heads that are disabled with
+/// their reverse. False when `x` was settled already.
+#[inline]
+fn settle_node(
+    graph: &ElasticaGraph,
+    disabled: &[bool],
+    dist: &mut [f32],
+    done: &mut [bool],
+    heap: &mut RadixHeap,
+    x: usize,
+) -> bool {
+    if done[x] {
+        return false;
+    }
+    done[x] = true;
+    let g = &graph.g;
+    let d = dist[x];
+    graph.for_each_arc(x, |y, w| {
+        let r = g.reverse[y];
+        if disabled[y] && (r == NONE || disabled[r as usize]) {
+            return;
+        }
+        let nd = d + w;
+        if nd < dist[y] {
+            dist[y] = nd;
+            heap.push(nd.to_bits(), y as u32);
+        }
+    });
+    true
+}
+
 /// nodes settled.
 fn settle(
     heap: &mut RadixHeap,
@@ -428,31 +460,10 @@ impl GrowingField {
         if radius <= self.radius {
             return 0;
         }
-        let g = &graph.g;
-        let blocked = |z: usize| -> bool {
-            let r = g.reverse[z];
-            disabled[z] && (r == NONE || disabled[r as usize])
-        };
         let (dist, done) = (&mut self.dist, &mut self.done);
         let mut bound = radius;
         let effort = settle(&mut self.heap, &mut bound, true, |x, heap, _| {
-            let x = x as usize;
-            if done[x] {
-                return false;
-            }
-            done[x] = true;
-            let d = dist[x];
-            graph.for_each_arc(x, |y, w| {
-                if blocked(y) {
-                    return;
-                }
-                let nd = d + w;
-                if nd < dist[y] {
-                    dist[y] = nd;
-                    heap.push(nd.to_bits(), y as u32);
-                }
-            });
-            true
+            settle_node(graph, disabled, dist, done, heap, x as usize)
         });
         self.radius = if self.heap.is_empty() {
             // Settled everywhere: the heap's buckets are not needed again.
@@ -471,31 +482,13 @@ impl GrowingField {
         if !self.radius.is_finite() || budget == 0 {
             return 0;
         }
-        let g = &graph.g;
-        let blocked = |z: usize| -> bool {
-            let r = g.reverse[z];
-            disabled[z] && (r == NONE || disabled[r as usize])
-        };
         let (dist, done) = (&mut self.dist, &mut self.done);
         let mut bound = f32::INFINITY;
         let mut left = budget;
         let effort = settle(&mut self.heap, &mut bound, true, |x, heap, bound| {
-            let x = x as usize;
-            if done[x] {
+            if !settle_node(graph, disabled, dist, done, heap, x as usize) {
                 return false;
             }
-            done[x] = true;
-            let d = dist[x];
-            graph.for_each_arc(x, |y, w| {
-                if blocked(y) {
-                    return;
-                }
-                let nd = d + w;
-                if nd < dist[y] {
-                    dist[y] = nd;
-                    heap.push(nd.to_bits(), y as u32);
-                }
-            });
             left -= 1;
             if left == 0 {
                 // Stop at the next entry (put back).
