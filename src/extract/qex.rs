@@ -373,7 +373,14 @@ pub fn extract(
     let out = drop_specks(out, &mut report)?;
     report.grid_vertices = out.vertex_count();
     report.faces = out.face_count();
-    report.euler_characteristic = [tri_euler_characteristic(mesh), out.euler_characteristic()];
+    report.euler_characteristic = [
+        crate::mesh::Topology::of(
+            mesh.positions.len(),
+            &FaceList::from_triangles(&mesh.triangles),
+        )
+        .euler_characteristic,
+        out.euler_characteristic(),
+    ];
     progress.report(1.0, "done")?;
     Ok(Quadrangulation { mesh: out, report })
 }
@@ -1229,64 +1236,28 @@ fn fill_extraction_holes(
     }
 }
 
-/// V − E + F of a triangle mesh (vertices used by a face).
-fn tri_euler_characteristic(mesh: &TriMesh) -> i64 {
-    let mut used = vec![false; mesh.positions.len()];
-    let mut edges = std::collections::HashSet::new();
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            used[t[i] as usize] = true;
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            edges.insert((a.min(b), a.max(b)));
-        }
-    }
-    let v = used.iter().filter(|&&u| u).count() as i64;
-    v - edges.len() as i64 + mesh.triangles.len() as i64
-}
-
 /// Removes the parts of fewer than four quads when a larger part exists:
 /// what remains of a collapsed small hole's rim, not a part of the input
 /// (the preservation metrics report an input part that is lost).
 fn drop_specks(mesh: PolyMesh, report: &mut QexReport) -> Result<PolyMesh, QexError> {
-    let nf = mesh.face_count();
-    let mut part = vec![u32::MAX; nf];
-    let mut sizes = Vec::new();
-    for start in 0..nf {
-        if part[start] != u32::MAX {
-            continue;
-        }
-        let id = sizes.len() as u32;
-        let mut stack = vec![start as u32];
-        part[start] = id;
-        let mut size = 0;
-        while let Some(f) = stack.pop() {
-            size += 1;
-            for h in mesh.face_halfedges(f) {
-                let t = mesh.twin(h);
-                if !mesh.is_boundary_halfedge(t) {
-                    let g = mesh.face(t);
-                    if part[g as usize] == u32::MAX {
-                        part[g as usize] = id;
-                        stack.push(g);
-                    }
-                }
-            }
-        }
-        sizes.push(size);
-    }
-    let largest = sizes.iter().copied().max().unwrap_or(0);
-    let specks: Vec<bool> = sizes.iter().map(|&n| n < 4 && largest >= 4).collect();
-    if !specks.contains(&true) {
+    let faces: Vec<Vec<u32>> = (0..mesh.face_count() as u32)
+        .map(|f| mesh.face_vertices(f).collect())
+        .collect();
+    let (roots, sizes) = super::repair::face_components(&faces);
+    let largest = sizes.values().copied().max().unwrap_or(0);
+    let speck = |f: usize| sizes[&roots[f]] < 4 && largest >= 4;
+    let specks: std::collections::HashSet<u32> = (0..faces.len())
+        .filter(|&f| speck(f))
+        .map(|f| roots[f])
+        .collect();
+    if specks.is_empty() {
         return Ok(mesh);
     }
-    report.specks_removed = specks.iter().filter(|&&s| s).count();
-    let faces: Vec<[u32; 4]> = (0..nf as u32)
-        .filter(|&f| !specks[part[f as usize] as usize])
-        .map(|f| {
-            let v: Vec<u32> = mesh.face_vertices(f).collect();
-            [v[0], v[1], v[2], v[3]]
-        })
+    report.specks_removed = specks.len();
+    let kept: Vec<[u32; 4]> = (0..faces.len())
+        .filter(|&f| !speck(f))
+        .map(|f| [faces[f][0], faces[f][1], faces[f][2], faces[f][3]])
         .collect();
-    let (out, _, _) = manifold_mesh(mesh.positions.clone(), faces)?;
+    let (out, _, _) = manifold_mesh(mesh.positions.clone(), kept)?;
     Ok(out)
 }

@@ -790,7 +790,7 @@ fn drop_fragments(faces: &mut Vec<Vec<u32>>, g: &Graph) -> usize {
 
 /// The face components (faces linked through shared vertices): per face
 /// its component's root, and each root's face count.
-fn face_components(faces: &[Vec<u32>]) -> (Vec<u32>, HashMap<u32, usize>) {
+pub(crate) fn face_components(faces: &[Vec<u32>]) -> (Vec<u32>, HashMap<u32, usize>) {
     let n = faces
         .iter()
         .flatten()
