@@ -119,6 +119,7 @@ ROWS = {
     # The global mode's modifications, one at a time.
     "global + feature curves (60°)": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 60}}),
     "global - stiffening": ("default", {"remesh": {"mode": "global", "stiffening": 0}}),
+    "global - conformal scale": ("default", {"remesh": {"mode": "global", "conformal_scale": 0}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -223,6 +224,7 @@ def run_tool(args, tool, src, stem, target):
 # acceptance ratios are also read off medians over the same re-orderings
 # for every tool.
 ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default", "global", "global x4",
+              "global - conformal scale",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept")
@@ -337,7 +339,7 @@ def ratio_table(results):
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
         for label in ("im-equivalent", "default", "global", "global x4", "global + feature curves (60°)",
-                      "global - stiffening"):
+                      "global - stiffening", "global - conformal scale"):
             row = entry["rows"].get(label)
             c = cells(row) if row and "error" not in row else None
             if not c:

@@ -134,6 +134,11 @@ pub struct RemeshParams {
     /// 9.7° → 14.3°, limit 3.17e-3 → 4.72e-3; bunny Hausdorff 4.74e-2 →
     /// 5.94e-2; fandisk, rocker-arm, teapot within 0.2° and 1 %.
     pub stiffening: usize,
+    /// The global mode's conformal target edge
+    /// ([`crate::param::Params::conformal_scale`]): the cones' flat
+    /// metric's scale, bounded to this factor of the sizing; 0 turns it
+    /// off. FIGURES
+    pub conformal_scale: f64,
     /// The global mode's vertex-count correction: while the quads' vertex
     /// count is more than 10 % off the target, the map is computed again
     /// (up to twice) for a target from the power law through the last two
@@ -150,6 +155,7 @@ impl Default for RemeshParams {
             mode: RemeshMode::default(),
             feature_curve_degrees: map.feature_curve_degrees,
             stiffening: map.stiffening,
+            conformal_scale: map.conformal_scale,
             count_correction: true,
         }
     }

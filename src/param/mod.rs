@@ -19,6 +19,7 @@
 //! Parameter units: one unit is one target edge of the calibrated sizing
 //! field (the same calibration as the local path's).
 
+pub mod conformal;
 pub mod constraints;
 pub mod cross_field;
 pub mod cut;
@@ -171,6 +172,11 @@ pub struct Params {
     /// (its folds are Ebke's deliberate ones, flipped crosses). Cost: one
     /// sparse solve each (bunny 1.8 → 2.8 s for the map).
     pub stiffening: usize,
+    /// The map's target edge is S(f) · e^{−φ}, the conformal scale of the
+    /// metric whose only curvature is the cross field's cones
+    /// ([`conformal`]), bounded to within this factor of S(f); 0 keeps
+    /// S(f). Default 2. FIGURES
+    pub conformal_scale: f64,
     /// With feature curves: cones of the field off the curves but nearer a
     /// vertex of them (two or more feature edges) than this many target
     /// edges move onto it (its sectors get the cone's quarter turns, and
@@ -254,6 +260,7 @@ impl Default for Params {
             feature_curve_degrees: 0.0,
             feature_curve_spacing: 0.75,
             stiffening: 4,
+            conformal_scale: 2.0,
             feature_cone_snap: 0.0,
             smooth_regions: SmoothRegionParams::default(),
             region_weight: 5.0,
@@ -294,6 +301,7 @@ impl Params {
             region_weight: f64::from(p.alignment.position_weight),
             feature_curve_degrees: p.remesh.feature_curve_degrees,
             stiffening: p.remesh.stiffening,
+            conformal_scale: p.remesh.conformal_scale,
             ..Params::default()
         }
     }
@@ -796,11 +804,15 @@ fn grid_map_with_progress(
             .collect()
     });
     let loops = cyclic_loops(p, params);
+    let conformal = (params.conformal_scale > 0.0)
+        .then(|| conformal::cone_metric_factor(mesh, &p.fans, &field.cones))
+        .flatten()
+        .map(|phi| conformal::conformal_sizing(mesh, &p.face_sizing, &phi, params.conformal_scale));
     let input = MapInput {
         mesh,
         topology: &p.topology,
         field,
-        face_sizing: &p.face_sizing,
+        face_sizing: conformal.as_deref().unwrap_or(&p.face_sizing),
         round: params.round,
         batch_fraction: params.batch_fraction,
         region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
