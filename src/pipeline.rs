@@ -137,7 +137,17 @@ pub struct RemeshParams {
     /// The global mode's conformal target edge
     /// ([`crate::param::Params::conformal_scale`]): the cones' flat
     /// metric's scale, bounded to this factor of the sizing; 0 turns it
-    /// off. FIGURES
+    /// off. Default 2: in the quality table (medians over 5 vertex
+    /// orders, without → with) the mean deviation of quad corners from
+    /// 90° falls on fandisk 8.35° → 5.91°, rocker-arm 6.49° → 5.24°, spot
+    /// 9.68° → 9.35°, cow 10.17° → 7.33°, the bunny 6.27° → 3.75°,
+    /// suzanne 15.4° → 15.1° (teapot 4.10° → 4.11°, beetle 25.2° →
+    /// 26.0°), and at 4× the target fandisk 6.45° → 3.71°, rocker-arm
+    /// 5.81° → 2.85°, the bunny 6.01° → 2.36°. It costs Hausdorff distance
+    /// where quads grow between the cones: fandisk 5.14e-2 → 6.04e-2,
+    /// rocker-arm 2.35e-2 → 3.14e-2, spot 9.99e-2 → 1.25e-1, cow
+    /// 1.51e-1 → 1.96e-1, the bunny 5.75e-2 → 6.32e-2 (suzanne 0.271 →
+    /// 0.235).
     pub conformal_scale: f64,
     /// The global mode's vertex-count correction: while the quads' vertex
     /// count is more than 10 % off the target, the map is computed again
