@@ -5,6 +5,7 @@
 
 mod common;
 
+use glam::DVec3;
 use quadrille::extract::qex::{self, Quadrangulation};
 use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
 use quadrille::mesh::{PolyMesh, TriMesh};
@@ -235,4 +236,152 @@ fn the_bunny_keeps_its_holes_open() {
         "{} loops",
         m.boundary_loops().len()
     );
+}
+
+/// The zero set of `f` (inside where negative) over the box `lo`–`hi` in
+/// cells of about `h`: marching tetrahedra on the Kuhn split of every
+/// cube (six tetrahedra around its main diagonal, so neighbouring cubes'
+/// faces agree), one vertex per grid edge the surface crosses, triangles
+/// facing out (towards positive f).
+fn implicit_surface(f: impl Fn(DVec3) -> f64, lo: DVec3, hi: DVec3, h: f64) -> TriMesh {
+    let n = ((hi - lo) / h).ceil().as_uvec3() + glam::UVec3::ONE;
+    let id = |x: u32, y: u32, z: u32| (x + n.x * (y + n.y * z)) as usize;
+    let at = |x: u32, y: u32, z: u32| lo + DVec3::new(x as f64, y as f64, z as f64) * h;
+    let mut value = vec![0.0; (n.x * n.y * n.z) as usize];
+    for z in 0..n.z {
+        for y in 0..n.y {
+            for x in 0..n.x {
+                // No grid point on (or next to) the surface, so no
+                // triangle collapses to a point or a segment.
+                let v = f(at(x, y, z));
+                value[id(x, y, z)] = if v < 0.0 {
+                    v.min(-1e-3 * h)
+                } else {
+                    v.max(1e-3 * h)
+                };
+            }
+        }
+    }
+    let mut positions = Vec::new();
+    let mut on_edge = std::collections::HashMap::new();
+    let mut triangles = Vec::new();
+    let corner = |c: [u32; 3]| (id(c[0], c[1], c[2]), at(c[0], c[1], c[2]));
+    for z in 0..n.z - 1 {
+        for y in 0..n.y - 1 {
+            for x in 0..n.x - 1 {
+                for perm in [
+                    [0, 1, 2],
+                    [0, 2, 1],
+                    [1, 0, 2],
+                    [1, 2, 0],
+                    [2, 0, 1],
+                    [2, 1, 0],
+                ] {
+                    let mut c = [x, y, z];
+                    let mut tet = [corner(c); 4];
+                    for (k, &axis) in perm.iter().enumerate() {
+                        c[axis] += 1;
+                        tet[k + 1] = corner(c);
+                    }
+                    let (inside, outside): (Vec<_>, Vec<_>) =
+                        tet.iter().partition(|(i, _)| value[*i] < 0.0);
+                    if inside.is_empty() || outside.is_empty() {
+                        continue;
+                    }
+                    let mut cross = |a: &(usize, DVec3), b: &(usize, DVec3)| -> u32 {
+                        let key = (a.0.min(b.0), a.0.max(b.0));
+                        *on_edge.entry(key).or_insert_with(|| {
+                            let (fa, fb) = (value[a.0], value[b.0]);
+                            positions.push(a.1 + (b.1 - a.1) * (fa / (fa - fb)));
+                            positions.len() as u32 - 1
+                        })
+                    };
+                    let mut faces: Vec<[u32; 3]> = Vec::new();
+                    if inside.len() == 1 || outside.len() == 1 {
+                        let (apex, rest) = if inside.len() == 1 {
+                            (inside[0], &outside)
+                        } else {
+                            (outside[0], &inside)
+                        };
+                        faces.push([
+                            cross(apex, rest[0]),
+                            cross(apex, rest[1]),
+                            cross(apex, rest[2]),
+                        ]);
+                    } else {
+                        let (a, b, c, d) = (inside[0], inside[1], outside[0], outside[1]);
+                        let q = [cross(a, c), cross(a, d), cross(b, d), cross(b, c)];
+                        faces.push([q[0], q[1], q[2]]);
+                        faces.push([q[0], q[2], q[3]]);
+                    }
+                    let outward = outside.iter().map(|o| o.1).sum::<DVec3>() / outside.len() as f64
+                        - inside.iter().map(|i| i.1).sum::<DVec3>() / inside.len() as f64;
+                    for t in faces {
+                        let p = t.map(|v| positions[v as usize]);
+                        let normal = (p[1] - p[0]).cross(p[2] - p[0]);
+                        triangles.push(if normal.dot(outward) < 0.0 {
+                            [t[0], t[2], t[1]]
+                        } else {
+                            t
+                        });
+                    }
+                }
+            }
+        }
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
+/// Ebke §6's level of detail: a handle whose circumference is below the
+/// target edge produces no quads at a coarse target (a genus-0 mesh), and
+/// the same handle is kept at a fine one.
+#[test]
+fn a_small_handle_is_dropped_at_a_coarse_target_and_kept_at_a_fine_one() {
+    // The unit sphere with a ring handle (major radius 0.45 around
+    // (1, 0, 0) in the xy-plane, tube radius 0.08: circumference 0.50).
+    let handle = |p: DVec3| {
+        let q = p - DVec3::new(1.0, 0.0, 0.0);
+        let ring = DVec3::new(q.truncate().length() - 0.45, q.z, 0.0);
+        ring.length() - 0.08
+    };
+    let f = |p: DVec3| (p.length() - 1.0).min(handle(p));
+    let mesh = implicit_surface(
+        f,
+        DVec3::new(-1.1, -1.1, -1.1),
+        DVec3::new(1.6, 1.1, 1.1),
+        0.04,
+    );
+    // Imported as a file would be (marching tetrahedra leave slivers and
+    // zero-area triangles, which the import's repair removes).
+    let list = quadrille::mesh::FaceList::from_triangles(&mesh.triangles);
+    let obj = quadrille::io::write_obj(&mesh.positions, &list);
+    let mesh = quadrille::io::import(obj.as_bytes(), "handle.obj")
+        .expect("imports")
+        .mesh;
+    let topology = mesh.topology();
+    assert_eq!(
+        (topology.euler_characteristic, topology.boundary_edges),
+        (0, 0),
+        "the input is closed, of genus 1"
+    );
+    for (vertices, genus) in [(40, 0), (1500, 1)] {
+        let (_, q) = quads(&mesh, &uniform(vertices));
+        let m = &q.mesh;
+        println!(
+            "handle at {vertices} vertices: V {}, χ {}, report {:?}",
+            m.vertex_count(),
+            m.euler_characteristic(),
+            q.report
+        );
+        assert_pure_quads(m);
+        assert_eq!(m.boundary_loops().len(), 0, "closed");
+        assert_eq!(
+            m.euler_characteristic(),
+            2 - 2 * genus,
+            "at {vertices} vertices"
+        );
+    }
 }

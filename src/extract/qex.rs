@@ -1126,6 +1126,170 @@ fn unfold(
     }
 }
 
+/// Odd holes in pairs: a quad mesh's hole can only be closed with quads
+/// when its ring is even, and two odd holes change parity together along
+/// a path of faces between them (the usual parity fix: a quad crossed
+/// between opposite edges splits into two quads, one crossed between
+/// adjacent edges into three around a new vertex). The path is the
+/// cheapest chain of edges from a rim edge of one hole to a rim edge of
+/// the other through shared faces (a straight crossing costs 1, a turn 3,
+/// since it adds a valence-3 and a valence-5 vertex); every edge on it
+/// gets its midpoint, so each rim gains a vertex and both rings become
+/// even. Pairs are taken nearest first (by path cost); an odd hole
+/// without a partner stays open and is counted in
+/// `QexReport::holes_left_open`. A hole left open on a closed input is a
+/// hole in the output where the input has none, which is why both are
+/// filled rather than left.
+fn pair_odd_holes(
+    faces: &mut Vec<Vec<u32>>,
+    positions: &mut Vec<DVec3>,
+    rings: &mut [Vec<u32>],
+    report: &mut QexReport,
+) {
+    use std::cmp::Reverse;
+    use std::collections::{BinaryHeap, HashMap};
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    loop {
+        let odd: Vec<usize> = (0..rings.len())
+            .filter(|&r| rings[r].len() % 2 == 1)
+            .collect();
+        if odd.len() < 2 {
+            report.holes_left_open += odd.len();
+            return;
+        }
+        // Faces per edge, and each odd rim edge's ring.
+        let mut edge_faces: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        for (fi, f) in faces.iter().enumerate() {
+            for i in 0..f.len() {
+                edge_faces
+                    .entry(key(f[i], f[(i + 1) % f.len()]))
+                    .or_default()
+                    .push(fi);
+            }
+        }
+        let mut rim: HashMap<(u32, u32), usize> = HashMap::new();
+        for &r in &odd {
+            let ring = &rings[r];
+            for i in 0..ring.len() {
+                rim.insert(key(ring[i], ring[(i + 1) % ring.len()]), r);
+            }
+        }
+        // Dijkstra over edges from the first odd hole's rim to any other's.
+        let source = odd[0];
+        // Per edge: the path cost and the edge and face it came from.
+        type Edge = (u32, u32);
+        let mut best: HashMap<Edge, (u32, Option<(Edge, usize)>)> = HashMap::new();
+        let mut heap = BinaryHeap::new();
+        for (&e, &r) in &rim {
+            if r == source {
+                best.insert(e, (0, None));
+                heap.push(Reverse((0u32, e)));
+            }
+        }
+        let mut found = None;
+        while let Some(Reverse((cost, e))) = heap.pop() {
+            if best.get(&e).is_some_and(|&(c, _)| c < cost) {
+                continue;
+            }
+            if let Some(&r) = rim.get(&e)
+                && r != source
+            {
+                found = Some((e, r));
+                break;
+            }
+            for &fi in edge_faces.get(&e).map_or(&[][..], |v| v) {
+                let f = &faces[fi];
+                if f.len() != 4 || best[&e].1.is_some_and(|(_, from)| from == fi) {
+                    continue;
+                }
+                let i = (0..4).find(|&i| key(f[i], f[(i + 1) % 4]) == e).unwrap();
+                for j in 1..4 {
+                    let k = (i + j) % 4;
+                    let next = key(f[k], f[(k + 1) % 4]);
+                    let step = if j == 2 { 1 } else { 3 };
+                    let c = cost + step;
+                    // Rim edges of the source hole only start paths.
+                    if rim.get(&next) == Some(&source) {
+                        continue;
+                    }
+                    if best.get(&next).is_none_or(|&(b, _)| c < b) {
+                        best.insert(next, (c, Some((e, fi))));
+                        heap.push(Reverse((c, next)));
+                    }
+                }
+            }
+        }
+        let Some((end, partner)) = found else {
+            report.holes_left_open += odd.len();
+            return;
+        };
+        // The path: edges and the face between each consecutive pair.
+        let mut path = vec![end];
+        let mut between = Vec::new();
+        while let Some((prev, fi)) = best[path.last().unwrap()].1 {
+            between.push(fi);
+            path.push(prev);
+        }
+        let mut seen = between.clone();
+        seen.sort_unstable();
+        seen.dedup();
+        if seen.len() != between.len() {
+            // A face crossed twice: no clean split; leave both open.
+            report.holes_left_open += odd.len();
+            return;
+        }
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        for &(a, b) in &path {
+            positions.push(0.5 * (positions[a as usize] + positions[b as usize]));
+            mid.insert((a, b), positions.len() as u32 - 1);
+        }
+        let mut dead = vec![false; faces.len()];
+        let mut added: Vec<Vec<u32>> = Vec::new();
+        for &fi in &between {
+            let f = faces[fi].clone();
+            let cut: Vec<usize> = (0..4)
+                .filter(|&i| mid.contains_key(&key(f[i], f[(i + 1) % 4])))
+                .collect();
+            let [i, j] = cut[..] else {
+                report.holes_left_open += odd.len();
+                return;
+            };
+            let m = |i: usize| mid[&key(f[i], f[(i + 1) % 4])];
+            dead[fi] = true;
+            if j == i + 2 {
+                // Opposite edges i and i + 2.
+                added.push(vec![f[i], m(i), m(j), f[(j + 1) % 4]]);
+                added.push(vec![m(i), f[i + 1], f[j], m(j)]);
+            } else {
+                // Adjacent edges: rotate so they are 0 and 1 (or 3 and 0).
+                let (a, b) = if j == i + 1 { (i, j) } else { (j, i) };
+                let r = |k: usize| f[(a + k) % 4];
+                positions.push(0.25 * (0..4).map(|k| positions[f[k] as usize]).sum::<DVec3>());
+                let o = positions.len() as u32 - 1;
+                let (m1, m2) = (m(a), m(b));
+                added.push(vec![r(0), m1, o, r(3)]);
+                added.push(vec![m1, r(1), m2, o]);
+                added.push(vec![m2, r(2), r(3), o]);
+            }
+        }
+        let mut k = 0;
+        faces.retain(|_| {
+            k += 1;
+            !dead[k - 1]
+        });
+        faces.extend(added);
+        // Both rims gain their edge's midpoint.
+        for (r, e) in [(source, path[path.len() - 1]), (partner, end)] {
+            let ring = &mut rings[r];
+            let n = ring.len();
+            let i = (0..n)
+                .find(|&i| key(ring[i], ring[(i + 1) % n]) == e)
+                .unwrap();
+            ring.insert(i + 1, mid[&e]);
+        }
+    }
+}
+
 /// Closes each boundary loop of `mesh` that is not (mostly) on the input's
 /// boundary with quads: the best quadrangulation of the loop's ring
 /// ([`super::faces::best_quadrangulation`], Kloiber's quad score, no chord
@@ -1164,25 +1328,41 @@ fn fill_extraction_holes(
             report.holes_at_input_boundary += 1;
             continue;
         }
-        if ring.len() % 2 == 1 {
-            report.holes_left_open += 1;
-            continue;
-        }
         rings.push(ring);
     }
-    if rings.is_empty() {
+    let mut positions = mesh.positions.clone();
+    let mut faces: Vec<Vec<u32>> = mesh.to_face_list().iter().map(<[u32]>::to_vec).collect();
+    let before = positions.len();
+    pair_odd_holes(&mut faces, &mut positions, &mut rings, report);
+    let mut surface: Option<Option<crate::spatial::SurfaceIndex>> = None;
+    if positions.len() > before {
+        let index = surface.get_or_insert_with(|| crate::spatial::SurfaceIndex::new(input));
+        if let Some(index) = index {
+            for p in &mut positions[before..] {
+                *p = index.closest(*p).point;
+            }
+        }
+    }
+    rings.retain(|r| r.len() % 2 == 0);
+    if rings.is_empty() && positions.len() == mesh.positions.len() {
         return mesh;
     }
-    let mut positions = mesh.positions.clone();
-    let mut list = mesh.to_face_list();
-    let edges: std::collections::HashSet<(u32, u32)> = (0..mesh.halfedge_count() as u32)
-        .map(|h| {
-            let (a, b) = (mesh.origin(h), mesh.tip(h));
-            (a.min(b), a.max(b))
+    let mut list = crate::mesh::FaceList::new();
+    for f in &faces {
+        list.push(f);
+    }
+    let edges: std::collections::HashSet<(u32, u32)> = faces
+        .iter()
+        .flat_map(|f| {
+            (0..f.len()).map(|i| {
+                (
+                    f[i].min(f[(i + 1) % f.len()]),
+                    f[i].max(f[(i + 1) % f.len()]),
+                )
+            })
         })
         .collect();
     let (mut quads, mut added, mut filled) = (0, 0, 0);
-    let mut surface: Option<Option<crate::spatial::SurfaceIndex>> = None;
     for ring in &rings {
         let n = ring.len();
         let fill = if n == 4 {
@@ -1260,4 +1440,89 @@ fn drop_specks(mesh: PolyMesh, report: &mut QexReport) -> Result<PolyMesh, QexEr
         .collect();
     let (out, _, _) = manifold_mesh(mesh.positions.clone(), kept)?;
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat 7 × 5 grid of unit quads with the quads at (1, 2) and (5, 2)
+    /// removed, and a vertex added on each hole's outer rim edge (x = 1
+    /// and x = 6), so both rings have five edges; the quads beyond them
+    /// become pentagons.
+    fn grid_with_two_odd_holes() -> (Vec<Vec<u32>>, Vec<DVec3>, Vec<Vec<u32>>) {
+        let id = |x: u32, y: u32| y * 8 + x;
+        let mut positions: Vec<DVec3> = (0..6)
+            .flat_map(|y| (0..8).map(move |x| DVec3::new(x as f64, y as f64, 0.0)))
+            .collect();
+        positions.push(DVec3::new(1.0, 2.5, 0.0)); // 48
+        positions.push(DVec3::new(6.0, 2.5, 0.0)); // 49
+        let mut faces = Vec::new();
+        for y in 0..5 {
+            for x in 0..7 {
+                let q = vec![id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)];
+                match (x, y) {
+                    (1, 2) | (5, 2) => {}
+                    (0, 2) => faces.push(vec![q[0], q[1], 48, q[2], q[3]]),
+                    (6, 2) => faces.push(vec![q[0], q[1], q[2], q[3], 49]),
+                    _ => faces.push(q),
+                }
+            }
+        }
+        let rings = vec![
+            vec![id(1, 2), 48, id(1, 3), id(2, 3), id(2, 2)],
+            vec![id(5, 2), id(5, 3), id(6, 3), 49, id(6, 2)],
+        ];
+        (faces, positions, rings)
+    }
+
+    #[test]
+    fn two_odd_holes_become_even_along_the_quads_between_them() {
+        let (mut faces, mut positions, mut rings) = grid_with_two_odd_holes();
+        let before = faces.len();
+        let mut report = QexReport::default();
+        pair_odd_holes(&mut faces, &mut positions, &mut rings, &mut report);
+        assert_eq!(report.holes_left_open, 0);
+        assert_eq!(rings.iter().map(Vec::len).collect::<Vec<_>>(), [6, 6]);
+        // The cheapest path runs straight along row 2, through the quads
+        // at x = 2, 3, 4: the four vertical edges x = 2…5 get their
+        // midpoints and each quad crossed splits into two.
+        let mut added: Vec<DVec3> = positions[50..].to_vec();
+        added.sort_by(|a, b| a.x.total_cmp(&b.x));
+        let expected: Vec<DVec3> = (2..6).map(|x| DVec3::new(x as f64, 2.5, 0.0)).collect();
+        assert_eq!(added, expected);
+        assert_eq!(faces.len(), before + 3);
+        assert_eq!(
+            faces.iter().filter(|f| f.len() != 4).count(),
+            2,
+            "the two pentagons"
+        );
+        let mut list = crate::mesh::FaceList::new();
+        for f in &faces {
+            list.push(f);
+        }
+        let mesh = PolyMesh::from_faces(positions, &list).expect("a valid mesh");
+        let mut lengths: Vec<usize> = mesh
+            .boundary_loops()
+            .iter()
+            .map(|&h| mesh.loop_from(h).count())
+            .collect();
+        lengths.sort_unstable();
+        assert_eq!(
+            lengths,
+            [6, 6, 24],
+            "the two even holes and the outer boundary"
+        );
+    }
+
+    #[test]
+    fn one_odd_hole_stays_open_and_is_counted() {
+        let (mut faces, mut positions, mut rings) = grid_with_two_odd_holes();
+        rings.truncate(1);
+        let mut report = QexReport::default();
+        pair_odd_holes(&mut faces, &mut positions, &mut rings, &mut report);
+        assert_eq!(report.holes_left_open, 1);
+        assert_eq!(rings[0].len(), 5);
+        assert_eq!(positions.len(), 50);
+    }
 }
