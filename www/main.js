@@ -610,6 +610,9 @@ function onStage(job, result) {
   for (const [name, p] of Object.entries(result.points || {})) {
     viewer.set_points(name, p.positions, p.colors, (STYLES[name]?.size || 6) * dpr());
     addLayer(name, 'points');
+    // Nothing to show (the global mode's pure quads have no non-quad
+    // faces): no legend, and the layer's box greys out.
+    if (p.positions.length === 0) available.delete(name);
   }
   if (result.metrics) showMetrics(result.metrics, null);
   if (result.param) {
