@@ -73,8 +73,12 @@ pub fn cone_metric_factor(
             if index[a] != usize::MAX && angle.is_finite() {
                 rhs[index[a]] += angle;
             }
-            // The corner at a weighs the edge (b, c) opposite it. Clamped
-            // positive: a degenerate corner must not make L indefinite.
+            // The corner at a weighs the edge (b, c) opposite it, clamped
+            // to [1e-6, 1e6]: a degenerate corner's huge weight or an
+            // obtuse one's negative weight could leave L ill-conditioned or
+            // indefinite (so on obtuse triangles this is not the exact
+            // cotangent Laplacian; the disc and torus tests below measure
+            // the result against the analytic φ).
             let cot = (u.dot(w) / u.cross(w).length().max(1e-300)).clamp(1e-6, 1e6);
             let weight = 0.5 * cot;
             let (ib, ic) = (index[b], index[c]);
