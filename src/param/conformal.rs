@@ -106,8 +106,36 @@ pub fn cone_metric_factor(
         }
     }
     // Closed parts have L's constants as their kernel, and their K̂ − K sums
-    // to zero (Gauss–Bonnet and Poincaré–Hopf): a tiny diagonal shift picks
-    // the solution up to the constant, which the normalisation removes.
+    // to zero when the cones' indices sum to the part's Euler
+    // characteristic (Gauss–Bonnet and Poincaré–Hopf). A cross field on
+    // filtered planes need not: at a coarse target the handle test's
+    // genus-1 surface got cones summing to 2 (the filtered normals of its
+    // thin tube average its sides away). What does not sum to zero is
+    // spread evenly over the part (otherwise the solve's constant grows
+    // without bound), and a tiny diagonal shift picks the solution up to
+    // the constant, which the normalisation removes.
+    let mut parts = crate::mesh::UnionFind::new(nv);
+    for t in &mesh.triangles {
+        parts.union(t[0], t[1]);
+        parts.union(t[1], t[2]);
+    }
+    let mut anchored = vec![false; nv];
+    let mut part_sum = vec![(0.0, 0usize); nv];
+    for v in 0..nv {
+        let r = parts.find(v as u32) as usize;
+        if index[v] == usize::MAX {
+            anchored[r] = true;
+        } else {
+            part_sum[r].0 += rhs[index[v]];
+            part_sum[r].1 += 1;
+        }
+    }
+    for v in 0..nv {
+        let r = parts.find(v as u32) as usize;
+        if index[v] != usize::MAX && !anchored[r] {
+            rhs[index[v]] -= part_sum[r].0 / part_sum[r].1 as f64;
+        }
+    }
     let mean_diagonal = diagonal.iter().sum::<f64>() / n as f64;
     for (i, d) in diagonal.iter().enumerate() {
         triplets.push((i, i, d + 1e-9 * mean_diagonal.max(1e-300)));
@@ -133,11 +161,18 @@ pub fn cone_metric_factor(
 /// Σ A/S² is unchanged, with the factor against S(f) kept within
 /// [1/limit, limit] (`limit` ≤ 1: no bound).
 pub fn conformal_sizing(mesh: &TriMesh, face_sizing: &[f64], phi: &[f64], limit: f64) -> Vec<f64> {
-    let mut factor: Vec<f64> = mesh
+    // φ per face, less its mean (the constant is the normalisation's; an
+    // offset would only overflow the exponential).
+    let face_phi: Vec<f64> = mesh
         .triangles
         .iter()
-        .map(|t| (-(t.iter().map(|&v| phi[v as usize]).sum::<f64>() / 3.0)).exp())
+        .map(|t| t.iter().map(|&v| phi[v as usize]).sum::<f64>() / 3.0)
         .collect();
+    let mean = face_phi.iter().sum::<f64>() / face_phi.len().max(1) as f64;
+    let mut factor: Vec<f64> = face_phi.iter().map(|p| (mean - p).exp()).collect();
+    if factor.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
+        return face_sizing.to_vec();
+    }
     let valid: Vec<usize> = (0..mesh.triangles.len())
         .filter(|&f| face_sizing[f] > 0.0 && face_sizing[f].is_finite())
         .collect();
@@ -272,6 +307,32 @@ mod tests {
             .fold(0.0, f64::max);
         // ln ρ itself spans ln(2.7 / 1.3) = 0.73.
         assert!(spread < 0.02, "φ + ln ρ varies by {spread}");
+    }
+
+    /// Cones that do not sum to the Euler characteristic (a cross field
+    /// on filtered planes can give that) leave L φ = K̂ − K without a
+    /// solution on a closed surface; the excess is spread over the part and
+    /// φ stays bounded: on the torus with one +¼ cone, φ is the torus'
+    /// −ln ρ plus a bounded bump, not the solve's runaway constant.
+    #[test]
+    fn cones_off_the_euler_characteristic_leave_phi_bounded() {
+        let mesh = torus(2.0, 0.7, 96, 40);
+        let phi = factor(
+            &mesh,
+            &[Cone {
+                vertex: 0,
+                quarters: 1,
+            }],
+        );
+        let (lo, hi) = phi
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(
+            hi - lo < 3.0 && lo.abs().max(hi.abs()) < 10.0,
+            "φ spans {lo} … {hi}"
+        );
+        let s = conformal_sizing(&mesh, &vec![0.1; mesh.triangles.len()], &phi, 0.0);
+        assert!(s.iter().all(|x| x.is_finite() && *x > 0.0));
     }
 
     #[test]
