@@ -1135,8 +1135,9 @@ fn unfold(
 /// the other through shared faces (a straight crossing costs 1, a turn 3,
 /// since it adds a valence-3 and a valence-5 vertex); every edge on it
 /// gets its midpoint, so each rim gains a vertex and both rings become
-/// even. Pairs are taken nearest first (by path cost); an odd hole
-/// without a partner stays open and is counted in
+/// even. The first odd hole left pairs with the one its cheapest path
+/// reaches, until fewer than two are left; an odd hole without a partner
+/// (or whose path would cross a face twice) stays open and is counted in
 /// `QexReport::holes_left_open`. A hole left open on a closed input is a
 /// hole in the output where the input has none, which is why both are
 /// filled rather than left.
