@@ -101,7 +101,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("remesh.feature_curve_degrees", 0.0, 180.0, "Global mode: sharp edges whose face normals differ by more than this lie on integer isolines (feature curves, Bommes et al. 2009 §4); 0 turns them off."),
         int("remesh.stiffening", 0.0, 20.0, "Global mode: MIQ's stiffening re-solves after the rounding (faces flipped against an unflipped cross weigh more); 0 turns it off."),
         num("remesh.conformal_scale", 0.0, 10.0, "Global mode: the map's target edge follows the conformal scale of the flat metric whose only curvature is the cross field's cones (square quads away from them), within this factor of the sizing; 0 turns it off."),
-        flag("remesh.count_correction", "Global mode: when the quads' vertex count is more than 10 % off the target, compute the map again (up to twice) for a target from the power law through the last two counts and keep the closest result."),
+        flag("remesh.count_correction", "Global mode: when the quads' vertex count is more than 10 % off the target, compute the map again (up to four times) for a target from the power law through the last two counts and keep the closest result."),
         // analysis
         choice("analysis.normal_weighting", &["angle", "area"], "How incident faces are weighted in a vertex normal."),
         choice("analysis.curvature.estimator", &["cubic_fit", "discrete_sums"], "Curvature estimator: cubic surface fit (Goldfeather & Interrante) or the faster discrete sums (Dong & Wang)."),
