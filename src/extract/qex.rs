@@ -1147,9 +1147,9 @@ fn pair_odd_holes(
     rings: &mut [Vec<u32>],
     report: &mut QexReport,
 ) {
+    use crate::mesh::edge_key as key;
     use std::cmp::Reverse;
     use std::collections::{BinaryHeap, HashMap};
-    let key = |a: u32, b: u32| (a.min(b), a.max(b));
     loop {
         let odd: Vec<usize> = (0..rings.len())
             .filter(|&r| rings[r].len() % 2 == 1)
@@ -1159,15 +1159,7 @@ fn pair_odd_holes(
             return;
         }
         // Faces per edge, and each odd rim edge's ring.
-        let mut edge_faces: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-        for (fi, f) in faces.iter().enumerate() {
-            for i in 0..f.len() {
-                edge_faces
-                    .entry(key(f[i], f[(i + 1) % f.len()]))
-                    .or_default()
-                    .push(fi);
-            }
-        }
+        let edge_faces = crate::mesh::edge_faces(faces);
         let mut rim: HashMap<(u32, u32), usize> = HashMap::new();
         for &r in &odd {
             let ring = &rings[r];
@@ -1352,17 +1344,7 @@ fn fill_extraction_holes(
     for f in &faces {
         list.push(f);
     }
-    let edges: std::collections::HashSet<(u32, u32)> = faces
-        .iter()
-        .flat_map(|f| {
-            (0..f.len()).map(|i| {
-                (
-                    f[i].min(f[(i + 1) % f.len()]),
-                    f[i].max(f[(i + 1) % f.len()]),
-                )
-            })
-        })
-        .collect();
+    let edges = crate::mesh::edge_faces(&faces);
     let (mut quads, mut added, mut filled) = (0, 0, 0);
     for ring in &rings {
         let n = ring.len();
@@ -1371,7 +1353,7 @@ fn fill_extraction_holes(
         } else if n <= 16 {
             let pos = &positions;
             super::faces::best_quadrangulation(ring, &mut |q: [u32; 4]| {
-                let chord = |a: u32, b: u32| edges.contains(&(a.min(b), a.max(b)));
+                let chord = |a: u32, b: u32| edges.contains_key(&crate::mesh::edge_key(a, b));
                 // A quad's chords are its edges between non-consecutive
                 // ring corners; consecutive ones are boundary edges.
                 let consecutive = |a: u32, b: u32| {

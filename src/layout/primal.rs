@@ -270,7 +270,8 @@ impl QuadLayout {
         let on_boundary = crate::mesh::boundary_vertices(mesh);
         let (seeds, loop_seeds) = region_seeds(mesh, loops, regions, &on_boundary);
         // Turning of the mesh boundary at each boundary vertex: π − Σ angles.
-        let turning: Vec<f64> = super::regions::angle_defects(mesh)
+        let turning: Vec<f64> = mesh
+            .angle_defects()
             .iter()
             .map(|d| d - std::f64::consts::PI)
             .collect();

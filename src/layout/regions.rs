@@ -52,7 +52,7 @@
 //! - Meshes are assumed consistently oriented (left/right of a loop).
 
 use std::collections::HashMap;
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
@@ -596,24 +596,6 @@ fn faces_edge_count(faces: &[FacePieces], f: u32, k: usize) -> u32 {
     (hi - lo) as u32
 }
 
-/// Angle defect 2π − Σ corner angles of every vertex (boundary vertices
-/// included; callers skip them).
-pub(crate) fn angle_defects(mesh: &TriMesh) -> Vec<f64> {
-    let mut defect = vec![TAU; mesh.positions.len()];
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            let p = mesh.positions[t[k] as usize];
-            let u = mesh.positions[t[(k + 1) % 3] as usize] - p;
-            let v = mesh.positions[t[(k + 2) % 3] as usize] - p;
-            let angle = u.angle_between(v);
-            if angle.is_finite() {
-                defect[t[k] as usize] -= angle;
-            }
-        }
-    }
-    defect
-}
-
 /// Pronounced Gaussian-curvature extrema (see the module doc): interior
 /// mesh vertices with the sign (±1) of the curvature around them.
 pub fn curvature_extrema(mesh: &TriMesh, defects: &[f64], on_boundary: &[bool]) -> Vec<(u32, i32)> {
@@ -704,7 +686,7 @@ impl Regions {
         let nr = arr.region_count;
 
         // Vertices: region, interior count, curvature.
-        let defects = angle_defects(mesh);
+        let defects = mesh.angle_defects();
         let mut vertex_region = vec![u32::MAX; mesh.positions.len()];
         for (f, t) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {

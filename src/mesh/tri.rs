@@ -89,6 +89,25 @@ impl TriMesh {
         FaceList::from_triangles(&self.triangles)
     }
 
+    /// Angle defect 2π − Σ corner angles of every vertex, the discrete
+    /// Gaussian curvature (boundary vertices included: π minus it is the
+    /// boundary's turning there).
+    pub fn angle_defects(&self) -> Vec<f64> {
+        let mut defect = vec![std::f64::consts::TAU; self.positions.len()];
+        for t in &self.triangles {
+            for k in 0..3 {
+                let p = self.positions[t[k] as usize];
+                let u = self.positions[t[(k + 1) % 3] as usize] - p;
+                let v = self.positions[t[(k + 2) % 3] as usize] - p;
+                let angle = u.angle_between(v);
+                if angle.is_finite() {
+                    defect[t[k] as usize] -= angle;
+                }
+            }
+        }
+        defect
+    }
+
     pub fn topology(&self) -> Topology {
         Topology::of(self.positions.len(), &self.face_list())
     }

@@ -62,18 +62,10 @@ pub fn cone_metric_factor(
     for t in &mesh.triangles {
         let p = t.map(|v| mesh.positions[v as usize]);
         for k in 0..3 {
-            let (a, b, c) = (
-                t[k] as usize,
-                t[(k + 1) % 3] as usize,
-                t[(k + 2) % 3] as usize,
-            );
+            let (b, c) = (t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
             let u = p[(k + 1) % 3] - p[k];
             let w = p[(k + 2) % 3] - p[k];
-            let angle = u.angle_between(w);
-            if index[a] != usize::MAX && angle.is_finite() {
-                rhs[index[a]] += angle;
-            }
-            // The corner at a weighs the edge (b, c) opposite it, clamped
+            // The corner at t[k] weighs the edge (b, c) opposite it, clamped
             // to [1e-6, 1e6]: a degenerate corner's huge weight or an
             // obtuse one's negative weight could leave L ill-conditioned or
             // indefinite (so on obtuse triangles this is not the exact
@@ -93,10 +85,9 @@ pub fn cone_metric_factor(
             }
         }
     }
-    for v in 0..nv {
+    for (v, k) in mesh.angle_defects().into_iter().enumerate() {
         if index[v] != usize::MAX {
-            // Σ corner angles − 2π = −K.
-            rhs[index[v]] -= std::f64::consts::TAU;
+            rhs[index[v]] -= k;
         }
     }
     for cone in cones {
