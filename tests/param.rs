@@ -580,6 +580,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
         feature_edges: &[],
         face_sizing: &[],
         snap_distance: 0.0,
+        log_size: &[],
     })
     .expect("a cross field");
     let principal_field = param::cross_field_of(&mesh, &prepared, &params).expect("a cross field");
@@ -907,5 +908,105 @@ fn the_conformal_scale_lowers_the_shear_on_real_meshes() {
         assert!(with.shear_degrees < without.shear_degrees, "{name}");
         // The cones are the field's either way.
         assert_eq!(with.cones, without.cones, "{name}");
+    }
+}
+
+/// The cross field's sizing transport (`CrossFieldInput::log_size`): a
+/// torus of revolution with the sizing S = ρ (the distance from its axis)
+/// is the conformal image of a flat rectangle (its isothermal coordinates
+/// are the angle about the axis and ∫ r dβ / ρ), so in the sizing's metric
+/// S^{−2}g it is flat and the parallels-and-meridians field is parallel:
+/// E_smooth ≈ 0. Without the sizing the same field turns (the parallels
+/// have geodesic curvature), and with the opposite sign (S = 1/ρ) the
+/// curvature doubles.
+#[test]
+fn a_torus_is_flat_in_the_metric_of_the_sizing_rho() {
+    use quadrille::param::cross_field::{CrossFieldInput, cross_field};
+    let mesh = torus(2.0, 0.7, 90, 36);
+    let mut params = uniform(400);
+    params.filtered_normals = false;
+    let prepared = param::prepare(&mesh, &params);
+    let rho: Vec<f64> = mesh
+        .positions
+        .iter()
+        .map(|p| (p.x * p.x + p.y * p.y).sqrt().ln())
+        .collect();
+    let minus_rho: Vec<f64> = rho.iter().map(|x| -x).collect();
+    let energy = |log_size: &[f64]| {
+        let f = cross_field(&CrossFieldInput {
+            mesh: &mesh,
+            topology: &prepared.topology,
+            fans: &prepared.fans,
+            normals: &prepared.normals,
+            constraints: &[],
+            soft_constraints: &[],
+            soft_weight: 0.0,
+            feature_edges: &[],
+            face_sizing: &[],
+            snap_distance: 0.0,
+            log_size,
+        })
+        .expect("a cross field");
+        assert!(f.index_residual < 1e-6);
+        (f.energy, f.cones.len())
+    };
+    let (with, without, opposite) = (energy(&rho), energy(&[]), energy(&minus_rho));
+    println!(
+        "torus E_smooth (cones): S = ρ {:.3e} ({}), uniform {:.3e} ({}), S = 1/ρ {:.3e} ({})",
+        with.0, with.1, without.0, without.1, opposite.0, opposite.1
+    );
+    assert_eq!(with.1, 0, "no cones in a flat metric");
+    assert!(with.0 < 0.05 * without.0, "the sizing's metric is flat");
+    assert!(
+        opposite.0 > 2.0 * without.0,
+        "the opposite sign doubles the turning"
+    );
+}
+
+/// With a graded sizing (the thesis' osculating-error lengths), the map
+/// either shears into it (the cross field smoothest in the surface's own
+/// metric, `log_size` None: the behaviour before the sizing transport,
+/// here with the same smoothed S(f)) or
+/// gets the cones that make it a conformal scale (the field smoothest in
+/// the sizing's metric). Campen §5's shear measures which.
+#[test]
+fn a_graded_sizing_gets_cones_instead_of_shear() {
+    use quadrille::analysis::smooth_regions::face_curvatures;
+    for (name, vertices) in [("fandisk.obj", 1600), ("rocker-arm.obj", 2400)] {
+        let mesh = common::mesh(name);
+        let mut params = Params::default();
+        params.sizing.method = EdgeLengthMethod::OsculatingError;
+        params.sizing.target_vertex_count = Some(vertices);
+        let curvature = |p: &param::Prepared| face_curvatures(&mesh, &p.analysis.curvature);
+        let measure = |p: &param::Prepared| {
+            let f = param::cross_field_of(&mesh, p, &params).expect("a cross field");
+            let m = param::grid_map_of(&mesh, p, &f, &params).expect("a map");
+            (
+                param::measures::measures(&mesh, &m, &p.face_sizing, &curvature(p)),
+                f.cones.len(),
+            )
+        };
+        let graded = param::prepare(&mesh, &params);
+        assert!(graded.log_size.is_some(), "{name}: the sizing is graded");
+        let (with, cones_with) = measure(&graded);
+        let mut plain = param::prepare(&mesh, &params);
+        plain.log_size = None;
+        let (without, cones_without) = measure(&plain);
+        println!(
+            "{name}: shear {:.2}° → {:.2}°, stretch {:.3} → {:.3}, cones {} → {}, flips {} → {}",
+            without.shear_degrees,
+            with.shear_degrees,
+            without.stretch,
+            with.stretch,
+            cones_without,
+            cones_with,
+            without.flipped_triangles,
+            with.flipped_triangles
+        );
+        assert!(with.shear_degrees < 0.6 * without.shear_degrees, "{name}");
+        assert!(
+            cones_with > cones_without,
+            "{name}: the size steps cost cones"
+        );
     }
 }

@@ -20,6 +20,16 @@
 //! ones, and square quads (no shear) wherever the map follows the metric.
 //! The mean density is kept (Σ A/S² unchanged), so the vertex count is.
 //!
+//! A graded sizing S (the thesis' curvature-adaptive field) is a metric of
+//! its own, S^{−2}g, and the map's metric is that one times e^{2φ}: with
+//! u = φ − ln S flat off the cones, L u = K̂ − K, i.e.
+//! L φ = K̂ − K + L ln S and the target edge S · e^{−φ}. On a closed part
+//! the result depends on S only through the cones: a size change costs
+//! cones, which is why the cross field is computed in the sizing's metric
+//! (its transport turns by the harmonic conjugate of ln S, see
+//! [`super::cross_field`]), so that its cones are where the sizing asks
+//! for them. With one S everywhere L ln S = 0.
+//!
 //! Boundary vertices keep φ = 0 (their boundary's turning is not
 //! prescribed), so the map meets the target there.
 
@@ -35,6 +45,7 @@ pub fn cone_metric_factor(
     mesh: &TriMesh,
     fans: &[Option<Fan>],
     cones: &[Cone],
+    log_size: &[f64],
 ) -> Option<Vec<f64>> {
     let nv = mesh.positions.len();
     let interior: Vec<bool> = (0..nv)
@@ -59,20 +70,11 @@ pub fn cone_metric_factor(
     let mut rhs = vec![0.0; n];
     let mut diagonal = vec![0.0; n];
     let mut triplets = Vec::with_capacity(4 * mesh.triangles.len());
-    for t in &mesh.triangles {
-        let p = t.map(|v| mesh.positions[v as usize]);
-        for k in 0..3 {
-            let (b, c) = (t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
-            let u = p[(k + 1) % 3] - p[k];
-            let w = p[(k + 2) % 3] - p[k];
-            // The corner at t[k] weighs the edge (b, c) opposite it, clamped
-            // to [1e-6, 1e6]: a degenerate corner's huge weight or an
-            // obtuse one's negative weight could leave L ill-conditioned or
-            // indefinite (so on obtuse triangles this is not the exact
-            // cotangent Laplacian; the disc and torus tests below measure
-            // the result against the analytic φ).
-            let cot = (u.dot(w) / u.cross(w).length().max(1e-300)).clamp(1e-6, 1e6);
-            let weight = 0.5 * cot;
+    let half_cot = half_cotangents(mesh);
+    for (t, h) in mesh.triangles.iter().zip(&half_cot) {
+        for e in 0..3 {
+            let (b, c) = (t[e] as usize, t[(e + 1) % 3] as usize);
+            let weight = h[e];
             let (ib, ic) = (index[b], index[c]);
             if ib != usize::MAX {
                 diagonal[ib] += weight;
@@ -82,6 +84,15 @@ pub fn cone_metric_factor(
             }
             if ib != usize::MAX && ic != usize::MAX {
                 triplets.push((ib.max(ic), ib.min(ic), -weight));
+            }
+            // + L ln S: the sizing's own curvature (see the module doc).
+            if let (Some(&sb), Some(&sc)) = (log_size.get(b), log_size.get(c)) {
+                if ib != usize::MAX {
+                    rhs[ib] += weight * (sb - sc);
+                }
+                if ic != usize::MAX {
+                    rhs[ic] += weight * (sc - sb);
+                }
             }
         }
     }
@@ -148,6 +159,97 @@ pub fn cone_metric_factor(
     )
 }
 
+/// Per face and local edge e (from corner e to corner e + 1): half the
+/// cotangent of the angle opposite it, clamped to [1e-6, 1e6]: a
+/// degenerate corner's huge weight or an obtuse one's negative weight could
+/// leave L ill-conditioned or indefinite (so on obtuse triangles this is
+/// not the exact cotangent Laplacian; the disc and torus tests below
+/// measure the result against the analytic φ). The weight of an interior
+/// edge in L is the sum over its two faces; the cross field's sizing
+/// transport uses the same weights, so that its holonomy is this L's.
+pub fn half_cotangents(mesh: &TriMesh) -> Vec<[f64; 3]> {
+    mesh.triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| mesh.positions[v as usize]);
+            std::array::from_fn(|e| {
+                let k = (e + 2) % 3;
+                let u = p[(k + 1) % 3] - p[k];
+                let w = p[(k + 2) % 3] - p[k];
+                0.5 * (u.dot(w) / u.cross(w).length().max(1e-300)).clamp(1e-6, 1e6)
+            })
+        })
+        .collect()
+}
+
+/// ln S per vertex at the target scale: one implicit heat step
+/// (M + t L) x = M ln S with the lumped areas M, the clamped cotangent L and
+/// t = S̄²/2 (S̄ the area-weighted mean of S, so σ = S̄), or None when S is
+/// one length everywhere (the map needs no sizing metric then) or the solve
+/// fails.
+///
+/// Why: every unit of ∮ ∂ln S/∂n around a region is a radian of cones
+/// inside it (see the module doc). The thesis' sizing follows the
+/// per-vertex curvature, whose steps over an input edge asked rocker-arm
+/// at 2,500 vertices for 872 cones; variations shorter than a target edge
+/// cannot be meshed anyway.
+pub fn log_size_at_target_scale(mesh: &TriMesh, vertex_sizing: &[f64]) -> Option<Vec<f64>> {
+    let nv = mesh.positions.len();
+    if vertex_sizing.len() != nv {
+        return None;
+    }
+    let ln: Vec<f64> = vertex_sizing
+        .iter()
+        .map(|&s| {
+            if s > 0.0 && s.is_finite() {
+                s.ln()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let used: Vec<f64> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|v| ln[v as usize]))
+        .collect();
+    if used.iter().all(|&x| x == used[0]) {
+        return None;
+    }
+    let mut mass = vec![0.0; nv];
+    let (mut area, mut weighted) = (0.0, 0.0);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let a = mesh.face_area(f);
+        let s = t.iter().map(|&v| vertex_sizing[v as usize]).sum::<f64>() / 3.0;
+        area += a;
+        weighted += a * s;
+        for &v in t {
+            mass[v as usize] += a / 3.0;
+        }
+    }
+    let mean_s = weighted / area.max(1e-300);
+    let t = 0.5 * mean_s * mean_s;
+    let mut triplets = Vec::with_capacity(4 * mesh.triangles.len() + nv);
+    for (tri, h) in mesh.triangles.iter().zip(half_cotangents(mesh)) {
+        for e in 0..3 {
+            let (a, b) = (tri[e] as usize, tri[(e + 1) % 3] as usize);
+            let w = t * h[e];
+            triplets.push((a, a, w));
+            triplets.push((b, b, w));
+            triplets.push((a.max(b), a.min(b), -w));
+        }
+    }
+    // Unreferenced vertices get a unit row and keep their value.
+    let mut rhs = vec![0.0; nv];
+    for v in 0..nv {
+        let m = if mass[v] > 0.0 { mass[v] } else { 1.0 };
+        triplets.push((v, v, m));
+        rhs[v] = m * ln[v];
+    }
+    let x = solve_spd(nv, &triplets, &[rhs])?.pop()?;
+    x.iter().all(|x| x.is_finite()).then_some(x)
+}
+
 /// S(f) · e^{−φ(f)} (φ averaged over the face's corners), scaled so that
 /// Σ A/S² is unchanged, with the factor against S(f) kept within
 /// [1/limit, limit] (`limit` ≤ 1: no bound).
@@ -207,7 +309,7 @@ mod tests {
 
     fn factor(mesh: &TriMesh, cones: &[Cone]) -> Vec<f64> {
         let fans = vertex_fans(mesh, &EdgeTopology::new(mesh));
-        cone_metric_factor(mesh, &fans, cones).expect("a solve")
+        cone_metric_factor(mesh, &fans, cones, &[]).expect("a solve")
     }
 
     /// The unit disc in polar rings (vertex 0 at the centre).

@@ -87,6 +87,10 @@ pub struct CrossFieldInput<'a> {
     /// nearest vertex of them (`snap_cones`; empty or 0: none moves).
     pub face_sizing: &'a [f64],
     pub snap_distance: f64,
+    /// ln S per vertex, the sizing's log target edge (empty: one S
+    /// everywhere). The field is smoothest in the sizing's metric S^{−2}g:
+    /// see [`sizing_transport`].
+    pub log_size: &'a [f64],
 }
 
 /// A cone: an interior vertex with nonzero index.
@@ -186,6 +190,41 @@ fn transition_angles(input: &CrossFieldInput<'_>, reference: &[DVec3]) -> Vec<[f
         }
     }
     kappa
+}
+
+/// The sizing's turn of the transport across each interior edge (None
+/// when ln S is constant or absent).
+///
+/// A map whose unit is S(x) and whose isolines follow the cross at θ is
+/// conformal exactly when ln S + iθ is holomorphic (its derivative is
+/// e^{−ln S − iθ} in a local frame), i.e. ∇θ = J∇ln S (Cauchy–Riemann; J
+/// the quarter turn about n̂). Across the edge a → b of face f (counter-
+/// clockwise in f) the dual edge runs ⊥ to it, to the right, so the cross
+/// turns by −(ln S_b − ln S_a) · |dual| / |edge| = −w_ab (ln S_b − ln S_a),
+/// w the cotangent weight of [`super::conformal::half_cotangents`]. Around
+/// a vertex these sum to −(L ln S)(v): the transport is the Levi-Civita
+/// one of S^{−2}g, whose curvature is K − L ln S, so the field's cones
+/// gather where the sizing changes (a cone pair where the size steps
+/// down) and [`super::conformal::cone_metric_factor`] gets the sizing it
+/// is asked for instead of shearing the map into it. The cones' indices
+/// are those of the true transport (the κ without this turn), whose
+/// holonomy differs from the sizing metric's by exactly this sum.
+fn sizing_transport(input: &CrossFieldInput<'_>) -> Option<Vec<[f64; 3]>> {
+    let (mesh, top, ln_s) = (input.mesh, input.topology, input.log_size);
+    if ln_s.len() != mesh.positions.len() || ln_s.iter().all(|&x| x == ln_s[0]) {
+        return None;
+    }
+    let h = super::conformal::half_cotangents(mesh);
+    let mut turn = vec![[0.0; 3]; mesh.triangles.len()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            if let Some((g, ge)) = top.across(f, e) {
+                let (a, b) = (t[e] as usize, t[(e + 1) % 3] as usize);
+                turn[f][e] = -(h[f][e] + h[g][ge]) * (ln_s[b] - ln_s[a]);
+            }
+        }
+    }
+    Some(turn)
 }
 
 /// Dual-edge weights |e| / |c_f − c_g| (normalised to mean 1) and face
@@ -931,6 +970,16 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     let normals = input.normals.to_vec();
     let reference = reference_directions(input.mesh, &normals);
     let kappa = transition_angles(input, &reference);
+    // The solve's transport: κ turned by the sizing (the cones, the
+    // feature sectors and the output keep the true κ).
+    let solve_kappa = match sizing_transport(input) {
+        Some(turn) => kappa
+            .iter()
+            .zip(&turn)
+            .map(|(k, t)| std::array::from_fn(|e| k[e] + t[e]))
+            .collect(),
+        None => kappa.clone(),
+    };
     let angle = |c: &[Option<DVec3>], f: usize| {
         let d = c.get(f).copied().flatten()?;
         let d = d.reject_from_normalized(normals[f]);
@@ -948,7 +997,7 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
     let (weight, mass) = dual_weights(input.mesh, input.topology);
     let r = Relaxation {
         topology: input.topology,
-        kappa: &kappa,
+        kappa: &solve_kappa,
         fixed: &fixed,
         soft: &soft,
         soft_weight,
@@ -979,7 +1028,7 @@ pub fn cross_field(input: &CrossFieldInput<'_>) -> Option<CrossField> {
                 None => angles.insert(AngleSystem::new(&r, theta, (&system.var, &system.pattern))?),
             };
             let (theta, p) = round_and_resolve(&r, angles, &sectors, theta.clone())?;
-            let energy = smoothness_energy(input.topology, &kappa, &p, &theta);
+            let energy = smoothness_energy(input.topology, &solve_kappa, &p, &theta);
             if best.as_ref().is_none_or(|b| energy < b.0) {
                 best = Some((energy, theta, p));
             }

@@ -323,6 +323,10 @@ pub enum ParamError {
     Empty,
     #[error("the {0} solve failed (singular or non-finite system)")]
     Solve(&'static str),
+    #[error(
+        "the integer rounding's system is too large ({0} integer variables; the cross field has {1} cones): too many singularities for a seamless map; a smoother sizing field or a lower target vertex count has fewer"
+    )]
+    TooManyIntegers(usize, usize),
     #[error("cancelled")]
     Cancelled,
 }
@@ -345,6 +349,10 @@ pub struct Prepared {
     pub regions: Option<SmoothRegions>,
     /// Per face edge: on a feature curve (see [`Params::feature_curve_degrees`]).
     pub feature_edges: Vec<[bool; 3]>,
+    /// ln S per vertex at the target scale
+    /// ([`conformal::log_size_at_target_scale`]); None when the sizing is
+    /// one length (the default), and S(f) above is then its exponential.
+    pub log_size: Option<Vec<f64>>,
 }
 
 /// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
@@ -360,7 +368,31 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
     let mut analysis = analysis::analyze(mesh, &ap, &params.sizing);
     let target = crate::pipeline::target_vertex_count(mesh.vertex_count(), &params.sizing);
     crate::pipeline::calibrate_to_vertex_count(&mut analysis, target);
-    let face_sizing = face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0);
+    let log_size = conformal::log_size_at_target_scale(mesh, &analysis.sizing.edge_length);
+    let face_sizing = match &log_size {
+        // S(f) from the smoothed ln S, with the calibrated Σ A/S².
+        Some(ln) => {
+            let raw = face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0);
+            let mut s: Vec<f64> = mesh
+                .triangles
+                .iter()
+                .map(|t| (t.iter().map(|&v| ln[v as usize]).sum::<f64>() / 3.0).exp())
+                .collect();
+            let density = |s: &[f64]| {
+                (0..s.len())
+                    .map(|f| mesh.face_area(f) / (s[f] * s[f]))
+                    .sum::<f64>()
+            };
+            let c = (density(&s) / density(&raw)).sqrt();
+            if c.is_finite() && c > 0.0 {
+                s.iter_mut().for_each(|x| *x *= c);
+                s
+            } else {
+                raw
+            }
+        }
+        None => face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0),
+    };
     let filtering = clock();
     let normals = if params.filtered_normals {
         let sigma: Vec<f64> = face_sizing
@@ -407,6 +439,7 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         fans,
         regions,
         feature_edges,
+        log_size,
     };
     (prepared, filtered_ms)
 }
@@ -767,6 +800,7 @@ pub fn cross_field_of(
         } else {
             0.0
         },
+        log_size: p.log_size.as_deref().unwrap_or(&[]),
     })
     .ok_or(ParamError::Solve("cross field"))
 }
@@ -814,7 +848,10 @@ fn grid_map_with_progress(
     });
     let loops = cyclic_loops(p, params);
     let conformal = (params.conformal_scale > 0.0)
-        .then(|| conformal::cone_metric_factor(mesh, &p.fans, &field.cones))
+        .then(|| {
+            let log_size = p.log_size.as_deref().unwrap_or(&[]);
+            conformal::cone_metric_factor(mesh, &p.fans, &field.cones, log_size)
+        })
         .flatten()
         .map(|phi| conformal::conformal_sizing(mesh, &p.face_sizing, &phi, params.conformal_scale));
     let input = MapInput {
@@ -831,6 +868,7 @@ fn grid_map_with_progress(
     };
     seamless::grid_map_timed(&input, clock, go_on).map_err(|e| match e {
         seamless::MapStop::Solve => ParamError::Solve("parametrization"),
+        seamless::MapStop::TooManyIntegers(n) => ParamError::TooManyIntegers(n, field.cones.len()),
         seamless::MapStop::Cancelled => ParamError::Cancelled,
     })
 }

@@ -538,6 +538,17 @@ const BLOCK: usize = 32;
 /// solution not finite).
 const SHIFTS: [f64; 3] = [0.0, 1e-10, 1e-7];
 
+/// The most integer variables (cone positions and seam translations after
+/// elimination) the rounding's dense Schur complement is built for: 4096²
+/// doubles are 128 MiB.
+pub const MAX_INTEGER_VARIABLES: usize = 4096;
+/// Entries of the condensed normal equations allowed beyond 32 per
+/// variable (32 M: 768 MiB of triplets). The shared meshes need under 35
+/// per variable (the bunny 2.2 M for 69 k); rocker-arm with a thousand
+/// cones needed billions (rows through long seams reduce to a term per
+/// cone, and a row's terms enter squared).
+const EXTRA_TRIPLETS: usize = 32 << 20;
+
 impl Condensed {
     /// The condensed system of the rows under the eliminator's
     /// constraints, Z the free variables the `integer` quantities reduce
@@ -568,6 +579,13 @@ impl Condensed {
             }
         }
         let (nf, nz) = (f_vars.len(), z_vars.len());
+        // S below is dense: nz² doubles and an nz³ factorization. The shared
+        // meshes need at most about 200 (two per cone and per seam); a field
+        // with thousands of cones (a noisy sizing, see the cross field's
+        // sizing transport) would take gigabytes, so it stops here instead.
+        if nz > MAX_INTEGER_VARIABLES {
+            return Err(MapStop::TooManyIntegers(nz));
+        }
         // The normal equations in the index space F, then Z.
         let mut eq = NormalEquations::new(nf + nz);
         let mut compact = Vec::new();
@@ -583,6 +601,11 @@ impl Condensed {
                 (k, c)
             }));
             eq.row(1.0, &compact, target - e.constant);
+            // A row through a seam between many cones reduces to a term
+            // per cone: its square in the normal equations grows fast.
+            if eq.triplets.len() > 32 * (nf + nz) + EXTRA_TRIPLETS {
+                return Err(MapStop::TooManyIntegers(nz));
+            }
         }
         let mut ff: Vec<(usize, usize, f64)> = Vec::with_capacity(eq.triplets.len() + nf);
         let mut k_fz = vec![Vec::new(); nz];
@@ -918,6 +941,9 @@ fn energy_at(rows: &[(Vec<(usize, f64)>, f64)], x: &[f64]) -> f64 {
 pub enum MapStop {
     /// A solve failed (singular or non-finite system).
     Solve,
+    /// The integer rounding would need more than [`MAX_INTEGER_VARIABLES`]
+    /// free integer variables (this many).
+    TooManyIntegers(usize),
     /// The progress callback asked to stop.
     Cancelled,
 }
