@@ -597,6 +597,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
                 batch_fraction: 0.5,
                 region_alignment: None,
                 feature_edges: &prepared.feature_edges,
+                boundary_tangents: &[],
                 cyclic_loops: used,
                 stiffening: 0,
             })
@@ -1009,4 +1010,58 @@ fn a_graded_sizing_gets_cones_instead_of_shear() {
             "{name}: the size steps cost cones"
         );
     }
+}
+
+/// A square sheet with a pixelated round hole (the cells of a 48 × 48 grid
+/// within radius 13 of the centre removed): the hole's boundary is a
+/// staircase of unit steps, a scan's boundary in miniature. At a target
+/// edge of about four cells, aligning the map with each step (the edges'
+/// own directions) makes every step a corner on an isoline of its own;
+/// aligned with the boundary's tangent at the target scale the steps are
+/// one side and the map folds less.
+#[test]
+fn a_staircase_hole_is_aligned_at_the_target_scale() {
+    let n = 48usize;
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push(DVec3::new(i as f64, j as f64, 0.0));
+        }
+    }
+    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (i as f64 + 0.5 - 24.0, j as f64 + 0.5 - 24.0);
+            if x * x + y * y < 13.0 * 13.0 {
+                continue;
+            }
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let mesh = TriMesh::new(positions, triangles).expect("a mesh");
+    let params = uniform(120);
+    let measure = |p: &param::Prepared| {
+        let f = param::cross_field_of(&mesh, p, &params).expect("a cross field");
+        let m = param::grid_map_of(&mesh, p, &f, &params).expect("a map");
+        let flipped = (0..mesh.triangles.len())
+            .filter(|&t| {
+                let [a, b, c] = m.uv[t];
+                (b - a).perp_dot(c - a) <= 0.0
+            })
+            .count();
+        (flipped, f.cones.len())
+    };
+    let scaled = param::prepare(&mesh, &params);
+    let mut per_edge = param::prepare(&mesh, &params);
+    per_edge
+        .boundary_tangents
+        .iter_mut()
+        .for_each(|t| *t = [None; 3]);
+    let ((flips, cones), (flips_edges, cones_edges)) = (measure(&scaled), measure(&per_edge));
+    println!(
+        "staircase hole: flipped or degenerate triangles {flips_edges} → {flips}, cones {cones_edges} → {cones}"
+    );
+    assert!(flips * 2 <= flips_edges, "{flips} vs {flips_edges}");
 }

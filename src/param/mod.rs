@@ -19,6 +19,7 @@
 //! Parameter units: one unit is one target edge of the calibrated sizing
 //! field (the same calibration as the local path's).
 
+pub mod boundary;
 pub mod conformal;
 pub mod constraints;
 pub mod cross_field;
@@ -353,6 +354,11 @@ pub struct Prepared {
     /// ([`conformal::log_size_at_target_scale`]); None when the sizing is
     /// one length (the default), and S(f) above is then its exponential.
     pub log_size: Option<Vec<f64>>,
+    /// Per face edge: the boundary's tangent at the target scale
+    /// ([`boundary::boundary_tangents`]), which the boundary faces are
+    /// aligned with and which picks a boundary edge's isoline; `None` off
+    /// the boundary.
+    pub boundary_tangents: Vec<[Option<DVec3>; 3]>,
 }
 
 /// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
@@ -420,6 +426,7 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         .collect();
     let filtered_ms = clock() - filtering;
     let topology = EdgeTopology::new(mesh);
+    let boundary_tangents = boundary::boundary_tangents(mesh, &topology, &face_sizing);
     let fans = vertex_fans(mesh, &topology);
     let regions = matches!(params.alignment, Alignment::SmoothRegions | Alignment::Both)
         .then(|| smooth_regions(mesh, &analysis.curvature, &params.smooth_regions));
@@ -440,6 +447,7 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         regions,
         feature_edges,
         log_size,
+        boundary_tangents,
     };
     (prepared, filtered_ms)
 }
@@ -769,7 +777,9 @@ pub fn alignment_constraints(
     for (f, t) in mesh.triangles.iter().enumerate() {
         let edge = (0..3).find(|&e| p.topology.opposite[f][e] == NO_FACE || p.feature_edges[f][e]);
         if let Some(e) = edge {
-            out[f] = Some(mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]);
+            out[f] = Some(p.boundary_tangents[f][e].unwrap_or_else(|| {
+                mesh.positions[t[(e + 1) % 3] as usize] - mesh.positions[t[e] as usize]
+            }));
         }
     }
     (out, soft)
@@ -863,6 +873,7 @@ fn grid_map_with_progress(
         batch_fraction: params.batch_fraction,
         region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
         feature_edges: &p.feature_edges,
+        boundary_tangents: &p.boundary_tangents,
         cyclic_loops: &loops,
         stiffening: params.stiffening,
     };

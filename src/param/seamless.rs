@@ -124,6 +124,10 @@ pub struct MapInput<'a> {
     /// Per face edge: a feature curve, which lies on an integer isoline
     /// like the boundary (empty: none).
     pub feature_edges: &'a [[bool; 3]],
+    /// Per face edge: the boundary's tangent at the target scale, which
+    /// picks the coordinate a boundary edge keeps (empty or `None`: the
+    /// edge's own direction).
+    pub boundary_tangents: &'a [[Option<DVec3>; 3]],
     /// Campen §4.3's topology constraints: closed loops of faces
     /// (consecutive ones sharing an edge, the last sharing one with the
     /// first; the boundary loops of cyclic smooth regions) around which
@@ -294,8 +298,14 @@ fn boundary_constraints(
             if !isoline {
                 continue;
             }
-            let d =
-                input.mesh.positions[t[(e + 1) % 3] as usize] - input.mesh.positions[t[e] as usize];
+            let d = input
+                .boundary_tangents
+                .get(f)
+                .and_then(|b| b[e])
+                .unwrap_or_else(|| {
+                    input.mesh.positions[t[(e + 1) % 3] as usize]
+                        - input.mesh.positions[t[e] as usize]
+                });
             let along0 = d.dot(frames[f][0].normalize_or_zero()).abs()
                 >= d.dot(frames[f][1].normalize_or_zero()).abs();
             let comp = if along0 { 1 } else { 0 };

@@ -1,0 +1,287 @@
+//! Boundary directions at the target scale: the tangent each boundary edge
+//! is aligned with (the cross field's boundary alignment, MIQ §4–5 as in
+//! `cross_field`) and whose isoline it lies on (`seamless`'s boundary
+//! constraints).
+//!
+//! Ebke et al. 2014 (`../shared/seeds/000_…`) §3 filters the surface's
+//! normals at the target scale so that detail below a target edge does not
+//! shape the cross field; this does the same for boundaries. A scan's
+//! hole is bounded by a staircase of input edges (the bunny's bottom holes
+//! turn by ±90° every fifth of a target edge): aligned edge by edge, every
+//! step became a corner of the map, each on an integer isoline of its own,
+//! and the rounding collapsed the strips between neighbouring holes (the
+//! bunny lost the surface between three of its holes, its Hausdorff
+//! distance).
+//!
+//! Per boundary loop: at each vertex the turning T at the target scale,
+//! from the chord of the half target edge before it to the chord of the
+//! half target edge after it (about the normal of its boundary faces);
+//! corners where |T| ≥ 45° (half a quarter turn), one per run of such
+//! vertices, where |T| is largest. Between corners a side, and each edge's tangent is the chord
+//! of the side from half a target edge before the edge's midpoint to half
+//! a target edge after it (clipped at the side's corners). A loop without
+//! corners is one side that wraps round.
+
+use glam::DVec3;
+
+use super::topology::EdgeTopology;
+use crate::mesh::TriMesh;
+
+/// Per face and local edge (from corner e to e + 1): the unit tangent at
+/// the target scale of a boundary edge, oriented like the edge; `None` off
+/// the boundary.
+pub fn boundary_tangents(
+    mesh: &TriMesh,
+    topology: &EdgeTopology,
+    face_sizing: &[f64],
+) -> Vec<[Option<DVec3>; 3]> {
+    let nf = mesh.triangles.len();
+    let mut out = vec![[None; 3]; nf];
+    // Boundary edges by their start vertex.
+    let mut from: std::collections::HashMap<u32, Vec<(usize, usize)>> = Default::default();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            if topology.across(f, e).is_none() {
+                from.entry(t[e]).or_default().push((f, e));
+            }
+        }
+    }
+    let mut starts: Vec<u32> = from.keys().copied().collect();
+    starts.sort_unstable();
+    let mut done = vec![[false; 3]; nf];
+    for start in starts {
+        while let Some((f, e)) = from.get_mut(&start).and_then(Vec::pop) {
+            // Walk one loop (at a non-manifold vertex any continuation).
+            let mut edges = vec![(f, e)];
+            done[f][e] = true;
+            loop {
+                let (g, ge) = *edges.last().unwrap();
+                let tip = mesh.triangles[g][(ge + 1) % 3];
+                let Some(next) = from.get_mut(&tip).and_then(Vec::pop) else {
+                    break;
+                };
+                if done[next.0][next.1] {
+                    break;
+                }
+                done[next.0][next.1] = true;
+                edges.push(next);
+            }
+            for (k, t) in loop_tangents(mesh, &edges, face_sizing)
+                .into_iter()
+                .enumerate()
+            {
+                let (g, ge) = edges[k];
+                out[g][ge] = Some(t);
+            }
+        }
+    }
+    out
+}
+
+/// The tangents of one loop's edges (in order; the last edge may not
+/// close the loop at a non-manifold vertex, which then counts as closed).
+fn loop_tangents(mesh: &TriMesh, edges: &[(usize, usize)], face_sizing: &[f64]) -> Vec<DVec3> {
+    let m = edges.len();
+    let ends = |k: usize| {
+        let (f, e) = edges[k];
+        let t = mesh.triangles[f];
+        (
+            mesh.positions[t[e] as usize],
+            mesh.positions[t[(e + 1) % 3] as usize],
+        )
+    };
+    let dir: Vec<DVec3> = (0..m)
+        .map(|k| {
+            let (a, b) = ends(k);
+            b - a
+        })
+        .collect();
+    let len: Vec<f64> = dir.iter().map(|d| d.length()).collect();
+    let total: f64 = len.iter().sum();
+    // Arc length at each edge's start.
+    let mut arc = Vec::with_capacity(m + 1);
+    arc.push(0.0);
+    for l in &len {
+        arc.push(arc.last().unwrap() + l);
+    }
+    let size = |k: usize| {
+        let s = face_sizing.get(edges[k].0).copied().unwrap_or(0.0);
+        if s > 0.0 && s.is_finite() { s } else { total }
+    };
+    let point = |s: f64| {
+        let s = s.rem_euclid(total.max(1e-300));
+        let k = arc.partition_point(|&a| a <= s).clamp(1, m) - 1;
+        let (a, _) = ends(k);
+        a + dir[k] * ((s - arc[k]) / len[k].max(1e-300)).clamp(0.0, 1.0)
+    };
+    // The turning at the target scale at the start vertex of edge k: the
+    // angle from the chord of the half target edge before it to the chord
+    // of the half target edge after it (about its boundary faces' normal).
+    let window: Vec<f64> = (0..m)
+        .map(|k| {
+            let (f, g) = (edges[(k + m - 1) % m].0, edges[k].0);
+            let n = mesh.face_normal_unnormalized(f).normalize_or_zero()
+                + mesh.face_normal_unnormalized(g).normalize_or_zero();
+            let r = 0.5 * size(k);
+            let here = point(arc[k]);
+            let (p, q) = (here - point(arc[k] - r), point(arc[k] + r) - here);
+            n.dot(p.cross(q)).atan2(p.dot(q))
+        })
+        .collect();
+    let candidate: Vec<bool> = window
+        .iter()
+        .map(|t| t.abs() >= std::f64::consts::FRAC_PI_4)
+        .collect();
+    let mut corner = vec![false; m];
+    if candidate.iter().any(|c| !c) {
+        // Runs of candidates, starting after a non-candidate.
+        let first = (0..m).find(|&k| !candidate[k]).unwrap();
+        let mut k = 0;
+        while k < m {
+            let i = (first + k) % m;
+            if !candidate[i] {
+                k += 1;
+                continue;
+            }
+            let run: Vec<usize> = (k..m)
+                .map(|j| (first + j) % m)
+                .take_while(|&j| candidate[j])
+                .collect();
+            k += run.len();
+            let at = run
+                .iter()
+                .copied()
+                .max_by(|&a, &b| window[a].abs().total_cmp(&window[b].abs()))
+                .unwrap_or(run[0]);
+            corner[at] = true;
+        }
+    }
+    // The side of each edge: arc limits [lo, hi] between its corners
+    // (unwrapped: hi may exceed the total).
+    let corners: Vec<usize> = (0..m).filter(|&k| corner[k]).collect();
+    (0..m)
+        .map(|k| {
+            let mid = arc[k] + 0.5 * len[k];
+            let (lo, hi) = if corners.is_empty() {
+                (mid - 0.5 * total, mid + 0.5 * total)
+            } else {
+                // The last corner at or before k, the first after it.
+                let before = corners
+                    .iter()
+                    .rev()
+                    .find(|&&c| c <= k)
+                    .map_or(arc[*corners.last().unwrap()] - total, |&c| arc[c]);
+                let after = corners
+                    .iter()
+                    .find(|&&c| c > k)
+                    .map_or(arc[corners[0]] + total, |&c| arc[c]);
+                (before, after)
+            };
+            let r = 0.5 * size(k);
+            let chord = point((mid + r).min(hi)) - point((mid - r).max(lo));
+            chord
+                .try_normalize()
+                .filter(|c| c.dot(dir[k]) > 0.0)
+                .or_else(|| dir[k].try_normalize())
+                .unwrap_or(DVec3::X)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::flat_grid;
+
+    fn tangents(mesh: &TriMesh, size: f64) -> Vec<(DVec3, DVec3)> {
+        let top = EdgeTopology::new(mesh);
+        let t = boundary_tangents(mesh, &top, &vec![size; mesh.triangles.len()]);
+        let mut out = Vec::new();
+        for (f, tri) in mesh.triangles.iter().enumerate() {
+            for e in 0..3 {
+                if let Some(d) = t[f][e] {
+                    let (a, b) = (tri[e] as usize, tri[(e + 1) % 3] as usize);
+                    out.push((mesh.positions[b] - mesh.positions[a], d));
+                }
+            }
+        }
+        out
+    }
+
+    /// A square's sides keep their own directions (its corners turn by
+    /// 90° at one vertex each), whatever the target edge.
+    #[test]
+    fn a_square_keeps_its_corners() {
+        let mesh = flat_grid(1.0, 12);
+        for size in [0.05, 0.3, 0.9] {
+            let t = tangents(&mesh, size);
+            assert_eq!(t.len(), 48);
+            for (edge, d) in t {
+                assert!(
+                    (edge.normalize().dot(d) - 1.0).abs() < 1e-9,
+                    "size {size}: {edge:?} → {d:?}"
+                );
+            }
+        }
+    }
+
+    /// A staircase of steps a fifth of the target edge long lies on the
+    /// side's direction, while at a target edge below the steps each step
+    /// keeps its own.
+    #[test]
+    fn a_staircase_below_the_target_edge_is_one_side() {
+        // A 10 × 10 grid with the corner cells (i + j ≥ 14) removed: its
+        // boundary has a diagonal staircase of unit steps.
+        let n = 10usize;
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(DVec3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if i + j >= 14 {
+                    continue;
+                }
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let mesh = TriMesh::new(positions, triangles).expect("a mesh");
+        let diagonal = DVec3::new(-1.0, 1.0, 0.0).normalize();
+        // The staircase's edges: both ends strictly inside the square.
+        let top = EdgeTopology::new(&mesh);
+        let coarse = boundary_tangents(&mesh, &top, &vec![5.0; mesh.triangles.len()]);
+        let fine = boundary_tangents(&mesh, &top, &vec![0.5; mesh.triangles.len()]);
+        let mut checked = 0;
+        for (f, tri) in mesh.triangles.iter().enumerate() {
+            for e in 0..3 {
+                let (Some(c), Some(d)) = (coarse[f][e], fine[f][e]) else {
+                    continue;
+                };
+                let (a, b) = (
+                    mesh.positions[tri[e] as usize],
+                    mesh.positions[tri[(e + 1) % 3] as usize],
+                );
+                let inner = |p: DVec3| {
+                    p.x > 0.5 && p.y > 0.5 && p.x < n as f64 - 0.5 && p.y < n as f64 - 0.5
+                };
+                // Steps away from the staircase's two ends.
+                let middle = |p: DVec3| (p.x - p.y).abs() < 3.5;
+                if !(inner(a) && inner(b) && middle(a) && middle(b)) {
+                    continue;
+                }
+                checked += 1;
+                assert!(c.dot(diagonal) > 0.97, "coarse: {a} → {b}: {c}");
+                assert!(
+                    (d - (b - a).normalize()).length() < 1e-9,
+                    "fine: {a} → {b}: {d}"
+                );
+            }
+        }
+        assert!(checked >= 6, "{checked} staircase edges checked");
+    }
+}
