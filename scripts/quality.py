@@ -117,7 +117,8 @@ ROWS = {
     # columns at equal control-vertex count (issue 19's criterion).
     "global x4": ("default", {"remesh": {"mode": "global"}}, 4),
     # The global mode's modifications, one at a time.
-    "global + feature curves (60°)": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 60}}),
+    "global - feature curves": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 0}}),
+    "global x4 - feature curves": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 0}}, 4),
     "global - stiffening": ("default", {"remesh": {"mode": "global", "stiffening": 0}}),
     "global - conformal scale": ("default", {"remesh": {"mode": "global", "conformal_scale": 0}}),
     # Overlays on the defaults.
@@ -224,7 +225,7 @@ def run_tool(args, tool, src, stem, target):
 # acceptance ratios are also read off medians over the same re-orderings
 # for every tool.
 ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default", "global", "global x4",
-              "global - conformal scale",
+              "global - feature curves", "global x4 - feature curves", "global - conformal scale",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept")
@@ -338,8 +339,8 @@ def ratio_table(results):
              "| limit after fit / IM | two-sided limit / IM | non-quad % |", "|---|---|---|---|---|---|---|---|---|"]
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
-        for label in ("im-equivalent", "default", "global", "global x4", "global + feature curves (60°)",
-                      "global - stiffening", "global - conformal scale"):
+        for label in ("im-equivalent", "default", "global", "global x4", "global - feature curves",
+                      "global x4 - feature curves", "global - stiffening", "global - conformal scale"):
             row = entry["rows"].get(label)
             c = cells(row) if row and "error" not in row else None
             if not c:

@@ -98,7 +98,7 @@ pub fn schema() -> Vec<ParamDoc> {
     vec![
         // remesh
         choice("remesh.mode", &["local", "global"], "Remeshing path: local (Instant Meshes' fields as in the thesis; quad-dominant) or global (integer-grid map, Ebke et al. 2014, quads extracted as in QEx; pure quads)."),
-        num("remesh.feature_curve_degrees", 0.0, 180.0, "Global mode: sharp edges whose face normals differ by more than this lie on integer isolines (feature curves, Bommes et al. 2009 §4); 0 turns them off."),
+        num("remesh.feature_curve_degrees", 0.0, 180.0, "Global mode: sharp edges whose face normals differ by more than this, and that are still creases at the target scale, lie on integer isolines (feature curves, Bommes et al. 2009 §4); 0 turns them off."),
         int("remesh.stiffening", 0.0, 20.0, "Global mode: MIQ's stiffening re-solves after the rounding (faces flipped against an unflipped cross weigh more); 0 turns it off."),
         num("remesh.conformal_scale", 0.0, 10.0, "Global mode: the map's target edge follows the conformal scale of the flat metric whose only curvature is the cross field's cones (square quads away from them), within this factor of the sizing; 0 turns it off."),
         flag("remesh.count_correction", "Global mode: when the quads' vertex count is more than 10 % off the target, compute the map again (up to four times) for a target from the power law through the last two counts and keep the closest result."),

@@ -118,15 +118,19 @@ pub struct RemeshParams {
     pub mode: RemeshMode,
     /// The global mode's feature curves
     /// ([`crate::param::Params::feature_curve_degrees`]): sharp edges
-    /// whose normals differ by more than this many degrees lie on
-    /// isolines. 0 (the default) turns them off: in the quality table
-    /// (one vertex order, default target; global → with 60°) they help
-    /// where creases are real — fandisk mean out→in 2.65e-3 → 1.34e-3
-    /// and limit 2.38e-3 → 1.47e-3 (but 392 → 354 vertices for 405),
-    /// rocker-arm corner deviation 9.1° → 6.4° — and cost elsewhere:
-    /// bunny Hausdorff 4.74e-2 → 5.51e-2, suzanne EV 45 → 62 % and
-    /// corner deviation 14.0° → 27.8°, spot and cow limit 3.17e-3 →
-    /// 3.63e-3 and 2.62e-3 → 3.04e-3.
+    /// whose normals differ by more than this many degrees, and that are
+    /// still creases at the target scale (`feature_curve_scale`), lie on
+    /// isolines. Default 60 (0 turns them off). Medians over 5 vertex
+    /// orders (docs/QUALITY.md, global → global + feature curves):
+    /// fandisk mean out→in 2.36e-3 → 1.16e-3, Hausdorff 6.04e-2 →
+    /// 4.47e-2, corner deviation 5.91° → 5.66°, limit at equal control
+    /// count 0.84 → 0.17 × Instant Meshes', but EV 4.0 → 7.7 %; beetle
+    /// Hausdorff 0.350 → 0.200, corner deviation 25.3° → 21.8°; the limit
+    /// at equal control count falls on rocker-arm (0.89 → 0.84), cow
+    /// (0.98 → 0.92), suzanne (0.87 → 0.70) and the bunny (0.94 → 0.93);
+    /// spot and teapot have no such creases (unchanged). Costs: the
+    /// bunny's Hausdorff 5.43e-2 → 5.77e-2 and corner deviation 3.87° →
+    /// 4.05°, suzanne EV 48.3 → 53.3 %.
     pub feature_curve_degrees: f64,
     /// The global mode's stiffening re-solves
     /// ([`crate::param::Params::stiffening`]). Default 4: in the quality
@@ -163,7 +167,7 @@ impl Default for RemeshParams {
         let map = crate::param::Params::default();
         RemeshParams {
             mode: RemeshMode::default(),
-            feature_curve_degrees: map.feature_curve_degrees,
+            feature_curve_degrees: 60.0,
             stiffening: map.stiffening,
             conformal_scale: map.conformal_scale,
             count_correction: true,
