@@ -547,8 +547,35 @@ const MODE_LAYERS = {
   global: [],
 };
 let shownMode = 'local'; // the mode of the layers on screen
+// The stage whose result drew each line, point and surface layer.
+const layerStage = {};
 function dropLayersOfMode(mode) {
-  for (const name of MODE_LAYERS[mode]) {
+  dropLayers(MODE_LAYERS[mode]);
+  // The global mode's map is the pipeline's: a local run computes its own on demand.
+  if (mode === 'global') dropParametrization();
+  updateLayersPanel();
+  requestRender();
+}
+// A run that failed in `stage`: the layers of that stage and the later
+// ones are an earlier run's (another mode's, other parameters'), so they
+// go, and what stays on screen is what this input and these parameters
+// gave before the failure.
+function dropLayersFrom(stage) {
+  const order = stagesOfMode();
+  const from = order.indexOf(stage);
+  if (from < 0) return;
+  const stale = Object.keys(layerStage).filter((name) => {
+    const i = order.indexOf(layerStage[name]);
+    return i < 0 || i >= from;
+  });
+  dropLayers(stale);
+  if (stale.includes(PARAM_LAYER)) dropParametrization();
+  updateLayersPanel();
+  requestRender();
+}
+function dropLayers(names) {
+  for (const name of names) {
+    delete layerStage[name];
     const layer = LAYERS.find((l) => l.name === name);
     if (!layer) continue;
     if (viewer) {
@@ -561,10 +588,6 @@ function dropLayersOfMode(mode) {
     LAYERS = LAYERS.filter((l) => l.name !== name);
     if (drawnSurface === name) showSurface();
   }
-  // The global mode's map is the pipeline's: a local run computes its own on demand.
-  if (mode === 'global') dropParametrization();
-  updateLayersPanel();
-  requestRender();
 }
 function requestParametrization() {
   paramWanted = true;
@@ -606,10 +629,12 @@ function onStage(job, result) {
     if (STYLES[name]?.glyph) viewer.set_glyphs(name, l.segments, l.colors, 2, l.triangles || new Uint32Array());
     else viewer.set_lines(name, l.segments, l.colors);
     addLayer(name, 'lines');
+    layerStage[name] = result.stage;
   }
   for (const [name, p] of Object.entries(result.points || {})) {
     viewer.set_points(name, p.positions, p.colors, (STYLES[name]?.size || 6) * dpr());
     addLayer(name, 'points');
+    layerStage[name] = result.stage;
     // Nothing to show (the global mode's pure quads have no non-quad
     // faces): no legend, and the layer's box greys out.
     if (p.positions.length === 0) available.delete(name);
@@ -625,6 +650,7 @@ function onStage(job, result) {
   if (result.surface) {
     const name = result.surface.name;
     extraSurfaces[name] = result.surface;
+    layerStage[name] = result.stage;
     const was = LAYERS.find((l) => l.name === name);
     // The quad mesh's faces are shown when they arrive (the input's surface
     // would hide its edges, which cut below a curved input).
@@ -769,6 +795,7 @@ function onWorkerMessage(m) {
       finishJob(`${job.name}: cancelled.`);
       break;
     case 'error':
+      if (!job.param && job.stage) dropLayersFrom(job.stage);
       // The file was read but the remesher could not make quads of it.
       if (job.stages.import !== undefined && !m.fatal) {
         const reason = m.message.startsWith(`${job.name}: `) ? m.message.slice(job.name.length + 2) : m.message;
@@ -1081,6 +1108,7 @@ window.quadrille.screenshot = async () => {
   return new Uint8Array(await blob.arrayBuffer());
 };
 window.quadrille.cancel = () => cancel();
+window.quadrille.failStageForTesting = (stage) => worker.postMessage({ type: 'fail-stage-for-testing', stage });
 window.quadrille.panicForTesting = () => {
   current = { job: nextJob++, name: 'panic test', started: performance.now(), stages: {}, flag: null, deadline: 0 };
   worker.postMessage({ type: 'panic-for-testing', job: current.job });

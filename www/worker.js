@@ -8,6 +8,7 @@
 //                { type: 'schema', id }
 //                { type: 'cancel', job }
 //                { type: 'panic-for-testing', job }
+//                { type: 'fail-stage-for-testing', stage }   the next run's `stage` fails (once)
 // Messages out:  { type: 'progress', job, stage, fraction, text }
 //                { type: 'stage', job, stage, ms, ...result }   typed arrays transferred
 //                  (result: report, mesh, scalars, lines, points, counts, metrics, surface; see src/web/worker_api.rs)
@@ -26,6 +27,7 @@ import init, { Session, takePanicMessage, panicForTesting } from './pkg/quadrill
 const ready = init();
 let session = null;
 let current = null; // { job, cancelled, flag }
+let failStage = null; // (tests) the stage the next run fails in
 
 const nextTask = () => new Promise((resolve) => setTimeout(resolve, 0));
 
@@ -51,7 +53,7 @@ function takePanicSafely() {
 // parametrization layer), which returns false when cancelled.
 async function drive({ job, cancelFlag }, prepare, work = null) {
   if (current) current.cancelled = true;
-  const me = { job, cancelled: false, flag: cancelFlag ? new Int32Array(cancelFlag) : null };
+  const me = { job, cancelled: false, failed: null, flag: cancelFlag ? new Int32Array(cancelFlag) : null };
   current = me;
   const isCancelled = () => me.cancelled || (me.flag !== null && Atomics.load(me.flag, 0) !== 0);
   try {
@@ -68,7 +70,12 @@ async function drive({ job, cancelFlag }, prepare, work = null) {
       if (last && last.stage === stage) gaps[stage] = Math.max(gaps[stage] || 0, Math.round(now - last.time));
       last = { stage, time: now };
       self.postMessage({ type: 'progress', job, stage, fraction, text });
-      return !isCancelled();
+      // (tests) The stage stops as if cancelled, and the run fails below.
+      if (failStage !== null && stage === failStage) {
+        me.failed = stage;
+        failStage = null;
+      }
+      return !isCancelled() && !me.failed;
     };
     const emit = (result) => self.postMessage({ type: 'stage', job, ...result }, transferables(result));
     if (work) {
@@ -81,6 +88,7 @@ async function drive({ job, cancelFlag }, prepare, work = null) {
       await nextTask();
       if (isCancelled()) break;
       session.step(progress, emit);
+      if (me.failed) throw new Error(`${me.failed}: a failure asked for by a test`);
       if (session.cancelled) break;
     }
     if (isCancelled() || session.cancelled) {
@@ -126,6 +134,8 @@ self.onmessage = async (event) => {
     reply(message.id, () => Session.parameterSchema());
   } else if (message.type === 'cancel') {
     if (current && current.job === message.job) current.cancelled = true;
+  } else if (message.type === 'fail-stage-for-testing') {
+    failStage = message.stage;
   } else if (message.type === 'panic-for-testing') {
     try {
       await ready;

@@ -340,6 +340,34 @@ test('the global mode remeshes spot into closed pure quads, fitted without the s
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+test('a run that fails takes the layers of its failed stage and the later ones off the screen', async (env) => {
+  const { page, errors } = await open(env, 'sample=spot');
+  await waitForRun(page, 'spot.obj');
+  const before = await layerLabels(page);
+  assert(before.includes('Quad mesh') && before.includes('Limit surface'), `the local run's layers: ${before}`);
+  // The global mode's parametrization fails: the local quads, fit and
+  // limit surface on screen are not this run's result and must go; the
+  // analysis (kept from the local run, the same for both modes) stays.
+  await page.evaluate(() => window.quadrille.failStageForTesting('parametrization'));
+  await selectMode(page, 'global');
+  await page.waitForFunction(() => document.getElementById('status').classList.contains('error'), null, { timeout: 120000 });
+  await settle(page);
+  const status = (await page.textContent('#status')).trim();
+  const after = await layerLabels(page);
+  console.log(`      [${env.backend}] failed global run: ${status} · layers ${after.join(', ')}`);
+  assert(/parametrization: a failure asked for by a test/.test(status), `the status names the failure: ${status}`);
+  for (const gone of ['Quad mesh', 'Quad mesh faces', 'Control cage', 'Limit surface', 'Non-quad faces', 'Extracted mesh']) {
+    assert(!after.includes(gone), `${gone} is the local run's and went: ${after}`);
+  }
+  assert(after.includes('Principal directions'), `the analysis' layers stay: ${after}`);
+  await page.screenshot({ path: join(artifacts, `failed-run-${env.backend}.png`) });
+  // The next run (the failure was asked for once) shows the global quads.
+  await setParamInput(page, 'remesh.stiffening', 3);
+  await page.waitForFunction(() => document.getElementById('progress').hidden && window.quadrille.lastRun?.parameters.remesh.stiffening === 3, null, { timeout: 120000 });
+  assert((await layerLabels(page)).includes('Quad mesh'), 'the next run brings its quads');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('exported OBJ files parse and have the counts of lastRun; the limit surface shows its error', async (env) => {
   const { page, errors } = await open(env, 'sample=fandisk');
   await waitForRun(page, 'fandisk.obj');
