@@ -7,7 +7,7 @@ mod common;
 
 use glam::DVec3;
 use quadrille::mesh::TriMesh;
-use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
+use quadrille::mesh::generate::{cylinder, flat_grid, grid_cells, icosphere, torus};
 use quadrille::param::{self, Params};
 use quadrille::sizing::EdgeLengthMethod;
 
@@ -1027,26 +1027,10 @@ fn a_graded_sizing_gets_cones_instead_of_shear() {
 /// one side and the map folds less.
 #[test]
 fn a_staircase_hole_is_aligned_at_the_target_scale() {
-    let n = 48usize;
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            positions.push(DVec3::new(i as f64, j as f64, 0.0));
-        }
-    }
-    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let (x, y) = (i as f64 + 0.5 - 24.0, j as f64 + 0.5 - 24.0);
-            if x * x + y * y < 13.0 * 13.0 {
-                continue;
-            }
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    let mesh = TriMesh::new(positions, triangles).expect("a mesh");
+    let mesh = grid_cells(48, |i, j| {
+        let (x, y) = (i as f64 + 0.5 - 24.0, j as f64 + 0.5 - 24.0);
+        x * x + y * y >= 13.0 * 13.0
+    });
     let params = uniform(120);
     let measure = |p: &param::Prepared| {
         let f = param::cross_field_of(&mesh, p, &params).expect("a cross field");

@@ -213,6 +213,31 @@ pub fn flat_grid(half: f64, n: u32) -> TriMesh {
     height_field(half, n, |_, _| 0.0)
 }
 
+/// The unit cells of `[0, n]²` (z = 0) that `keep(i, j)` keeps, cell (i, j)
+/// at `[i, i + 1] × [j, j + 1]`, two triangles each: pixelated shapes,
+/// whose boundaries are staircases. Every grid point is a vertex, used or
+/// not.
+pub fn grid_cells(n: usize, keep: impl Fn(usize, usize) -> bool) -> TriMesh {
+    let mut positions = Vec::with_capacity((n + 1) * (n + 1));
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push(DVec3::new(i as f64, j as f64, 0.0));
+        }
+    }
+    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in (0..n).filter(|&i| keep(i, j)) {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
 /// Regular tetrahedron inscribed in the unit sphere.
 pub fn tetrahedron() -> TriMesh {
     let s = 1.0 / 3f64.sqrt();

@@ -191,7 +191,7 @@ fn loop_tangents(mesh: &TriMesh, edges: &[(usize, usize)], face_sizing: &[f64]) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::generate::flat_grid;
+    use crate::mesh::generate::{flat_grid, grid_cells};
 
     fn tangents(mesh: &TriMesh, size: f64) -> Vec<(DVec3, DVec3)> {
         let top = EdgeTopology::new(mesh);
@@ -233,24 +233,7 @@ mod tests {
         // A 10 × 10 grid with the corner cells (i + j ≥ 14) removed: its
         // boundary has a diagonal staircase of unit steps.
         let n = 10usize;
-        let mut positions = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                positions.push(DVec3::new(i as f64, j as f64, 0.0));
-            }
-        }
-        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        let mut triangles = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                if i + j >= 14 {
-                    continue;
-                }
-                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let mesh = TriMesh::new(positions, triangles).expect("a mesh");
+        let mesh = grid_cells(n, |i, j| i + j < 14);
         let diagonal = DVec3::new(-1.0, 1.0, 0.0).normalize();
         // The staircase's edges: both ends strictly inside the square.
         let top = EdgeTopology::new(&mesh);
