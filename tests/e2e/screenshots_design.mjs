@@ -6,12 +6,13 @@
 //   NAME-1-layout.png   the strips, the regions and the layout
 //   NAME-2-grid.png     the gridded layout (pure quads) on the surface
 //   NAME-3-limit.png    the fitted Catmull–Clark limit surface, coloured by error
+// (a layout that does not grid is written as NAME-layout.json instead).
 //
 //   make web && cargo build --release --example serve
 //   cd tests/e2e && node screenshots_design.mjs OUT_DIR [sample …]   (default: torus rocker-arm stanford-bunny)
 //   SHOTS_GRID=n  segments per strip (default 8) · SHOTS_STRIPS=n  most strips tried per sample (default 16)
 //   SHOTS_ORANGE=1  go on adding strips until no region has several curvature extrema
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, writeFileSync } from 'node:fs';
 import { PNG } from 'pngjs';
 import { join, resolve } from 'node:path';
 import { startServer, CONFIGS, launch, open, waitForRun, settle, surfaceGrid, enterDesign, DESIGN_WAIT } from './harness.mjs';
@@ -200,7 +201,9 @@ try {
       const g = await page.evaluate(() => window.quadrille.gridLayout().then((g) => ({ vertices: g.vertices, faces: g.faces, folded: g.folded, ms: g.ms }),
         (e) => ({ error: e.message })));
       if (g.error) {
-        console.log(`  grid ${gridCount} failed: ${g.error}`);
+        // The layout that did not grid, for a look at it.
+        writeFileSync(join(out, `${name}-layout.json`), await page.evaluate(() => window.quadrille.exportLayout('json')));
+        console.log(`  grid ${gridCount} failed: ${g.error} (layout in ${join(out, `${name}-layout.json`)})`);
       } else {
         console.log(`  grid ${gridCount}: ${g.vertices} vertices, ${g.faces} quads, ${g.folded} folded, ${g.ms.toFixed(0)} ms`);
         await shot(page, `${name}-2-grid.png`);
