@@ -7,11 +7,20 @@
 //                  hold: SharedArrayBuffer | null }   hold (tests): while 1, a running analysis waits
 //                  at its first step (after posting 'held')
 //                { type: 'analyze', serial, input }   input: LayoutDesigner.takeAnalysisInput()
+//                { type: 'export' | 'grid' | 'fit', id, serial, format?, counts? }
+//                                                     the page's requests (see layout-worker.js), for
+//                                                     the design state of analysis `serial`
 // Messages out:  { type: 'analysis', serial, revision, analysis, ms }
 //                { type: 'held', serial, revision }
 //                { type: 'cancelled', serial, revision, started, ms }
 //                { type: 'error', serial, message, fatal }
-// Every request is answered once (analysis, cancelled or error).
+//                { type: 'reply', id, value?, error?, fatal? }   to an export, grid or fit
+// Every request is answered once (analysis, cancelled or error; reply).
+//
+// Exports, the grid and the fit are made from the newest finished analysis
+// (LayoutAnalyzer keeps it, with its grid), here rather than in the layout
+// worker, so that they never block hover or clicks either. Their serial
+// says which analysis they need: when it is still pending it runs first.
 //
 // A newer action cancels a stale analysis: requests that arrive while one
 // runs replace each other (the replaced one is answered 'cancelled' with
@@ -28,11 +37,20 @@ let latest = null; // Int32Array over the shared newest serial, or null
 let hold = null; // Int32Array over the tests' hold flag, or null
 let pending = null;
 let scheduled = false;
+let analysed = null; // the serial of the analysis the analyzer holds
 
 function transferables(value, out = []) {
   if (ArrayBuffer.isView(value)) out.push(value.buffer);
   else if (value && typeof value === 'object') for (const v of Object.values(value)) transferables(v, out);
   return out;
+}
+
+function panicMessage(error) {
+  let message = String((error && error.message) || error);
+  if (error instanceof WebAssembly.RuntimeError) {
+    try { message = takePanicMessage() || message; } catch { /* the module is gone */ }
+  }
+  return message;
 }
 
 function cancelled(m, started, ms) {
@@ -60,16 +78,27 @@ function run() {
     };
     const analysis = analyzer.analyze(i.points, i.lengths, i.closed, i.moves, current);
     if (analysis === null) { cancelled(m, true, performance.now() - started); return; }
+    analysed = m.serial;
     analysis.revision = i.revision;
     self.postMessage({ type: 'analysis', serial: m.serial, revision: i.revision, analysis, ms: performance.now() - started },
       transferables(analysis));
   } catch (error) {
-    const fatal = error instanceof WebAssembly.RuntimeError;
-    let message = String((error && error.message) || error);
-    if (fatal) {
-      try { message = takePanicMessage() || message; } catch { /* the module is gone */ }
-    }
-    self.postMessage({ type: 'error', serial: m.serial, message, fatal });
+    self.postMessage({ type: 'error', serial: m.serial, message: panicMessage(error), fatal: error instanceof WebAssembly.RuntimeError });
+  }
+}
+
+// An export, grid or fit of the design state of analysis `m.serial`.
+function answer(m) {
+  if (pending && pending.serial === m.serial) run();
+  try {
+    if (!analyzer) throw new Error('the analysis worker has no mesh');
+    if (analysed !== m.serial) throw new Error('the design changed before its analysis was done: try again');
+    const value = m.type === 'export' ? analyzer.export(m.format)
+      : m.type === 'grid' ? analyzer.grid(new Uint32Array(m.counts)) : analyzer.fit();
+    if (m.type === 'grid') value.serial = m.serial;
+    self.postMessage({ type: 'reply', id: m.id, value }, transferables(value));
+  } catch (error) {
+    self.postMessage({ type: 'reply', id: m.id, error: panicMessage(error), fatal: error instanceof WebAssembly.RuntimeError });
   }
 }
 
@@ -80,6 +109,7 @@ self.onmessage = async (event) => {
     if (analyzer) analyzer.free();
     analyzer = null;
     pending = null;
+    analysed = null;
     latest = m.latest ? new Int32Array(m.latest) : null;
     hold = m.hold ? new Int32Array(m.hold) : null;
     try {
@@ -94,5 +124,7 @@ self.onmessage = async (event) => {
       scheduled = true;
       setTimeout(run, 0);
     }
+  } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
+    answer(m);
   }
 };

@@ -1,7 +1,9 @@
 // The design mode's worker (dual strip weaving, Campen & Kobbelt 2014 §4.1):
 // one LayoutDesigner (Rust) holds the loop engine and the undoable design
 // state, so hover queries never block the page; the strip analysis runs in
-// a further worker (analysis-worker.js) so it never blocks hover either.
+// a further worker (analysis-worker.js) so it never blocks hover either,
+// and so do the exports, the grid and the fit, which it makes from its
+// newest analysis.
 //
 // Messages in:   { type: 'init', bytes: ArrayBuffer, name }
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
@@ -12,6 +14,8 @@
 //                { type: 'grid', id, counts }                   grid the layout (one count per strip);
 //                                                               the reply's serial: the analysis it goes with
 //                { type: 'fit', id }                            fit the gridded layout
+//                  (export, grid and fit are answered by the analysis worker, from the analysis
+//                  of the newest design state, so they never block hover or clicks)
 //                { type: 'crash-for-testing' }
 //                { type: 'hold-analysis-for-testing', on }      while on, a running analysis waits at its first step
 // Messages out:  { type: 'progress', text }
@@ -63,15 +67,24 @@ let serial = 0;
 const latest = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
 const hold = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null; // tests only
 let unanswered = 0; // requests the analysis worker has not answered yet
+const forwarded = new Set(); // ids of the page's export, grid and fit requests it has not answered yet
 
 function startAnalyzer() {
   if (analyzer) analyzer.terminate();
   unanswered = 0;
+  for (const id of forwarded) self.postMessage({ type: 'reply', id, error: 'the analysis worker was restarted: try again' });
+  forwarded.clear();
   analyzer = new Worker(new URL('./analysis-worker.js', import.meta.url), { type: 'module' });
   analyzer.onmessage = (event) => {
     const r = event.data;
     if (r.type === 'held') {
       self.postMessage({ type: 'analysis-held', revision: r.revision });
+      return;
+    }
+    if (r.type === 'reply') {
+      forwarded.delete(r.id);
+      self.postMessage(r, transferables(r));
+      if (r.fatal) startAnalyzer();
       return;
     }
     if (r.serial !== null) unanswered = Math.max(0, unanswered - 1);
@@ -179,16 +192,10 @@ self.onmessage = async (event) => {
       queueAnalysis();
       prepareSoon();
     } else if (m.type === 'export' || m.type === 'grid' || m.type === 'fit') {
-      try {
-        const value = m.type === 'export' ? designer.export(m.format)
-          : m.type === 'grid' ? designer.grid(new Uint32Array(m.counts)) : designer.fit();
-        // The grid belongs to the state of the newest analysis request.
-        if (m.type === 'grid') value.serial = serial;
-        self.postMessage({ type: 'reply', id: m.id, value }, transferables(value));
-      } catch (error) {
-        if (error instanceof WebAssembly.RuntimeError) throw error;
-        self.postMessage({ type: 'reply', id: m.id, error: String(error.message || error) });
-      }
+      // For the state of the newest analysis request; answered by the
+      // analysis worker (relayed above).
+      forwarded.add(m.id);
+      analyzer.postMessage({ ...m, serial });
     }
   } catch (error) {
     fail(error);

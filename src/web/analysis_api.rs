@@ -6,27 +6,54 @@
 //! loops ([`super::layout_api::LayoutDesigner::take_analysis_input`]) and
 //! applies the covered directions (§6.2) it returns when they are still
 //! current.
+//!
+//! What is made from a finished analysis is made here too, from the newest
+//! one, so that it never blocks hover or clicks either: the layout's
+//! exports, its grid (§8.1) and the grid's fit.
 
 use glam::DVec3;
+use js_sys::{Float32Array, Object};
 use wasm_bindgen::prelude::*;
 
-use super::layout_api::{analysis_to_js, design_meshes, now_ms, set};
-use super::layout_glue;
-use crate::mesh::TriMesh;
+use super::layout_api::{analysis_to_js, design_meshes, now_ms, set, to_js};
+use super::layout_glue::{self, Analysis};
+use crate::layout::grid::LayoutGrid;
+use crate::layout::primal::LayoutExport;
+use crate::mesh::{Frame, TriMesh};
 use crate::progress::Progress;
+use crate::spatial::SurfaceIndex;
 
-/// The design mesh (the input or its proxy, as in the layout worker).
+/// Pieces each gridded-layout edge is drawn in, projected onto the surface.
+const GRID_EDGE_PIECES: usize = 6;
+
+/// The design mesh (the input or its proxy, as in the layout worker), the
+/// newest finished analysis and the grid of its layout.
 #[wasm_bindgen]
 pub struct LayoutAnalyzer {
     mesh: TriMesh,
+    /// The input when the design runs on a proxy: the layout is mapped onto
+    /// it before gridding and exporting, and the fit measures against it.
+    original: Option<TriMesh>,
+    /// Maps the local coordinates back to the file's (for exports).
+    frame: Frame,
+    /// The newest finished analysis.
+    analysed: Option<Analysed>,
+    /// The last `grid` of that analysis' layout (dropped with it).
+    grid: Option<LayoutGrid>,
 }
 
 #[wasm_bindgen]
 impl LayoutAnalyzer {
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<LayoutAnalyzer, JsError> {
-        let (mesh, _, _, _) = design_meshes(bytes, name)?;
-        Ok(LayoutAnalyzer { mesh })
+        let (mesh, original, frame, _) = design_meshes(bytes, name)?;
+        Ok(LayoutAnalyzer {
+            mesh,
+            original,
+            frame,
+            analysed: None,
+            grid: None,
+        })
     }
 
     #[wasm_bindgen(js_name = faceCount)]
@@ -40,9 +67,11 @@ impl LayoutAnalyzer {
     /// and `coveredDirections: Float64Array` (§6.2, see
     /// [`layout_glue::flatten_covered`]). `go_on()` is asked between the
     /// analysis' steps; when it returns false (a newer action made these
-    /// loops stale) the analysis stops there and returns null.
+    /// loops stale) the analysis stops there and returns null. A finished
+    /// analysis replaces the one [`Self::export`], [`Self::grid`] and
+    /// [`Self::fit`] read, and drops its grid.
     pub fn analyze(
-        &self,
+        &mut self,
         points: &[f64],
         lengths: &[u32],
         closed: &[u8],
@@ -74,12 +103,14 @@ impl LayoutAnalyzer {
                 .is_ok_and(|v| v.as_bool() != Some(false))
         };
         let mut progress = Progress::new(&mut sink, "design analysis");
-        let Ok(a) = layout_glue::analyze_loops(&self.mesh, &loops, &moves, &now_ms, &mut progress)
+        let Ok(mut a) =
+            layout_glue::analyze_loops(&self.mesh, &loops, &moves, &now_ms, &mut progress)
         else {
             return Ok(JsValue::NULL);
         };
         let out = analysis_to_js(&a)?;
-        let (counts, flat) = layout_glue::flatten_covered(&a.covered);
+        // The covered directions are the layout worker's (§6.2).
+        let (counts, flat) = layout_glue::flatten_covered(&std::mem::take(&mut a.covered));
         set(
             &out,
             "coveredCounts",
@@ -90,6 +121,147 @@ impl LayoutAnalyzer {
             "coveredDirections",
             js_sys::Float64Array::from(&flat[..]),
         )?;
+        let loops = loops.iter().map(|&(p, c)| (p.to_vec(), c)).collect();
+        self.analysed = Some(Analysed { analysis: a, loops });
+        self.grid = None;
         Ok(out.into())
+    }
+
+    /// The layout as "obj" (the patches as polygon faces; the loops as
+    /// lines while there is no layout), "json", or "grid-obj" (the last
+    /// gridded mesh, pure quad). OBJ coordinates are the input file's; on a
+    /// proxy the layout is mapped onto the input first.
+    pub fn export(&self, format: &str) -> Result<String, JsError> {
+        let Analysed { analysis: a, loops } = self
+            .analysed
+            .as_ref()
+            .ok_or_else(|| JsError::new("nothing designed yet"))?;
+        let js = |e: crate::layout::grid::GridError| JsError::new(&e.to_string());
+        match format {
+            "obj" => match self.input_layout() {
+                Some(l) => layout_glue::layout_obj(&l, &self.frame).map_err(js),
+                None => {
+                    let loops: Vec<(&[DVec3], bool)> =
+                        loops.iter().map(|(p, c)| (&p[..], *c)).collect();
+                    Ok(layout_glue::loops_obj(&loops, &self.frame))
+                }
+            },
+            "grid-obj" => {
+                let g = self
+                    .grid
+                    .as_ref()
+                    .ok_or_else(|| JsError::new("grid the layout first"))?;
+                let world: Vec<DVec3> = g
+                    .mesh
+                    .positions
+                    .iter()
+                    .map(|&p| self.frame.to_world(p))
+                    .collect();
+                Ok(format!(
+                    "# gridded quad layout (Quadrille): {} vertices, {} quads\n{}",
+                    world.len(),
+                    g.mesh.face_count(),
+                    crate::io::write_obj(&world, &g.mesh.to_face_list())
+                ))
+            }
+            "json" if a.json.is_empty() => Err(JsError::new(
+                "there is no layout yet: every region must be a disc (no red)",
+            )),
+            "json" => Ok(a.json.clone()),
+            _ => Err(JsError::new(&format!("unknown layout format {format}"))),
+        }
+    }
+
+    /// Grids the layout with `counts[i]` segments across committed strip
+    /// `i` (missing: the default). Returns `{ edges: Float32Array
+    /// (segments), vertices, faces, folded, ms }`, positions in the page's
+    /// coordinates.
+    pub fn grid(&mut self, counts: Vec<u32>) -> Result<Object, JsError> {
+        let started = now_ms();
+        let layout = self.input_layout().ok_or_else(|| {
+            JsError::new("there is no layout yet: every region must be a disc (no red)")
+        })?;
+        let loop_strip = self
+            .analysed
+            .as_ref()
+            .map(|a| a.analysis.loop_strip.clone())
+            .unwrap_or_default();
+        let surface = self.original.as_ref().unwrap_or(&self.mesh);
+        let index =
+            SurfaceIndex::new(surface).ok_or_else(|| JsError::new("the surface is empty"))?;
+        let g = layout_glue::grid_mesh(&layout, &loop_strip, &counts, &index)
+            .map_err(|e| JsError::new(&e.to_string()))?;
+        let out = Object::new();
+        let mut segments = Vec::new();
+        for h in 0..g.mesh.halfedge_count() as u32 {
+            let (a, b) = (g.mesh.origin(h), g.mesh.tip(h));
+            if a < b || g.mesh.is_boundary_halfedge(g.mesh.twin(h)) {
+                // Drawn on the surface: a coarse grid's chords would dip
+                // below it and hide.
+                let (p, q) = (g.mesh.positions[a as usize], g.mesh.positions[b as usize]);
+                let mut prev = p;
+                for k in 1..=GRID_EDGE_PIECES {
+                    let t = k as f64 / GRID_EDGE_PIECES as f64;
+                    let next = if k == GRID_EDGE_PIECES {
+                        q
+                    } else {
+                        index.closest(p.lerp(q, t)).point
+                    };
+                    layout_glue::push_segment(&mut segments, prev, next);
+                    prev = next;
+                }
+            }
+        }
+        set(&out, "edges", Float32Array::from(&segments[..]))?;
+        set(&out, "vertices", g.mesh.vertex_count() as u32)?;
+        set(&out, "faces", g.mesh.face_count() as u32)?;
+        set(&out, "folded", g.folded as u32)?;
+        set(&out, "ms", now_ms() - started)?;
+        self.grid = Some(g);
+        Ok(out)
+    }
+
+    /// Fits a Catmull–Clark control mesh to the input from the gridded
+    /// layout (as remeshing does, [`crate::subdivision::fit_control_mesh`]).
+    /// Returns `{ surface: { positions, triangles, normals, scalar }, summary,
+    /// ms }`: the limit surface coloured by its signed error.
+    pub fn fit(&self) -> Result<Object, JsError> {
+        let started = now_ms();
+        let g = self
+            .grid
+            .as_ref()
+            .ok_or_else(|| JsError::new("grid the layout first"))?;
+        let reference = self.original.as_ref().unwrap_or(&self.mesh);
+        let f = crate::progress::silently("fit", |p| {
+            crate::subdivision::fit_control_mesh(&g.mesh, reference, &Default::default(), p)
+        })
+        .map_err(|_| JsError::new("the fit was cancelled"))?;
+        let out = Object::new();
+        set(
+            &out,
+            "surface",
+            super::worker_api::limit_surface_object(&f)?,
+        )?;
+        set(&out, "summary", to_js(&f.summary)?)?;
+        set(&out, "ms", now_ms() - started)?;
+        Ok(out)
+    }
+}
+
+/// A finished analysis and the committed loops it analysed.
+struct Analysed {
+    analysis: Analysis,
+    loops: Vec<(Vec<DVec3>, bool)>,
+}
+
+impl LayoutAnalyzer {
+    /// The layout of the newest analysis on the input: mapped onto the
+    /// input when the design runs on a proxy.
+    fn input_layout(&self) -> Option<LayoutExport> {
+        let mut l = self.analysed.as_ref()?.analysis.layout.clone()?;
+        if let Some(index) = self.original.as_ref().and_then(SurfaceIndex::new) {
+            l.project_onto(&index);
+        }
+        Some(l)
     }
 }

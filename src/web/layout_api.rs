@@ -12,15 +12,9 @@ use wasm_bindgen::prelude::*;
 
 use super::layout_glue as analysis_glue;
 use crate::layout::design::{DesignError, LayoutDesign};
-use crate::layout::grid::LayoutGrid;
 use crate::layout::symmetry::MirrorPlane;
 use crate::layout::{ElasticaParams, LoopEngine, proxy};
 use crate::mesh::{Frame, TriMesh};
-use crate::spatial::SurfaceIndex;
-use crate::subdivision::FitResult;
-
-/// Pieces each gridded-layout edge is drawn in, projected onto the surface.
-const GRID_EDGE_PIECES: usize = 6;
 
 /// One mesh's loop engine, built once.
 #[wasm_bindgen]
@@ -120,30 +114,20 @@ impl LayoutEngine {
 /// in the layout worker: the mesh (or its proxy above
 /// [`proxy::PROXY_ABOVE_FACES`] faces), its loop engine and the undoable
 /// design state. Points cross as `[x, y, z]` in the page's (local)
-/// coordinates; polylines as flat `Float32Array`s.
+/// coordinates; polylines as flat `Float32Array`s. The committed loops'
+/// analysis, and the exports, grid and fit made from it, are the analysis
+/// worker's ([`super::analysis_api::LayoutAnalyzer`]).
 #[wasm_bindgen]
 pub struct LayoutDesigner {
     mesh: TriMesh,
     input_faces: usize,
     design: LayoutDesign,
-    /// The key ([`Self::key`]) the last analysis was computed for.
-    analysed: Option<Key>,
-    analysis: Option<analysis_glue::Analysis>,
-    /// The key last handed to the analysis worker.
+    /// The key ([`Self::key`]) last handed to the analysis worker, which
+    /// also exports, grids and fits the layout of its newest analysis.
     posted: Option<Key>,
     last_error: Option<String>,
     /// The anchor inserted by the last grab, moved by the drag that follows.
     grabbed: Option<usize>,
-    /// Maps the local coordinates back to the file's (for exports).
-    frame: Frame,
-    /// The input when the design runs on a proxy: the layout is mapped onto
-    /// it before gridding, and the fit measures against it (§8.1).
-    original: Option<TriMesh>,
-    /// The gridded layout of the last `grid` call (on the input) with the
-    /// key of the layout it grids (stale once the committed loops or the
-    /// layout-vertex moves change), and its fit.
-    grid: Option<(Key, LayoutGrid)>,
-    fit: Option<FitResult>,
 }
 
 /// The mesh the design runs on (the input, or its proxy above
@@ -196,21 +180,15 @@ impl LayoutDesigner {
     /// proxy of about [`proxy::PROXY_FACES`] faces for large meshes).
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<LayoutDesigner, JsError> {
-        let (mesh, original, frame, input_faces) = design_meshes(bytes, name)?;
+        let (mesh, _, _, input_faces) = design_meshes(bytes, name)?;
         let engine = LoopEngine::new(&mesh, &ElasticaParams::default());
         Ok(LayoutDesigner {
             mesh,
             input_faces,
             design: LayoutDesign::new(engine),
-            analysed: None,
-            analysis: None,
             posted: None,
             last_error: None,
             grabbed: None,
-            frame,
-            original,
-            grid: None,
-            fit: None,
         })
     }
 
@@ -452,159 +430,6 @@ impl LayoutDesigner {
             && self.design.apply_covered(revision as u64, &covered)
     }
 
-    /// Whether the analysis is behind the committed loops.
-    #[wasm_bindgen(js_name = analysisStale)]
-    pub fn analysis_stale(&self) -> bool {
-        self.analysed.as_ref() != Some(&self.key())
-    }
-
-    /// Strips, regions, singularities and the layout of the committed loops
-    /// (§4.2, §6, §7), computed when stale; `{ revision, ... }` (see
-    /// `analysis_glue`).
-    pub fn analyze(&mut self) -> Result<Object, JsError> {
-        let revision = self.design.revision();
-        if self.analysis_stale() {
-            let a = analysis_glue::analyze(&self.mesh, &mut self.design, &now_ms);
-            self.analysis = Some(a);
-            self.analysed = Some(self.key());
-        }
-        let out = match &self.analysis {
-            Some(a) => analysis_to_js(a)?,
-            None => Object::new(),
-        };
-        set(&out, "revision", revision as f64)?;
-        Ok(out)
-    }
-
-    /// The layout as "obj" (the patches as polygon faces; the loops as
-    /// lines while there is no layout), "json", or "grid-obj" (the last
-    /// gridded mesh, pure quad). OBJ coordinates are the input file's; on a
-    /// proxy the layout is mapped onto the input first.
-    pub fn export(&mut self, format: &str) -> Result<String, JsError> {
-        if self.analysis_stale() {
-            self.analyze()?;
-        }
-        let a = self
-            .analysis
-            .as_ref()
-            .ok_or_else(|| JsError::new("nothing designed yet"))?;
-        let js = |e: crate::layout::grid::GridError| JsError::new(&e.to_string());
-        match format {
-            "obj" => match self.input_layout() {
-                Some(l) => analysis_glue::layout_obj(&l, &self.frame).map_err(js),
-                None => Ok(analysis_glue::loops_obj(
-                    &self.committed_loops(),
-                    &self.frame,
-                )),
-            },
-            "grid-obj" => {
-                let (_, g) = self
-                    .grid
-                    .as_ref()
-                    .filter(|(k, _)| *k == self.key())
-                    .ok_or_else(|| JsError::new("grid the layout first"))?;
-                let world: Vec<DVec3> = g
-                    .mesh
-                    .positions
-                    .iter()
-                    .map(|&p| self.frame.to_world(p))
-                    .collect();
-                Ok(format!(
-                    "# gridded quad layout (Quadrille): {} vertices, {} quads\n{}",
-                    world.len(),
-                    g.mesh.face_count(),
-                    crate::io::write_obj(&world, &g.mesh.to_face_list())
-                ))
-            }
-            "json" if a.json.is_empty() => Err(JsError::new(
-                "there is no layout yet: every region must be a disc (no red)",
-            )),
-            "json" => Ok(a.json.clone()),
-            _ => Err(JsError::new(&format!("unknown layout format {format}"))),
-        }
-    }
-
-    /// Grids the layout with `counts[i]` segments across committed strip
-    /// `i` (missing: the default). Returns `{ edges: Float32Array
-    /// (segments), vertices, faces, folded, ms }`, positions in the page's
-    /// coordinates.
-    pub fn grid(&mut self, counts: Vec<u32>) -> Result<Object, JsError> {
-        if self.analysis_stale() {
-            self.analyze()?;
-        }
-        let started = now_ms();
-        let layout = self.input_layout().ok_or_else(|| {
-            JsError::new("there is no layout yet: every region must be a disc (no red)")
-        })?;
-        let loop_strip = self
-            .analysis
-            .as_ref()
-            .map(|a| a.loop_strip.clone())
-            .unwrap_or_default();
-        let surface = self.original.as_ref().unwrap_or(&self.mesh);
-        let index =
-            SurfaceIndex::new(surface).ok_or_else(|| JsError::new("the surface is empty"))?;
-        let g = analysis_glue::grid_mesh(&layout, &loop_strip, &counts, &index)
-            .map_err(|e| JsError::new(&e.to_string()))?;
-        let out = Object::new();
-        let mut segments = Vec::new();
-        for h in 0..g.mesh.halfedge_count() as u32 {
-            let (a, b) = (g.mesh.origin(h), g.mesh.tip(h));
-            if a < b || g.mesh.is_boundary_halfedge(g.mesh.twin(h)) {
-                // Drawn on the surface: a coarse grid's chords would dip
-                // below it and hide.
-                let (p, q) = (g.mesh.positions[a as usize], g.mesh.positions[b as usize]);
-                let mut prev = p;
-                for k in 1..=GRID_EDGE_PIECES {
-                    let t = k as f64 / GRID_EDGE_PIECES as f64;
-                    let next = if k == GRID_EDGE_PIECES {
-                        q
-                    } else {
-                        index.closest(p.lerp(q, t)).point
-                    };
-                    analysis_glue::push_segment(&mut segments, prev, next);
-                    prev = next;
-                }
-            }
-        }
-        set(&out, "edges", Float32Array::from(&segments[..]))?;
-        set(&out, "vertices", g.mesh.vertex_count() as u32)?;
-        set(&out, "faces", g.mesh.face_count() as u32)?;
-        set(&out, "folded", g.folded as u32)?;
-        set(&out, "ms", now_ms() - started)?;
-        self.grid = Some((self.key(), g));
-        self.fit = None;
-        Ok(out)
-    }
-
-    /// Fits a Catmull–Clark control mesh to the input from the gridded
-    /// layout (as remeshing does, [`crate::subdivision::fit_control_mesh`]).
-    /// Returns `{ surface: { positions, triangles, normals, scalar }, summary,
-    /// ms }`: the limit surface coloured by its signed error.
-    pub fn fit(&mut self) -> Result<Object, JsError> {
-        let started = now_ms();
-        let (_, g) = self
-            .grid
-            .as_ref()
-            .filter(|(k, _)| *k == self.key())
-            .ok_or_else(|| JsError::new("grid the layout first"))?;
-        let reference = self.original.as_ref().unwrap_or(&self.mesh);
-        let f = crate::progress::silently("fit", |p| {
-            crate::subdivision::fit_control_mesh(&g.mesh, reference, &Default::default(), p)
-        })
-        .map_err(|_| JsError::new("the fit was cancelled"))?;
-        let out = Object::new();
-        set(
-            &out,
-            "surface",
-            super::worker_api::limit_surface_object(&f)?,
-        )?;
-        set(&out, "summary", to_js(&f.summary)?)?;
-        set(&out, "ms", now_ms() - started)?;
-        self.fit = Some(f);
-        Ok(out)
-    }
-
     /// The design mesh as flat arrays (positions xyz, triangles), for the
     /// page to draw per-face colourings of the proxy.
     pub fn surface(&self) -> Result<Object, JsError> {
@@ -629,24 +454,6 @@ type Key = (u64, Vec<(u32, DVec3)>);
 impl LayoutDesigner {
     fn key(&self) -> Key {
         (self.design.revision(), self.design.moves().to_vec())
-    }
-
-    fn committed_loops(&self) -> Vec<(&[DVec3], bool)> {
-        self.design
-            .committed()
-            .iter()
-            .map(|c| (&c.dual.points[..], c.dual.closed))
-            .collect()
-    }
-
-    /// The current layout on the input: the analysis' layout, mapped onto
-    /// the input when the design runs on a proxy.
-    fn input_layout(&self) -> Option<crate::layout::primal::LayoutExport> {
-        let mut l = self.analysis.as_ref()?.layout.clone()?;
-        if let Some(index) = self.original.as_ref().and_then(SurfaceIndex::new) {
-            l.project_onto(&index);
-        }
-        Some(l)
     }
 
     fn result<T: Default>(&mut self, r: Result<T, DesignError>) -> T {

@@ -687,7 +687,9 @@ test('design mode: three loops on the torus give strips and a valid layout; undo
 
 // Two meridians far apart, then the wheel's loop around the hole: the
 // torus layout of two patches.
-async function placeThreeTorusStrips(page) {
+// `beforeThird` runs before the third strip is committed (its analysis is
+// not awaited when it is given).
+async function placeThreeTorusStrips(page, beforeThird = null) {
   const hits = await surfaceGrid(page);
   const byX = [...hits].sort((a, b) => a.p[0] - b.p[0]);
   await hoverAndCommit(page, byX[Math.floor(byX.length * 0.05)]);
@@ -703,9 +705,11 @@ async function placeThreeTorusStrips(page) {
     found = polylineLength((await designState(page)).proposal) > 1.6 * meridian;
   }
   assert(found, 'the wheel offers a loop around the hole');
+  if (beforeThird) await beforeThird();
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, DESIGN_WAIT);
-  await waitForAnalysis(page);
+  if (!beforeThird) await waitForAnalysis(page);
+  return byX;
 }
 
 // OBJ text → { positions: [[x, y, z]], faces: [[i…]] } (0-based).
@@ -796,6 +800,43 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(moved.grid === null && moved.fit === null && moved.segments === 0 && moved.surface !== 'Limit surface (design)', `after a vertex move the grid is gone: ${JSON.stringify({ ...moved, grid: !!moved.grid, fit: !!moved.fit })}`);
   const refused = await page.evaluate(() => window.quadrille.exportLayout('grid-obj').then(() => null, (e) => e.message));
   assert(refused && refused.includes('grid the layout first'), `the stale grid is not exported: ${refused}`);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
+test('design mode: Grid waits for its analysis in the analysis worker; hover and clicks answer meanwhile', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  // The third strip's analysis is held at its first step (a test hook), so
+  // that a Grid pressed now needs an analysis that is not done.
+  const byX = await placeThreeTorusStrips(page, async () => {
+    await waitForAnalysis(page);
+    await page.evaluate(() => window.quadrille.holdDesignAnalysis(true));
+  });
+  const committed = await page.evaluate(() => window.quadrille.design.state.revision);
+  await page.waitForFunction((r) => window.quadrille.design.heldAnalysis === r, committed, DESIGN_WAIT);
+  await page.evaluate(() => {
+    window.gridded = null;
+    window.quadrille.gridLayout([8, 8, 8]).then((g) => { window.gridded = { faces: g.faces, serial: g.serial }; }, (e) => { window.gridded = { error: e.message }; });
+  });
+  const hovers = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
+  const h = byX[Math.floor(byX.length * 0.3)];
+  await page.mouse.move(h.x, h.y);
+  await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, hovers, DESIGN_WAIT);
+  const clicks = await page.evaluate(() => (window.quadrille.design.actionLatencies.addAnchor || []).length);
+  await page.mouse.click(h.x, h.y);
+  await page.waitForFunction((n) => (window.quadrille.design.actionLatencies.addAnchor || []).length > n, clicks, DESIGN_WAIT);
+  const during = await page.evaluate(() => ({ gridded: window.gridded, anchors: window.quadrille.design.state.anchors.length / 3,
+    ms: window.quadrille.design.actionLatencies.addAnchor.at(-1) }));
+  console.log(`      [${env.backend}] torus: a click while Grid waited for the (held) analysis answered in ${during.ms.toFixed(1)} ms`);
+  assert(during.gridded === null && during.anchors === 1, `hover and the click answered while Grid waited: ${JSON.stringify(during)}`);
+  await page.evaluate(() => window.quadrille.holdDesignAnalysis(false));
+  await page.waitForFunction(() => window.gridded, null, DESIGN_WAIT);
+  const g = await page.evaluate(() => window.gridded);
+  const a = await page.evaluate(() => window.quadrille.design.analysis);
+  assert(a.revision === committed && a.sufficient, `the third strip's analysis: ${a.revision} (${a.status})`);
+  assert(g.faces === 64 * a.counts.patches, `the grid of the three strips' layout, 8 × 8 quads per patch: ${JSON.stringify(g)} for ${a.counts.patches} patches`);
+  assert(await page.evaluate(() => window.quadrille.design.segments['layout grid']) > 0, 'the grid is drawn');
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
