@@ -677,6 +677,11 @@ fn drop_close_curves(
     });
 }
 
+/// Sides turned further apart than this are the two faces of a thin
+/// part and the edge is its rim: the wedge between them is under 45°,
+/// which no quad corner follows (the bound of `drop_sliver_sectors`).
+const RIM: f64 = 0.75 * std::f64::consts::PI;
+
 /// Keeps the feature edges that are creases at the target scale. From
 /// each of the edge's two faces, the faces reached without crossing a
 /// feature edge whose centroids lie within half a target edge of the
@@ -690,11 +695,6 @@ fn drop_close_curves(
 /// crease (fandisk) has neither. Ebke §3 filters the normals at the
 /// target scale for the same reason. Rims of thin parts (sides more than
 /// [`RIM`] apart) are no feature either.
-/// Sides turned further apart than this are the two faces of a thin
-/// part and the edge is its rim: the wedge between them is under 45°,
-/// which no quad corner follows (the bound of `drop_sliver_sectors`).
-const RIM: f64 = 0.75 * std::f64::consts::PI;
-
 fn keep_sharp_at_target_scale(
     mesh: &TriMesh,
     topology: &EdgeTopology,

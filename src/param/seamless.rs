@@ -951,8 +951,9 @@ fn energy_at(rows: &[(Vec<(usize, f64)>, f64)], x: &[f64]) -> f64 {
 pub enum MapStop {
     /// A solve failed (singular or non-finite system).
     Solve,
-    /// The integer rounding would need more than [`MAX_INTEGER_VARIABLES`]
-    /// free integer variables (this many).
+    /// The integer rounding's system would be too large: more than
+    /// [`MAX_INTEGER_VARIABLES`] integer variables, or normal equations
+    /// past the `EXTRA_TRIPLETS` bound (the count of integer variables).
     TooManyIntegers(usize),
     /// The progress callback asked to stop.
     Cancelled,
