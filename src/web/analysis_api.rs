@@ -40,6 +40,9 @@ pub struct LayoutAnalyzer {
     analysed: Option<Analysed>,
     /// The last `grid` of that analysis' layout (dropped with it).
     grid: Option<LayoutGrid>,
+    /// The index of the surface the layout lies on (the input), built on
+    /// first use: `grid` and the proxy's mapping share it.
+    surface_index: std::cell::OnceCell<Option<SurfaceIndex>>,
 }
 
 #[wasm_bindgen]
@@ -53,6 +56,7 @@ impl LayoutAnalyzer {
             frame,
             analysed: None,
             grid: None,
+            surface_index: std::cell::OnceCell::new(),
         })
     }
 
@@ -186,10 +190,10 @@ impl LayoutAnalyzer {
             .as_ref()
             .map(|a| a.analysis.loop_strip.clone())
             .unwrap_or_default();
-        let surface = self.original.as_ref().unwrap_or(&self.mesh);
-        let index =
-            SurfaceIndex::new(surface).ok_or_else(|| JsError::new("the surface is empty"))?;
-        let g = layout_glue::grid_mesh(&layout, &loop_strip, &counts, &index)
+        let index = self
+            .surface_index()
+            .ok_or_else(|| JsError::new("the surface is empty"))?;
+        let g = layout_glue::grid_mesh(&layout, &loop_strip, &counts, index)
             .map_err(|e| JsError::new(&e.to_string()))?;
         let out = Object::new();
         let mut segments = Vec::new();
@@ -259,9 +263,18 @@ impl LayoutAnalyzer {
     /// input when the design runs on a proxy.
     fn input_layout(&self) -> Option<LayoutExport> {
         let mut l = self.analysed.as_ref()?.analysis.layout.clone()?;
-        if let Some(index) = self.original.as_ref().and_then(SurfaceIndex::new) {
-            l.project_onto(&index);
+        if self.original.is_some()
+            && let Some(index) = self.surface_index()
+        {
+            l.project_onto(index);
         }
         Some(l)
+    }
+
+    /// The input's surface index (the proxy's original when there is one).
+    fn surface_index(&self) -> Option<&SurfaceIndex> {
+        self.surface_index
+            .get_or_init(|| SurfaceIndex::new(self.original.as_ref().unwrap_or(&self.mesh)))
+            .as_ref()
     }
 }
