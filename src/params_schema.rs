@@ -187,6 +187,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("fit.crease_degrees", 0.0, 180.0, "Input edges whose normals differ by more than this many degrees are feature curves; control edges along them become sharp creases. 0 turns creases off."),
         int("fit.error_levels", 0.0, 5.0, "Subdivision levels of the limit mesh the error is measured and shown on."),
         flag("fit.measure_before", "Also measure the limit error of the unfitted control mesh."),
+        int("fit.lspia_iterations", 0.0, 100.0, "Most least-squares steps after the normal offsets (LSPIA, Deng and Lin 2014): the limit surface's samples pull their control vertices onto the input; 0 keeps the thesis' fit."),
         choice("fit.split", &["auto", "always", "non-quads"], "One Catmull–Clark split before fitting: auto (in the local mode; the global mode's pure quads are fitted as they are), always, or only when a face is not a quad."),
     ]
 }
