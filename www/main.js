@@ -1443,6 +1443,7 @@ function showMetrics(metrics, limit) {
     rows.push(
       ['control mesh vertices / faces', `${l.control_vertices} / ${l.control_faces}`],
       ['fit iterations (converged)', `${l.iterations} (${l.converged ? 'yes' : 'no'})`],
+      ['least-squares steps', `${l.lspia_iterations ?? 0}`],
       ['limit Hausdorff before → after', `${n(l.before.hausdorff)} → ${n(l.after.hausdorff)}`],
       ['limit mean error before → after', `${n(l.before.stats.mean)} → ${n(l.after.stats.mean)}`],
     );

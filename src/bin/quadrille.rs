@@ -535,7 +535,7 @@ fn fit(args: FitArgs) -> Result<(), String> {
     let s = &result.summary;
     eprintln!(
         "fit: {} faces -> {} control faces; limit mean {:.3e} -> {:.3e}, Hausdorff {:.3e} -> {:.3e} \
-         (× largest axis); {} iterations{}; {}/{} rays missed; {:.0} ms",
+         (× largest axis); {} iterations{}, {} least-squares steps; {}/{} rays missed; {:.0} ms",
         quads.face_count(),
         s.control_faces,
         s.before.stats.mean,
@@ -544,6 +544,7 @@ fn fit(args: FitArgs) -> Result<(), String> {
         s.after.hausdorff,
         s.iterations,
         if s.converged { ", converged" } else { "" },
+        s.lspia_iterations,
         s.rays_missed,
         s.rays_cast,
         fit_ms
