@@ -46,7 +46,7 @@ enum Command {
     Remesh(RemeshArgs),
     /// Fit a Catmull–Clark control mesh to a reference surface, starting
     /// from any polygon mesh (a retopology, another remesher's output):
-    /// one subdivision step, then Kloiber §3.8's normal-offset iterations.
+    /// one subdivision step, then Kloiber §3.8's normal-offset iterations and a least-squares finish.
     /// Both meshes are read in the same (file) coordinates.
     Fit(FitArgs),
     /// Compute the integer-grid map (Ebke et al. 2014 / Campen et al. 2016,
