@@ -423,7 +423,8 @@ def write_doc(args, results, rewritten=None):
         "configuration overlays are `ROWS` in scripts/quality.py.",
         "",
         "Every output is measured by the same code: `quadrille metrics OUT --reference IN` and `quadrille fit "
-        "--reference IN --mesh OUT` (limit surface of the fitted Catmull–Clark control mesh, 2 levels). "
+        "--reference IN --mesh OUT` (limit surface of the fitted Catmull–Clark control mesh, 2 levels; the fit "
+        "is the thesis' normal offsets and then up to 10 least-squares steps, `fit.lspia_iterations`). "
         "Distances are fractions of the input's largest bounding-box axis; Hausdorff is two-sided; "
         "EV = interior vertices of valence ≠ 4 and boundary vertices of valence ≠ 3; corner dev = mean "
         "|interior angle − 90°| over quad corners; a reflex corner reads above 180°. Loops closed over / "
