@@ -1282,3 +1282,174 @@ fn patch_polygons_follow_the_routes() {
     assert!(m.boundary_loops().is_empty());
     assert_eq!(m.euler_characteristic(), 2);
 }
+
+/// `mesh` without the triangles around `vertices` (each leaves a hole of
+/// its one-ring), unreferenced vertices dropped.
+fn with_holes(mesh: &TriMesh, vertices: &[usize]) -> TriMesh {
+    let kept: Vec<[u32; 3]> = mesh
+        .triangles
+        .iter()
+        .filter(|t| !t.iter().any(|&v| vertices.contains(&(v as usize))))
+        .copied()
+        .collect();
+    let mut id = vec![u32::MAX; mesh.positions.len()];
+    let mut positions = Vec::new();
+    let triangles = kept
+        .iter()
+        .map(|t| {
+            t.map(|v| {
+                if id[v as usize] == u32::MAX {
+                    id[v as usize] = positions.len() as u32;
+                    positions.push(mesh.positions[v as usize]);
+                }
+                id[v as usize]
+            })
+        })
+        .collect();
+    TriMesh::new(positions, triangles).unwrap()
+}
+
+/// The input's boundary edges as segments.
+fn boundary_segments(mesh: &TriMesh) -> Vec<[DVec3; 2]> {
+    let mut directed = std::collections::HashSet::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            directed.insert((t[k], t[(k + 1) % 3]));
+        }
+    }
+    directed
+        .iter()
+        .filter(|&&(a, b)| !directed.contains(&(b, a)))
+        .map(|&(a, b)| [mesh.positions[a as usize], mesh.positions[b as usize]])
+        .collect()
+}
+
+fn distance_to_segment(p: DVec3, [a, b]: [DVec3; 2]) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    p.distance(a + t * ab)
+}
+
+#[test]
+fn sphere_with_holes_grids_around_them() {
+    // Two small holes inside two octants; the three great circles miss
+    // them.
+    let sphere = sphere();
+    let centres = octant_centres(&sphere);
+    let mesh = with_holes(
+        &sphere,
+        &[centres[0].vertex as usize, centres[5].vertex as usize],
+    );
+    let input = mesh.topology();
+    assert_eq!(
+        (input.euler_characteristic, input.components),
+        (0, 1),
+        "a sphere with two holes"
+    );
+    let holes = boundary_segments(&mesh);
+    let loops = octant_loops(&mesh);
+    for l in &loops {
+        assert!(l.closed, "the great circles miss the holes");
+    }
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    assert!(r.sufficient, "{:?}", summary(&r));
+    assert_eq!(r.regions.iter().map(|g| g.holes()).sum::<usize>(), 2);
+    let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    // The holes' layout vertices sit on their rims and cannot be moved off.
+    let on_holes: Vec<usize> = (0..layout.vertices.len())
+        .filter(|&v| !layout.vertices[v].hole.is_empty())
+        .collect();
+    assert_eq!(on_holes.len(), 2);
+    let mut moved = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
+    assert!(moved.move_vertex(on_holes[0], DVec3::X).is_err());
+    let index = SurfaceIndex::new(&mesh).unwrap();
+    // The holes' octants share a cube face: with 2 × 2 quads on it their
+    // cuts would touch at its middle.
+    let too_coarse = grid_layout(&layout.export(), &[2; 3], &index).unwrap_err();
+    assert!(
+        too_coarse.to_string().contains("raise the grid counts"),
+        "{too_coarse}"
+    );
+    for n in [3u32, 8] {
+        let g = grid_layout(&layout.export(), &[n; 3], &index).unwrap();
+        let m = &g.mesh;
+        m.validate().expect("a valid, manifold half-edge mesh");
+        assert!((0..m.face_count() as u32).all(|f| m.degree(f) == 4));
+        assert_eq!(m.euler_characteristic(), input.euler_characteristic);
+        assert_eq!(m.boundary_loops().len(), 2, "one boundary loop per hole");
+        assert_eq!(m.topology().components, 1);
+        for (v, p) in m.positions.iter().enumerate() {
+            assert!(index.distance(*p) < 1e-9, "vertex {v} off the surface");
+        }
+        // The boundary lies on the holes' rims.
+        for h in 0..m.halfedge_count() as u32 {
+            if m.is_boundary_halfedge(h) {
+                let p = m.positions[m.origin(h) as usize];
+                let d = holes
+                    .iter()
+                    .map(|&s| distance_to_segment(p, s))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    d < 1e-9,
+                    "boundary vertex {} off the rims: {d}",
+                    m.origin(h)
+                );
+            }
+        }
+        println!(
+            "sphere with 2 holes, grid {n}: {} vertices, {} quads, {} folded",
+            m.vertex_count(),
+            m.face_count(),
+            g.folded
+        );
+    }
+}
+
+#[test]
+fn regions_touching_the_boundary_twice_are_red_and_say_why() {
+    // Two parallel dual curves: the middle band touches the top and the
+    // bottom of the square.
+    let mesh = flat_grid(1.0, 10);
+    let mut loops = plane_sections(&mesh, DVec3::X, 0.05);
+    loops.extend(plane_sections(&mesh, DVec3::X, 0.45));
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    assert_eq!(r.regions.len(), 3);
+    assert!(!r.sufficient);
+    let red: Vec<usize> = (0..3)
+        .filter(|&g| r.regions[g].guidance == Guidance::NonDisc)
+        .collect();
+    assert_eq!(red.len(), 1);
+    let band = &r.regions[red[0]];
+    assert_eq!((band.euler, band.boundary_stretches()), (1, 2));
+    let why = band.layout_blocker(red[0]).unwrap();
+    assert!(why.contains(&format!("region {}", red[0])) && why.contains("2 stretches"));
+    assert!(QuadLayout::build(&mesh, &loops, &r, &[]).is_err());
+
+    // Two holes in one octant of the sphere: its region cannot be one
+    // layout vertex; one hole per region can.
+    let sphere = sphere();
+    let centres = octant_centres(&sphere);
+    let c = centres[0].vertex as usize;
+    let neighbour = sphere
+        .triangles
+        .iter()
+        .flat_map(|t| t.iter().copied())
+        .map(|v| v as usize)
+        .filter(|&v| {
+            v != c
+                && sphere.positions[v].distance(sphere.positions[c]) > 0.15
+                && sphere.positions[v].distance(sphere.positions[c]) < 0.3
+        })
+        .min()
+        .unwrap();
+    let mesh = with_holes(&sphere, &[c, neighbour]);
+    let loops = octant_loops(&mesh);
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    let red: Vec<usize> = (0..r.regions.len())
+        .filter(|&g| r.regions[g].guidance == Guidance::NonDisc)
+        .collect();
+    assert_eq!(red.len(), 1, "{:?}", summary(&r));
+    assert_eq!(r.regions[red[0]].holes(), 2);
+    let why = r.regions[red[0]].layout_blocker(red[0]).unwrap();
+    assert!(why.contains("2 holes"), "{why}");
+}

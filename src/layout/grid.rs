@@ -275,12 +275,187 @@ pub fn grid_layout(
         }
         patch_faces.push(faces.len() as u32);
     }
+    let (positions, faces, patch_faces) = cut_holes(layout, positions, &faces, &patch_faces)?;
     let mesh = PolyMesh::from_faces(positions, &faces)?;
     Ok(LayoutGrid {
         mesh,
         patch_faces,
         folded,
     })
+}
+
+/// Cuts every hole out of the grid: at a layout vertex standing for a hole
+/// no strip ends on ([`super::primal::LayoutVertex::hole`]) the quads
+/// around it go, and the ring of their other edges is laid onto the hole's
+/// rim (its points at the ring's arc-length proportions, from the rim point
+/// nearest the ring's first). Unreferenced vertices (the holes' layout
+/// vertices) are dropped, so the ids after them shift. Returns the
+/// positions, faces and per-patch face ranges.
+fn cut_holes(
+    layout: &LayoutExport,
+    mut positions: Vec<DVec3>,
+    faces: &FaceList,
+    patch_faces: &[u32],
+) -> Result<(Vec<DVec3>, FaceList, Vec<u32>), GridError> {
+    let holes: Vec<usize> = (0..layout.vertices.len())
+        .filter(|&v| !layout.vertices[v].hole.is_empty())
+        .collect();
+    if holes.is_empty() {
+        return Ok((positions, faces.clone(), patch_faces.to_vec()));
+    }
+    let mut removed = vec![false; faces.len()];
+    // The hole whose cut each vertex borders: two cuts must not touch.
+    let mut cut_by = vec![usize::MAX; positions.len()];
+    for &h in &holes {
+        let cannot = |why: String| {
+            GridError::Invalid(format!(
+                "the hole at layout vertex {h} (region {}) cannot be cut out of the grid: {why}",
+                layout.vertices[h].region
+            ))
+        };
+        let ring = hole_ring(faces, h as u32, &mut removed).map_err(cannot)?;
+        for &v in &ring {
+            let other = cut_by[v as usize];
+            if other != usize::MAX {
+                return Err(cannot(format!(
+                    "it is one grid quad from the hole at layout vertex {other} (region {}); \
+                     raise the grid counts",
+                    layout.vertices[other].region
+                )));
+            }
+            cut_by[v as usize] = h;
+        }
+        lay_on_rim(&ring, &layout.vertices[h].hole, &mut positions);
+    }
+    // Keep the other faces, their vertices renumbered.
+    let mut id = vec![u32::MAX; positions.len()];
+    let mut kept_positions = Vec::new();
+    let mut kept = FaceList::new();
+    let mut kept_ranges = vec![0u32];
+    for p in 0..patch_faces.len() - 1 {
+        for f in patch_faces[p] as usize..patch_faces[p + 1] as usize {
+            if removed[f] {
+                continue;
+            }
+            let face: Vec<u32> = faces
+                .face(f)
+                .iter()
+                .map(|&v| {
+                    if id[v as usize] == u32::MAX {
+                        id[v as usize] = kept_positions.len() as u32;
+                        kept_positions.push(positions[v as usize]);
+                    }
+                    id[v as usize]
+                })
+                .collect();
+            kept.push(&face);
+        }
+        kept_ranges.push(kept.len() as u32);
+    }
+    Ok((kept_positions, kept, kept_ranges))
+}
+
+/// Marks the faces around vertex `h` removed and returns the ring of their
+/// other edges as the kept surface's boundary loop (the kept faces on its
+/// left), or why it is no single loop.
+fn hole_ring(faces: &FaceList, h: u32, removed: &mut [bool]) -> Result<Vec<u32>, String> {
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        let Some(i) = face.iter().position(|&v| v == h) else {
+            continue;
+        };
+        if removed[f] || face.iter().filter(|&&v| v == h).count() > 1 {
+            return Err("a patch has it at two corners or meets another hole".into());
+        }
+        removed[f] = true;
+        let n = face.len();
+        for k in 1..n - 1 {
+            edges.push((face[(i + k) % n], face[(i + k + 1) % n]));
+        }
+    }
+    if edges.is_empty() {
+        return Err("it is a corner of no patch".into());
+    }
+    // Edges two removed faces share are inside the cut.
+    let set: std::collections::HashSet<(u32, u32)> = edges.iter().copied().collect();
+    edges.retain(|&(a, b)| !set.contains(&(b, a)));
+    let mut next: std::collections::HashMap<u32, u32> = Default::default();
+    for &(a, b) in &edges {
+        if next.insert(a, b).is_some() {
+            return Err("the quads around it pinch (a grid count of 1?)".into());
+        }
+    }
+    let start = edges[0].0;
+    let mut ring = vec![start];
+    let mut at = next[&start];
+    while at != start {
+        if ring.len() > edges.len() {
+            return Err("the quads around it do not close around it".into());
+        }
+        ring.push(at);
+        at = *next
+            .get(&at)
+            .ok_or("the quads around it do not close around it")?;
+    }
+    if ring.len() != edges.len() {
+        return Err("the quads around it leave more than one loop".into());
+    }
+    // The removed quads lie on the ring's left: reversed, the kept ones do.
+    ring.reverse();
+    Ok(ring)
+}
+
+/// Moves the ring's vertices onto `rim` (closed, the surface on its left,
+/// as the ring), at the ring's own arc-length proportions, starting at the
+/// rim point nearest the ring's first vertex.
+fn lay_on_rim(ring: &[u32], rim: &[DVec3], positions: &mut [DVec3]) {
+    let closed = |points: &[DVec3]| -> Vec<f64> {
+        let mut c = vec![0.0];
+        for k in 0..points.len() {
+            let d = points[k].distance(points[(k + 1) % points.len()]);
+            c.push(c[k] + d);
+        }
+        c
+    };
+    let ring_points: Vec<DVec3> = ring.iter().map(|&v| positions[v as usize]).collect();
+    let (along_ring, along_rim) = (closed(&ring_points), closed(rim));
+    let (ring_length, rim_length) = (along_ring[ring.len()], along_rim[rim.len()]);
+    // Arc length of the rim point at `s` (mod its length).
+    let at = |s: f64| -> DVec3 {
+        let s = s.rem_euclid(rim_length.max(f64::MIN_POSITIVE));
+        let k = along_rim.partition_point(|&x| x <= s).clamp(1, rim.len()) - 1;
+        let length = along_rim[k + 1] - along_rim[k];
+        let t = if length > 0.0 {
+            (s - along_rim[k]) / length
+        } else {
+            0.0
+        };
+        rim[k].lerp(rim[(k + 1) % rim.len()], t)
+    };
+    // The rim point nearest the ring's first vertex.
+    let first = ring_points[0];
+    let mut start = (f64::INFINITY, 0.0);
+    for k in 0..rim.len() {
+        let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
+        let ab = b - a;
+        let t = if ab.length_squared() > 0.0 {
+            ((first - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let d = first.distance_squared(a + t * ab);
+        if d < start.0 {
+            start = (d, along_rim[k] + t * (along_rim[k + 1] - along_rim[k]));
+        }
+    }
+    for (k, &v) in ring.iter().enumerate() {
+        let share = if ring_length > 0.0 {
+            along_ring[k] / ring_length
+        } else {
+            k as f64 / ring.len() as f64
+        };
+        positions[v as usize] = at(start.1 + share * rim_length);
+    }
 }
 
 /// The interior of one patch grid (`(nu + 1) × (nv + 1)` points, row-major

@@ -27,9 +27,18 @@
 //!   boundary — at its sharpest boundary corner (turning ≥ π/4), else at
 //!   the boundary vertex farthest from the loops — and the layout edge of
 //!   an arc ending on the boundary is routed through that end, along the
-//!   boundary. A region touching the boundary along several stretches
-//!   still gets one vertex (a layout would need one per stretch); trimmed
-//!   (non-aligned) layouts are not built.
+//!   boundary. A region touching the boundary along several stretches has
+//!   no vertex (it would need one per stretch and an edge between them
+//!   that is dual to no loop): [`super::regions`] colours it red and names
+//!   it. Trimmed (non-aligned) layouts, where the boundary cuts patches,
+//!   are not built.
+//! - Holes no dual curve ends on (a mesh-boundary loop inside one region;
+//!   not in the paper): the layout is built as if the hole were capped, the
+//!   region's vertex on the hole's rim (the hole replaces the vertex: a
+//!   region may hold one hole and touch the boundary nowhere else), and
+//!   [`LayoutVertex::hole`] keeps the rim, along which
+//!   [`super::grid::grid_layout`] cuts the hole out of the grid. The vertex
+//!   cannot be moved off the hole.
 //! - [`QuadLayout::move_vertex`] snaps the new point to the surface and
 //!   re-routes from the region's mesh vertex nearest to it; a point outside
 //!   the vertex's region is rejected.
@@ -61,6 +70,11 @@ pub struct LayoutVertex {
     pub region: u32,
     /// Placed on a cross-field singularity.
     pub singular: bool,
+    /// The rim of the hole the vertex sits on (a mesh-boundary loop no dual
+    /// curve ends on), closed, the surface on its left; empty for the
+    /// other vertices.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hole: Vec<DVec3>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -109,6 +123,9 @@ impl LayoutExport {
             let c = index.closest(v.position);
             v.position = c.point;
             v.face = c.face;
+            for p in &mut v.hole {
+                *p = index.closest(*p).point;
+            }
         }
         for e in &mut self.edges {
             for p in &mut e.polyline {
@@ -279,8 +296,10 @@ impl QuadLayout {
         let arc_middles = arc_middles(mesh, loops, regions, &mut router);
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
+            // On a hole no curve ends on, the vertex goes to the hole.
+            let on_hole = region.holes() > 0;
             let single = match region.singularities[..] {
-                [s] => singularities.get(s as usize).map(|s| s.vertex),
+                [s] if !on_hole => singularities.get(s as usize).map(|s| s.vertex),
                 _ => None,
             };
             let vertex = if let Some(v) = single {
@@ -324,11 +343,16 @@ impl QuadLayout {
                 None => thin_region_point(regions, r as u32, router.index.as_ref())
                     .ok_or_else(|| RegionError::Degenerate(format!("region {r} is empty")))?,
             };
+            let hole = match vertex {
+                Some(v) if on_hole => boundary_loop_through(mesh, v),
+                _ => Vec::new(),
+            };
             vertices.push(LayoutVertex {
                 position,
                 face,
                 region: r as u32,
                 singular: single.is_some(),
+                hole,
             });
             router.source.push(vertex.unwrap_or(u32::MAX));
         }
@@ -367,6 +391,11 @@ impl QuadLayout {
         if i >= self.vertices.len() || !point.is_finite() {
             return Err(RegionError::Invalid(format!(
                 "cannot move layout vertex {i} to {point}"
+            )));
+        }
+        if !self.vertices[i].hole.is_empty() {
+            return Err(RegionError::Invalid(format!(
+                "layout vertex {i} stands for a hole no strip ends on: it stays on the hole"
             )));
         }
         let region = self.vertices[i].region;
@@ -528,6 +557,34 @@ fn thin_region_point(
         }
         None => (first.point, first.face),
     })
+}
+
+/// The mesh-boundary loop through boundary vertex `v`, from `v`, directed
+/// with the surface on its left (each boundary edge in its triangle's
+/// order).
+fn boundary_loop_through(mesh: &TriMesh, v: u32) -> Vec<DVec3> {
+    let mut directed: std::collections::HashMap<(u32, u32), u32> = Default::default();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    let mut next: std::collections::HashMap<u32, u32> = Default::default();
+    for &(a, b) in directed.keys() {
+        if !directed.contains_key(&(b, a)) {
+            next.insert(a, b);
+        }
+    }
+    let mut rim = vec![mesh.positions[v as usize]];
+    let mut at = v;
+    while let Some(&w) = next.get(&at) {
+        if w == v || rim.len() > next.len() {
+            break;
+        }
+        rim.push(mesh.positions[w as usize]);
+        at = w;
+    }
+    rim
 }
 
 fn first_face(mesh: &TriMesh, v: u32) -> u32 {

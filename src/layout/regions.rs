@@ -47,6 +47,17 @@
 //!   bbox diagonal around it (Dijkstra over mesh edges) holds |K| ≥ π/4
 //!   (half the curvature of a valence-3 or -5 corner), its sign is the
 //!   ball's; a pronounced seed suppresses other seeds within 2ρ.
+//! - Red on open surfaces (our reading of §5.7's boundary-aligned layouts,
+//!   which the paper leaves to the user): a region is a layout vertex, so it
+//!   must touch the mesh boundary at most once. Along one stretch between
+//!   dual-curve ends its vertex lies there; a region touching the boundary
+//!   along k stretches is, doubled across the boundary (where a curve
+//!   meeting it orthogonally is half of a symmetric loop, §5.8), a surface
+//!   of χ = 2 − k, a disc only for k ≤ 1 — so k ≥ 2 is red. A hole no
+//!   dual curve ends on is capped for the disc test (χ + 1) and becomes the
+//!   region's vertex (primal.rs puts it there, grid.rs cuts the hole out
+//!   around it), so a region may hold one such hole and no stretch. Every
+//!   red region says why in [`Region::layout_blocker`].
 //! - Yellow (|v − v_expected| > 1 with K = (4 − v)π/2) only for regions not
 //!   touching the mesh boundary: the relation ignores boundary turning.
 //! - Meshes are assumed consistently oriented (left/right of a loop).
@@ -80,11 +91,14 @@ pub enum RegionError {
     Invalid(String),
 }
 
-/// The §4.2 colour of a region. Red (non-disc) wins over orange over yellow.
+/// The §4.2 colour of a region. Red (no layout vertex: not a disc, see
+/// [`Region::layout_blocker`]) wins over orange over yellow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Guidance {
     Ok,
-    /// Red: not disc-homeomorphic, further strips are required.
+    /// Red: not disc-homeomorphic (holes no dual curve ends on capped), or
+    /// touching the mesh boundary more than once (several stretches, or a
+    /// stretch and a hole, or several holes): further strips are required.
     NonDisc,
     /// Orange: several Gaussian-curvature extrema (singularities) inside.
     CurvatureExtrema,
@@ -113,6 +127,79 @@ pub struct Region {
     pub curvature_extrema: Vec<u32>,
     pub touches_mesh_boundary: bool,
     pub guidance: Guidance,
+}
+
+impl Region {
+    /// Its holes: mesh-boundary loops no dual curve ends on, inside it.
+    pub fn holes(&self) -> usize {
+        boundary_features(&self.boundary).0
+    }
+
+    /// Stretches of the mesh boundary between dual-curve ends on its
+    /// boundary.
+    pub fn boundary_stretches(&self) -> usize {
+        boundary_features(&self.boundary).1
+    }
+
+    /// Why region `r` (this one) can be no layout vertex, for the user:
+    /// `None` when it can.
+    pub fn layout_blocker(&self, r: usize) -> Option<String> {
+        let (holes, stretches) = boundary_features(&self.boundary);
+        if layout_disc(self.euler, &self.boundary) {
+            None
+        } else if self.euler + holes as i64 != 1 {
+            Some(format!("region {r} is not a disc: add strips to split it"))
+        } else if holes > 0 && stretches > 0 {
+            Some(format!(
+                "region {r} holds a hole no strip ends on and touches the mesh boundary: \
+                 add a strip that ends on the hole"
+            ))
+        } else if holes > 1 {
+            Some(format!(
+                "region {r} holds {holes} holes no strip ends on: add strips that end on \
+                 them or separate them"
+            ))
+        } else {
+            Some(format!(
+                "region {r} touches the mesh boundary along {stretches} stretches: add a \
+                 strip that separates them"
+            ))
+        }
+    }
+}
+
+/// (holes, stretches) of a region with these boundary cycles: cycles that
+/// are a whole mesh-boundary loop only (one of them is the region's outer
+/// boundary, not a hole, when no loop bounds the region), and mesh-boundary
+/// sides of the other cycles.
+fn boundary_features(cycles: &[Vec<BoundarySide>]) -> (usize, usize) {
+    let free = |c: &Vec<BoundarySide>| c.as_slice() == [BoundarySide::MeshBoundary];
+    let loops = cycles.iter().filter(|c| !free(c)).count();
+    let holes = cycles.iter().filter(|c| free(c)).count();
+    let stretches = cycles
+        .iter()
+        .filter(|c| !free(c))
+        .flatten()
+        .filter(|s| **s == BoundarySide::MeshBoundary)
+        .count();
+    (
+        if loops == 0 {
+            holes.saturating_sub(1)
+        } else {
+            holes
+        },
+        stretches,
+    )
+}
+
+/// Whether a region of Euler characteristic `euler` and these boundary
+/// cycles can be one layout vertex (see the module doc): a disc once its
+/// holes are capped, touching the mesh boundary at most once — along one
+/// stretch (its vertex goes there) or around one hole (its vertex goes on
+/// the hole, which the grid cuts out around it).
+fn layout_disc(euler: i64, cycles: &[Vec<BoundarySide>]) -> bool {
+    let (holes, stretches) = boundary_features(cycles);
+    euler + holes as i64 == 1 && holes + stretches <= 1
 }
 
 /// One side of a region's boundary between two corners.
@@ -777,7 +864,7 @@ impl Regions {
         let regions: Vec<Region> = (0..nr)
             .map(|r| {
                 let expected = 4.0 - curvature[r] / FRAC_PI_2;
-                let guidance = if euler[r] != 1 {
+                let guidance = if !layout_disc(euler[r], &boundary[r]) {
                     Guidance::NonDisc
                 } else if net_extrema[r].abs() >= 2 {
                     Guidance::CurvatureExtrema
