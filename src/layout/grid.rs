@@ -2,7 +2,7 @@
 //! with §1's "semi-regular quad meshes … a regular refinement of a quad
 //! layout"): the patches of the primal layout ([`super::primal`]) as
 //! polygon faces, and each patch filled with a regular grid of quads on the
-//! surface, giving a closed pure-quad mesh for the Catmull–Clark fit.
+//! surface, giving a pure-quad mesh for the Catmull–Clark fit.
 //!
 //! Every layout edge crosses one loop arc, so it belongs to that loop's dual
 //! strip; it is cut into the strip's count of segments (by arc length along
@@ -31,6 +31,17 @@
 //! [`LayoutGrid::folded`] counts them. Deviation: the paper leaves patch
 //! parametrization to the embedding optimizations it cites in §7
 //! ([Tarini et al. 2011; Campen et al. 2012]); this sweep is ours.
+//!
+//! Open surfaces: on a boundary-aligned layout the mesh boundary is made of
+//! layout edges and the grid's boundary follows it. A hole no dual curve
+//! ends on (not in the paper) is the layout vertex of its region, on the
+//! hole's rim ([`super::primal`]): the grid is built as if the hole were
+//! capped, then the quads around that vertex are removed and the ring of
+//! their outer edges is laid onto the rim, so the hole stays a boundary
+//! loop of the pure-quad mesh (never closed over). Two holes whose cuts
+//! would touch (a grid count too small between them) are an error naming
+//! them. Known limit: a hole wider than the quads around its vertex leaves
+//! the next quads stretched over it, pressed onto its rim.
 
 use glam::{DMat3, DVec3};
 

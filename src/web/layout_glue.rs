@@ -231,6 +231,24 @@ pub fn analyze_loops(
                     },
                 )
                 .collect();
+            // Red regions that are discs (holes capped) but touch the mesh
+            // boundary more than once: the status line's "not a disc" does
+            // not say what blocks them.
+            let blocked: Vec<String> = regions
+                .regions
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| r.guidance == Guidance::NonDisc && r.euler + r.holes() as i64 == 1)
+                .filter_map(|(i, r)| r.layout_blocker(i))
+                .collect();
+            notes.extend(blocked.iter().take(BLOCKERS_NAMED).cloned());
+            if blocked.len() > BLOCKERS_NAMED {
+                notes.push(format!(
+                    "{} more such region{}",
+                    blocked.len() - BLOCKERS_NAMED,
+                    plural(blocked.len() - BLOCKERS_NAMED)
+                ));
+            }
             a.sufficient = regions.sufficient && !embedded.is_empty();
             a.timings.regions_ms = clock() - started;
             // §7: the primal layout, with the user's vertex moves.
@@ -321,6 +339,10 @@ pub fn unflatten_covered(counts: &[u32], flat: &[f64]) -> Option<Vec<Vec<DVec3>>
             .collect(),
     )
 }
+
+/// Most red regions touching the mesh boundary more than once that the
+/// status names.
+const BLOCKERS_NAMED: usize = 3;
 
 const SINGULARITY_3: [u8; 4] = [31, 111, 221, 255];
 const SINGULARITY_5: [u8; 4] = [216, 52, 44, 255];
