@@ -34,14 +34,15 @@
 //!
 //! Open surfaces: on a boundary-aligned layout the mesh boundary is made of
 //! layout edges and the grid's boundary follows it. A hole no dual curve
-//! ends on (not in the paper) is the layout vertex of its region, on the
-//! hole's rim ([`super::primal`]): the grid is built as if the hole were
-//! capped, then the quads around that vertex are removed and the ring of
-//! their outer edges is laid onto the rim, so the hole stays a boundary
-//! loop of the pure-quad mesh (never closed over). Two holes whose cuts
-//! would touch (a grid count too small between them) are an error naming
-//! them. Known limit: a hole wider than the quads around its vertex leaves
-//! the next quads stretched over it, pressed onto its rim.
+//! ends on (not in the paper; "trimmed" by the hole in the paper's words,
+//! §5.7) is covered by the layout as if capped ([`super::primal`]); the
+//! grid then cuts it out: the quads around the grid vertex nearest the
+//! hole are removed and the ring of their outer edges is laid onto the
+//! hole's rim, so the hole stays a boundary loop of the pure-quad mesh
+//! (never closed over). A hole whose cut would touch another's or the
+//! boundary (grid counts too small there) is an error naming it. Known
+//! limit: a hole wider than the quads around that vertex leaves the next
+//! quads stretched over it, pressed onto its rim.
 
 use glam::{DMat3, DVec3};
 
@@ -295,48 +296,67 @@ pub fn grid_layout(
     })
 }
 
-/// Cuts every hole out of the grid: at a layout vertex standing for a hole
-/// no strip ends on ([`super::primal::LayoutVertex::hole`]) the quads
-/// around it go, and the ring of their other edges is laid onto the hole's
+/// Cuts every hole of the layout ([`LayoutExport::holes`]) out of the grid:
+/// the quads around the grid vertex nearest the hole (off the grid's
+/// boundary) go, and the ring of their other edges is laid onto the hole's
 /// rim (its points at the ring's arc-length proportions, from the rim point
-/// nearest the ring's first). Unreferenced vertices (the holes' layout
-/// vertices) are dropped, so the ids after them shift. Returns the
-/// positions, faces and per-patch face ranges.
+/// nearest the ring's first). The vertices left without a face are
+/// dropped, so the ids after them shift. Returns the positions, faces and
+/// per-patch face ranges.
 fn cut_holes(
     layout: &LayoutExport,
     mut positions: Vec<DVec3>,
     faces: &FaceList,
     patch_faces: &[u32],
 ) -> Result<(Vec<DVec3>, FaceList, Vec<u32>), GridError> {
-    let holes: Vec<usize> = (0..layout.vertices.len())
-        .filter(|&v| !layout.vertices[v].hole.is_empty())
-        .collect();
-    if holes.is_empty() {
+    if layout.holes.is_empty() {
         return Ok((positions, faces.clone(), patch_faces.to_vec()));
     }
+    // Vertices on the grid's boundary (the mesh boundary along stretches).
+    let mut directed = std::collections::HashSet::new();
+    for face in faces.iter() {
+        for k in 0..face.len() {
+            directed.insert((face[k], face[(k + 1) % face.len()]));
+        }
+    }
+    let mut taken = vec![false; positions.len()];
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) {
+            taken[a as usize] = true;
+            taken[b as usize] = true;
+        }
+    }
     let mut removed = vec![false; faces.len()];
-    // The hole whose cut each vertex borders: two cuts must not touch.
-    let mut cut_by = vec![usize::MAX; positions.len()];
-    for &h in &holes {
-        let cannot = |why: String| {
+    for (k, rim) in layout.holes.iter().enumerate() {
+        let Some(&first) = rim.first() else {
+            continue;
+        };
+        let centre = rim.iter().sum::<DVec3>() / rim.len() as f64;
+        let cannot = |why: &str| {
             GridError::Invalid(format!(
-                "the hole at layout vertex {h} (region {}) cannot be cut out of the grid: {why}",
-                layout.vertices[h].region
+                "hole {k} (at {:.3}, {:.3}, {:.3}) cannot be cut out of the grid: {why}",
+                first.x, first.y, first.z
             ))
         };
-        let ring = hole_ring(faces, h as u32, &mut removed).map_err(cannot)?;
-        for &v in &ring {
-            let other = cut_by[v as usize];
-            if other != usize::MAX {
-                return Err(cannot(format!(
-                    "it is one grid quad from the hole at layout vertex {other} (region {}); \
-                     raise the grid counts",
-                    layout.vertices[other].region
-                )));
-            }
-            cut_by[v as usize] = h;
+        // The nearest grid vertex whose quads no cut and no boundary touch.
+        let v = (0..positions.len())
+            .filter(|&v| !taken[v])
+            .min_by(|&a, &b| {
+                positions[a]
+                    .distance_squared(centre)
+                    .total_cmp(&positions[b].distance_squared(centre))
+            })
+            .ok_or_else(|| cannot("no grid vertex is free"))?;
+        let ring = hole_ring(faces, v as u32, &mut removed).map_err(|why| cannot(&why))?;
+        if ring.iter().any(|&w| taken[w as usize]) {
+            return Err(cannot(
+                "its quads touch another hole's or the boundary; raise the grid counts",
+            ));
         }
-        lay_on_rim(&ring, &layout.vertices[h].hole, &mut positions);
+        for &w in ring.iter().chain([&(v as u32)]) {
+            taken[w as usize] = true;
+        }
+        lay_on_rim(&ring, rim, &mut positions);
     }
     // Keep the other faces, their vertices renumbered.
     let mut id = vec![u32::MAX; positions.len()];
@@ -376,7 +396,7 @@ fn hole_ring(faces: &FaceList, h: u32, removed: &mut [bool]) -> Result<Vec<u32>,
             continue;
         };
         if removed[f] || face.iter().filter(|&&v| v == h).count() > 1 {
-            return Err("a patch has it at two corners or meets another hole".into());
+            return Err("a patch has it at two corners".into());
         }
         removed[f] = true;
         let n = face.len();

@@ -32,13 +32,12 @@
 //!   that is dual to no loop): [`super::regions`] colours it red and names
 //!   it. Trimmed (non-aligned) layouts, where the boundary cuts patches,
 //!   are not built.
-//! - Holes no dual curve ends on (a mesh-boundary loop inside one region;
-//!   not in the paper): the layout is built as if the hole were capped, the
-//!   region's vertex on the hole's rim (the hole replaces the vertex: a
-//!   region may hold one hole and touch the boundary nowhere else), and
-//!   [`LayoutVertex::hole`] keeps the rim, along which
-//!   [`super::grid::grid_layout`] cuts the hole out of the grid. The vertex
-//!   cannot be moved off the hole.
+//! - Holes no dual curve ends on (mesh-boundary loops inside a region; not
+//!   in the paper): the layout is built as if they were capped — a region's
+//!   vertex goes on the boundary only along a stretch between curve ends,
+//!   else to its geodesic centre, away from the holes (distance 0 on their
+//!   rims) — and [`QuadLayout::holes`] keeps their rims, along which
+//!   [`super::grid::grid_layout`] cuts them out of the grid.
 //! - [`QuadLayout::move_vertex`] snaps the new point to the surface and
 //!   re-routes from the region's mesh vertex nearest to it; a point outside
 //!   the vertex's region is rejected.
@@ -70,11 +69,6 @@ pub struct LayoutVertex {
     pub region: u32,
     /// Placed on a cross-field singularity.
     pub singular: bool,
-    /// The rim of the hole the vertex sits on (a mesh-boundary loop no dual
-    /// curve ends on), closed, the surface on its left; empty for the
-    /// other vertices.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub hole: Vec<DVec3>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -108,6 +102,9 @@ pub struct LayoutExport {
     pub vertices: Vec<LayoutVertex>,
     pub edges: Vec<LayoutEdge>,
     pub patches: Vec<LayoutPatch>,
+    /// See [`QuadLayout::holes`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub holes: Vec<Vec<DVec3>>,
 }
 
 impl LayoutExport {
@@ -123,14 +120,14 @@ impl LayoutExport {
             let c = index.closest(v.position);
             v.position = c.point;
             v.face = c.face;
-            for p in &mut v.hole {
-                *p = index.closest(*p).point;
-            }
         }
-        for e in &mut self.edges {
-            for p in &mut e.polyline {
-                *p = index.closest(*p).point;
-            }
+        for p in self
+            .edges
+            .iter_mut()
+            .flat_map(|e| &mut e.polyline)
+            .chain(self.holes.iter_mut().flatten())
+        {
+            *p = index.closest(*p).point;
         }
     }
 }
@@ -140,6 +137,10 @@ pub struct QuadLayout {
     pub vertices: Vec<LayoutVertex>,
     pub edges: Vec<LayoutEdge>,
     pub patches: Vec<LayoutPatch>,
+    /// The rims of the holes no dual curve ends on (closed, the surface on
+    /// their left): the layout covers them as if capped; the grid cuts
+    /// them out.
+    pub holes: Vec<Vec<DVec3>>,
     router: Router,
 }
 
@@ -294,21 +295,26 @@ impl QuadLayout {
             .collect();
 
         let arc_middles = arc_middles(mesh, loops, regions, &mut router);
+        let holes = free_holes(mesh, loops);
+        let mut on_hole = vec![false; nv];
+        for &v in holes.iter().flatten() {
+            on_hole[v as usize] = true;
+        }
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
-            // On a hole no curve ends on, the vertex goes to the hole.
-            let on_hole = region.holes() > 0;
             let single = match region.singularities[..] {
-                [s] if !on_hole => singularities.get(s as usize).map(|s| s.vertex),
+                [s] => singularities.get(s as usize).map(|s| s.vertex),
                 _ => None,
             };
             let vertex = if let Some(v) = single {
                 Some(v)
-            } else if region.touches_mesh_boundary {
+            } else if region.boundary_stretches() > 0 {
                 // Boundary-aligned layout: on the mesh boundary, at its
                 // sharpest corner in the region, else farthest from loops.
                 let on_region_boundary = |v: u32| {
-                    on_boundary[v as usize] && regions.vertex_region[v as usize] == r as u32
+                    on_boundary[v as usize]
+                        && !on_hole[v as usize]
+                        && regions.vertex_region[v as usize] == r as u32
                 };
                 let corner = (0..nv as u32)
                     .filter(|&v| on_region_boundary(v))
@@ -343,16 +349,11 @@ impl QuadLayout {
                 None => thin_region_point(regions, r as u32, router.index.as_ref())
                     .ok_or_else(|| RegionError::Degenerate(format!("region {r} is empty")))?,
             };
-            let hole = match vertex {
-                Some(v) if on_hole => boundary_loop_through(mesh, v),
-                _ => Vec::new(),
-            };
             vertices.push(LayoutVertex {
                 position,
                 face,
                 region: r as u32,
                 singular: single.is_some(),
-                hole,
             });
             router.source.push(vertex.unwrap_or(u32::MAX));
         }
@@ -381,6 +382,10 @@ impl QuadLayout {
             vertices,
             edges: layout_edges,
             patches,
+            holes: holes
+                .iter()
+                .map(|rim| rim.iter().map(|&v| mesh.positions[v as usize]).collect())
+                .collect(),
             router,
         })
     }
@@ -391,11 +396,6 @@ impl QuadLayout {
         if i >= self.vertices.len() || !point.is_finite() {
             return Err(RegionError::Invalid(format!(
                 "cannot move layout vertex {i} to {point}"
-            )));
-        }
-        if !self.vertices[i].hole.is_empty() {
-            return Err(RegionError::Invalid(format!(
-                "layout vertex {i} stands for a hole no strip ends on: it stays on the hole"
             )));
         }
         let region = self.vertices[i].region;
@@ -443,6 +443,7 @@ impl QuadLayout {
             vertices: self.vertices.clone(),
             edges: self.edges.clone(),
             patches: self.patches.clone(),
+            holes: self.holes.clone(),
         }
     }
 
@@ -559,32 +560,56 @@ fn thin_region_point(
     })
 }
 
-/// The mesh-boundary loop through boundary vertex `v`, from `v`, directed
-/// with the surface on its left (each boundary edge in its triangle's
-/// order).
-fn boundary_loop_through(mesh: &TriMesh, v: u32) -> Vec<DVec3> {
-    let mut directed: std::collections::HashMap<(u32, u32), u32> = Default::default();
+/// The mesh-boundary loops no open loop (dual curve) ends on, each as its
+/// vertices in order, the surface on the left.
+fn free_holes(mesh: &TriMesh, loops: &[EmbeddedLoop]) -> Vec<Vec<u32>> {
+    let mut directed: std::collections::HashSet<(u32, u32)> = Default::default();
     for t in &mesh.triangles {
         for k in 0..3 {
-            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+            directed.insert((t[k], t[(k + 1) % 3]));
         }
     }
     let mut next: std::collections::HashMap<u32, u32> = Default::default();
-    for &(a, b) in directed.keys() {
-        if !directed.contains_key(&(b, a)) {
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) {
             next.insert(a, b);
         }
     }
-    let mut rim = vec![mesh.positions[v as usize]];
-    let mut at = v;
-    while let Some(&w) = next.get(&at) {
-        if w == v || rim.len() > next.len() {
-            break;
+    // Boundary edges a dual curve ends on.
+    let ends: std::collections::HashSet<(u32, u32)> = loops
+        .iter()
+        .filter(|l| !l.closed)
+        .flat_map(|l| [l.crossings.first(), l.crossings.last()])
+        .flatten()
+        .map(|c| (c.a.min(c.b), c.a.max(c.b)))
+        .collect();
+    let mut starts: Vec<u32> = next.keys().copied().collect();
+    starts.sort_unstable();
+    let mut seen = std::collections::HashSet::new();
+    let mut holes = Vec::new();
+    for start in starts {
+        if seen.contains(&start) {
+            continue;
         }
-        rim.push(mesh.positions[w as usize]);
-        at = w;
+        let mut rim = vec![start];
+        seen.insert(start);
+        let mut at = start;
+        while let Some(&w) = next.get(&at) {
+            if w == start || !seen.insert(w) {
+                break;
+            }
+            rim.push(w);
+            at = w;
+        }
+        let ended = (0..rim.len()).any(|k| {
+            let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
+            ends.contains(&(a.min(b), a.max(b)))
+        });
+        if !ended {
+            holes.push(rim);
+        }
     }
-    rim
+    holes
 }
 
 fn first_face(mesh: &TriMesh, v: u32) -> u32 {

@@ -49,14 +49,13 @@
 //!   ball's; a pronounced seed suppresses other seeds within 2ρ.
 //! - Red on open surfaces (our reading of §5.7's boundary-aligned layouts,
 //!   which the paper leaves to the user): a region is a layout vertex, so it
-//!   must touch the mesh boundary at most once. Along one stretch between
+//!   may touch the mesh boundary along one stretch at most. Along one between
 //!   dual-curve ends its vertex lies there; a region touching the boundary
 //!   along k stretches is, doubled across the boundary (where a curve
 //!   meeting it orthogonally is half of a symmetric loop, §5.8), a surface
 //!   of χ = 2 − k, a disc only for k ≤ 1 — so k ≥ 2 is red. A hole no
-//!   dual curve ends on is capped for the disc test (χ + 1) and becomes the
-//!   region's vertex (primal.rs puts it there, grid.rs cuts the hole out
-//!   around it), so a region may hold one such hole and no stretch. Every
+//!   dual curve ends on is capped for the disc test (χ + 1): the layout
+//!   covers it and grid.rs cuts it out, any number per region. Every
 //!   red region says why in [`Region::layout_blocker`].
 //! - Yellow (|v − v_expected| > 1 with K = (4 − v)π/2) only for regions not
 //!   touching the mesh boundary: the relation ignores boundary turning.
@@ -145,25 +144,15 @@ impl Region {
     /// `None` when it can.
     pub fn layout_blocker(&self, r: usize) -> Option<String> {
         let (holes, stretches) = boundary_features(&self.boundary);
-        if layout_disc(self.euler, &self.boundary) {
-            None
-        } else if self.euler + holes as i64 != 1 {
+        if self.euler + holes as i64 != 1 {
             Some(format!("region {r} is not a disc: add strips to split it"))
-        } else if holes > 0 && stretches > 0 {
-            Some(format!(
-                "region {r} holds a hole no strip ends on and touches the mesh boundary: \
-                 add a strip that ends on the hole"
-            ))
-        } else if holes > 1 {
-            Some(format!(
-                "region {r} holds {holes} holes no strip ends on: add strips that end on \
-                 them or separate them"
-            ))
-        } else {
+        } else if stretches > 1 {
             Some(format!(
                 "region {r} touches the mesh boundary along {stretches} stretches: add a \
                  strip that separates them"
             ))
+        } else {
+            None
         }
     }
 }
@@ -194,12 +183,11 @@ fn boundary_features(cycles: &[Vec<BoundarySide>]) -> (usize, usize) {
 
 /// Whether a region of Euler characteristic `euler` and these boundary
 /// cycles can be one layout vertex (see the module doc): a disc once its
-/// holes are capped, touching the mesh boundary at most once — along one
-/// stretch (its vertex goes there) or around one hole (its vertex goes on
-/// the hole, which the grid cuts out around it).
+/// holes are capped, touching the mesh boundary along at most one stretch
+/// (its vertex goes there).
 fn layout_disc(euler: i64, cycles: &[Vec<BoundarySide>]) -> bool {
     let (holes, stretches) = boundary_features(cycles);
-    euler + holes as i64 == 1 && holes + stretches <= 1
+    euler + holes as i64 == 1 && stretches <= 1
 }
 
 /// One side of a region's boundary between two corners.
