@@ -36,13 +36,13 @@
 //! layout edges and the grid's boundary follows it. A hole no dual curve
 //! ends on (not in the paper; "trimmed" by the hole in the paper's words,
 //! §5.7) is covered by the layout as if capped ([`super::primal`]); the
-//! grid then cuts it out: the quads around the grid vertex nearest the
-//! hole are removed and the ring of their outer edges is laid onto the
-//! hole's rim, so the hole stays a boundary loop of the pure-quad mesh
-//! (never closed over). A hole whose cut would touch another's or the
-//! boundary (grid counts too small there) is an error naming it. Known
-//! limit: a hole wider than the quads around that vertex leaves the next
-//! quads stretched over it, pressed onto its rim.
+//! grid then cuts it out: the grid quad nearest the hole is removed and
+//! its four sides are laid onto the hole's rim, so the hole stays a
+//! boundary loop of the pure-quad mesh (never closed over). A hole whose
+//! quad would touch another hole's or the boundary (grid counts too small
+//! there) is an error naming it. Known limit: a hole wider than a grid
+//! quad leaves the quads around it stretched over it, pressed onto its
+//! rim.
 
 use glam::{DMat3, DVec3};
 
@@ -297,12 +297,10 @@ pub fn grid_layout(
 }
 
 /// Cuts every hole of the layout ([`LayoutExport::holes`]) out of the grid:
-/// the quads around the grid vertex nearest the hole (off the grid's
-/// boundary) go, and the ring of their other edges is laid onto the hole's
-/// rim (its points at the ring's arc-length proportions, from the rim point
-/// nearest the ring's first). The vertices left without a face are
-/// dropped, so the ids after them shift. Returns the positions, faces and
-/// per-patch face ranges.
+/// the quad nearest the hole (by centroid) goes and its four edges are laid
+/// onto the hole's rim (their points at the quad's arc-length proportions,
+/// from the rim point nearest its first corner). Returns the positions,
+/// faces and per-patch face ranges.
 fn cut_holes(
     layout: &LayoutExport,
     mut positions: Vec<DVec3>,
@@ -338,102 +336,45 @@ fn cut_holes(
                 first.x, first.y, first.z
             ))
         };
-        // The nearest grid vertex whose quads no cut and no boundary touch.
-        let v = (0..positions.len())
-            .filter(|&v| !taken[v])
+        let centroid = |f: usize| {
+            let face = faces.face(f);
+            face.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / face.len() as f64
+        };
+        let f = (0..faces.len())
             .min_by(|&a, &b| {
-                positions[a]
+                centroid(a)
                     .distance_squared(centre)
-                    .total_cmp(&positions[b].distance_squared(centre))
+                    .total_cmp(&centroid(b).distance_squared(centre))
             })
-            .ok_or_else(|| cannot("no grid vertex is free"))?;
-        let ring = hole_ring(faces, v as u32, &mut removed).map_err(|why| cannot(&why))?;
-        if ring.iter().any(|&w| taken[w as usize]) {
+            .ok_or_else(|| cannot("the grid has no quads"))?;
+        // The kept quads lie on the left of the removed quad's reversed
+        // sides.
+        let mut ring = faces.face(f).to_vec();
+        ring.reverse();
+        if removed[f] || ring.iter().any(|&w| taken[w as usize]) {
             return Err(cannot(
-                "its quads touch another hole's or the boundary; raise the grid counts",
+                "its grid quad touches another hole's or the boundary; raise the grid counts",
             ));
         }
-        for &w in ring.iter().chain([&(v as u32)]) {
+        removed[f] = true;
+        for &w in &ring {
             taken[w as usize] = true;
         }
         lay_on_rim(&ring, rim, &mut positions);
     }
-    // Keep the other faces, their vertices renumbered.
-    let mut id = vec![u32::MAX; positions.len()];
-    let mut kept_positions = Vec::new();
+    // Keep the other faces; every vertex still has one (no cut touches
+    // another or the boundary).
     let mut kept = FaceList::new();
     let mut kept_ranges = vec![0u32];
     for p in 0..patch_faces.len() - 1 {
         for f in patch_faces[p] as usize..patch_faces[p + 1] as usize {
-            if removed[f] {
-                continue;
+            if !removed[f] {
+                kept.push(faces.face(f));
             }
-            let face: Vec<u32> = faces
-                .face(f)
-                .iter()
-                .map(|&v| {
-                    if id[v as usize] == u32::MAX {
-                        id[v as usize] = kept_positions.len() as u32;
-                        kept_positions.push(positions[v as usize]);
-                    }
-                    id[v as usize]
-                })
-                .collect();
-            kept.push(&face);
         }
         kept_ranges.push(kept.len() as u32);
     }
-    Ok((kept_positions, kept, kept_ranges))
-}
-
-/// Marks the faces around vertex `h` removed and returns the ring of their
-/// other edges as the kept surface's boundary loop (the kept faces on its
-/// left), or why it is no single loop.
-fn hole_ring(faces: &FaceList, h: u32, removed: &mut [bool]) -> Result<Vec<u32>, String> {
-    let mut edges: Vec<(u32, u32)> = Vec::new();
-    for (f, face) in faces.iter().enumerate() {
-        let Some(i) = face.iter().position(|&v| v == h) else {
-            continue;
-        };
-        if removed[f] || face.iter().filter(|&&v| v == h).count() > 1 {
-            return Err("a patch has it at two corners".into());
-        }
-        removed[f] = true;
-        let n = face.len();
-        for k in 1..n - 1 {
-            edges.push((face[(i + k) % n], face[(i + k + 1) % n]));
-        }
-    }
-    if edges.is_empty() {
-        return Err("it is a corner of no patch".into());
-    }
-    // Edges two removed faces share are inside the cut.
-    let set: std::collections::HashSet<(u32, u32)> = edges.iter().copied().collect();
-    edges.retain(|&(a, b)| !set.contains(&(b, a)));
-    let mut next: std::collections::HashMap<u32, u32> = Default::default();
-    for &(a, b) in &edges {
-        if next.insert(a, b).is_some() {
-            return Err("the quads around it pinch (a grid count of 1?)".into());
-        }
-    }
-    let start = edges[0].0;
-    let mut ring = vec![start];
-    let mut at = next[&start];
-    while at != start {
-        if ring.len() > edges.len() {
-            return Err("the quads around it do not close around it".into());
-        }
-        ring.push(at);
-        at = *next
-            .get(&at)
-            .ok_or("the quads around it do not close around it")?;
-    }
-    if ring.len() != edges.len() {
-        return Err("the quads around it leave more than one loop".into());
-    }
-    // The removed quads lie on the ring's left: reversed, the kept ones do.
-    ring.reverse();
-    Ok(ring)
+    Ok((positions, kept, kept_ranges))
 }
 
 /// Moves the ring's vertices onto `rim` (closed, the surface on its left,
