@@ -36,13 +36,13 @@
 //! layout edges and the grid's boundary follows it. A hole no dual curve
 //! ends on (not in the paper; "trimmed" by the hole in the paper's words,
 //! §5.7) is covered by the layout as if capped ([`super::primal`]); the
-//! grid then cuts it out: the grid quad nearest the hole is removed and
-//! its four sides are laid onto the hole's rim, so the hole stays a
-//! boundary loop of the pure-quad mesh (never closed over). A hole whose
-//! quad would touch another hole's or the boundary (grid counts too small
-//! there) is an error naming it. Known limit: a hole wider than a grid
-//! quad leaves the quads around it stretched over it, pressed onto its
-//! rim.
+//! grid then cuts it out: the grid quads over the hole — the one nearest
+//! it and those the sweep's projection pressed onto its rim — are removed
+//! and the boundary of their union is laid onto the hole's rim, so the
+//! hole stays a boundary loop of the pure-quad mesh (never closed over).
+//! A hole whose quads are no disc, or touch another hole's or the boundary
+//! (grid counts too small there), is an error naming it. Known limit:
+//! quads partly over a hole stay, pressed against its rim.
 
 use glam::{DMat3, DVec3};
 
@@ -297,10 +297,11 @@ pub fn grid_layout(
 }
 
 /// Cuts every hole of the layout ([`LayoutExport::holes`]) out of the grid:
-/// the quad nearest the hole (by centroid) goes and its four edges are laid
-/// onto the hole's rim (their points at the quad's arc-length proportions,
-/// from the rim point nearest its first corner). Returns the positions,
-/// faces and per-patch face ranges.
+/// the quads over it go (the nearest by centroid, and those with every
+/// corner on its rim) and the boundary of their union is laid onto the
+/// hole's rim (its points at the boundary's arc-length proportions, from
+/// the rim point nearest its first). Returns the positions, faces and
+/// per-patch face ranges.
 fn cut_holes(
     layout: &LayoutExport,
     mut positions: Vec<DVec3>,
@@ -317,11 +318,13 @@ fn cut_holes(
             directed.insert((face[k], face[(k + 1) % face.len()]));
         }
     }
-    let mut taken = vec![false; positions.len()];
+    // Per vertex: on the grid's boundary, or the hole whose cut it borders.
+    const BOUNDARY: usize = usize::MAX - 1;
+    let mut taken = vec![usize::MAX; positions.len()];
     for &(a, b) in &directed {
         if !directed.contains(&(b, a)) {
-            taken[a as usize] = true;
-            taken[b as usize] = true;
+            taken[a as usize] = BOUNDARY;
+            taken[b as usize] = BOUNDARY;
         }
     }
     let mut removed = vec![false; faces.len()];
@@ -336,29 +339,47 @@ fn cut_holes(
                 first.x, first.y, first.z
             ))
         };
+        // The quads over the hole: the nearest to it, and those whose
+        // corners all lie on its rim (the sweep's projection pressed them
+        // there).
         let centroid = |f: usize| {
             let face = faces.face(f);
             face.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / face.len() as f64
         };
-        let f = (0..faces.len())
+        let nearest = (0..faces.len())
             .min_by(|&a, &b| {
                 centroid(a)
                     .distance_squared(centre)
                     .total_cmp(&centroid(b).distance_squared(centre))
             })
             .ok_or_else(|| cannot("the grid has no quads"))?;
-        // The kept quads lie on the left of the removed quad's reversed
-        // sides.
-        let mut ring = faces.face(f).to_vec();
-        ring.reverse();
-        if removed[f] || ring.iter().any(|&w| taken[w as usize]) {
+        let reach = rim.iter().map(|p| p.distance(centre)).fold(0.0, f64::max) + ON_RIM;
+        let on_rim: Vec<bool> = positions
+            .iter()
+            .map(|&p| p.distance(centre) <= reach && distance_to_closed(rim, p) <= ON_RIM)
+            .collect();
+        let over: Vec<usize> = (0..faces.len())
+            .filter(|&f| f == nearest || faces.face(f).iter().all(|&v| on_rim[v as usize]))
+            .collect();
+        if over.iter().any(|&f| removed[f]) {
             return Err(cannot(
-                "its grid quad touches another hole's or the boundary; raise the grid counts",
+                "its grid quads are another hole's too; raise the grid counts",
             ));
         }
-        removed[f] = true;
-        for &w in &ring {
-            taken[w as usize] = true;
+        let ring = ring_around(faces, &over).map_err(|why| cannot(&why))?;
+        if let Some(&w) = ring.iter().find(|&&w| taken[w as usize] != usize::MAX) {
+            return Err(cannot(&match taken[w as usize] {
+                BOUNDARY => "its grid quads touch the mesh boundary; raise the grid counts".into(),
+                other => format!("its grid quads touch hole {other}'s; raise the grid counts"),
+            }));
+        }
+        for &f in &over {
+            removed[f] = true;
+        }
+        for &f in &over {
+            for &w in faces.face(f) {
+                taken[w as usize] = k;
+            }
         }
         lay_on_rim(&ring, rim, &mut positions);
     }
@@ -375,6 +396,67 @@ fn cut_holes(
         kept_ranges.push(kept.len() as u32);
     }
     Ok((positions, kept, kept_ranges))
+}
+
+/// Farthest a grid vertex pressed onto a hole's rim lies from it.
+const ON_RIM: f64 = 1e-9;
+
+/// Distance from `p` to the closed polyline `rim`.
+fn distance_to_closed(rim: &[DVec3], p: DVec3) -> f64 {
+    (0..rim.len())
+        .map(|k| {
+            let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
+            let ab = b - a;
+            let t = if ab.length_squared() > 0.0 {
+                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(a + t * ab)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The boundary of the union of faces `cut` as one loop with the other
+/// faces on its left, or why it is not one simple loop (the cut is no
+/// disc).
+fn ring_around(faces: &FaceList, cut: &[usize]) -> Result<Vec<u32>, String> {
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for &f in cut {
+        let face = faces.face(f);
+        for k in 0..face.len() {
+            edges.push((face[k], face[(k + 1) % face.len()]));
+        }
+    }
+    // Edges two cut faces share are inside the cut.
+    let set: std::collections::HashSet<(u32, u32)> = edges.iter().copied().collect();
+    edges.retain(|&(a, b)| !set.contains(&(b, a)));
+    let mut next: std::collections::HashMap<u32, u32> = Default::default();
+    for &(a, b) in &edges {
+        if next.insert(a, b).is_some() {
+            return Err("the grid quads over it pinch at a vertex".into());
+        }
+    }
+    let Some(&(start, _)) = edges.first() else {
+        return Err("the grid quads over it have no boundary".into());
+    };
+    let mut ring = vec![start];
+    let mut at = next[&start];
+    while at != start {
+        if ring.len() > edges.len() {
+            return Err("the grid quads over it do not close around it".into());
+        }
+        ring.push(at);
+        at = *next
+            .get(&at)
+            .ok_or("the grid quads over it do not close around it")?;
+    }
+    if ring.len() != edges.len() {
+        return Err("the grid quads over it leave more than one loop".into());
+    }
+    // The cut lies on the ring's left: reversed, the kept faces do.
+    ring.reverse();
+    Ok(ring)
 }
 
 /// Moves the ring's vertices onto `rim` (closed, the surface on its left,
