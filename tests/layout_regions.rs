@@ -1344,7 +1344,7 @@ fn check_octant_grid_with_holes(mesh: &TriMesh, counts: &[u32], coarse: &[u32]) 
     assert!(r.sufficient, "{:?}", summary(&r));
     let hole_count = (2 - input.euler_characteristic) as usize;
     assert_eq!(
-        r.regions.iter().map(|g| g.holes()).sum::<usize>(),
+        r.regions.iter().map(|g| g.holes.len()).sum::<usize>(),
         hole_count
     );
     let layout = QuadLayout::build(mesh, &loops, &r, &[]).unwrap();

@@ -354,6 +354,16 @@ fn cut_holes(
             })
             .ok_or_else(|| cannot("the grid has no quads"))?;
         let reach = rim.iter().map(|p| p.distance(centre)).fold(0.0, f64::max) + ON_RIM;
+        let size = faces
+            .face(nearest)
+            .iter()
+            .map(|&v| positions[v as usize].distance(centroid(nearest)))
+            .fold(0.0, f64::max);
+        if centroid(nearest).distance(centre) > reach + size {
+            return Err(cannot(
+                "no grid quad lies over it (the grid does not reach it)",
+            ));
+        }
         let on_rim: Vec<bool> = positions
             .iter()
             .map(|&p| p.distance(centre) <= reach && distance_to_closed(rim, p) <= ON_RIM)

@@ -295,9 +295,9 @@ impl QuadLayout {
             .collect();
 
         let arc_middles = arc_middles(mesh, loops, regions, &mut router);
-        let holes = free_holes(mesh, loops);
+        let holes: Vec<&Vec<u32>> = regions.regions.iter().flat_map(|g| &g.holes).collect();
         let mut on_hole = vec![false; nv];
-        for &v in holes.iter().flatten() {
+        for &v in holes.iter().copied().flatten() {
             on_hole[v as usize] = true;
         }
         let mut vertices = Vec::with_capacity(regions.regions.len());
@@ -558,58 +558,6 @@ fn thin_region_point(
         }
         None => (first.point, first.face),
     })
-}
-
-/// The mesh-boundary loops no open loop (dual curve) ends on, each as its
-/// vertices in order, the surface on the left.
-fn free_holes(mesh: &TriMesh, loops: &[EmbeddedLoop]) -> Vec<Vec<u32>> {
-    let mut directed: std::collections::HashSet<(u32, u32)> = Default::default();
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            directed.insert((t[k], t[(k + 1) % 3]));
-        }
-    }
-    let mut next: std::collections::HashMap<u32, u32> = Default::default();
-    for &(a, b) in &directed {
-        if !directed.contains(&(b, a)) {
-            next.insert(a, b);
-        }
-    }
-    // Boundary edges a dual curve ends on.
-    let ends: std::collections::HashSet<(u32, u32)> = loops
-        .iter()
-        .filter(|l| !l.closed)
-        .flat_map(|l| [l.crossings.first(), l.crossings.last()])
-        .flatten()
-        .map(|c| (c.a.min(c.b), c.a.max(c.b)))
-        .collect();
-    let mut starts: Vec<u32> = next.keys().copied().collect();
-    starts.sort_unstable();
-    let mut seen = std::collections::HashSet::new();
-    let mut holes = Vec::new();
-    for start in starts {
-        if seen.contains(&start) {
-            continue;
-        }
-        let mut rim = vec![start];
-        seen.insert(start);
-        let mut at = start;
-        while let Some(&w) = next.get(&at) {
-            if w == start || !seen.insert(w) {
-                break;
-            }
-            rim.push(w);
-            at = w;
-        }
-        let ended = (0..rim.len()).any(|k| {
-            let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
-            ends.contains(&(a.min(b), a.max(b)))
-        });
-        if !ended {
-            holes.push(rim);
-        }
-    }
-    holes
 }
 
 fn first_face(mesh: &TriMesh, v: u32) -> u32 {

@@ -238,7 +238,9 @@ pub fn analyze_loops(
                 .regions
                 .iter()
                 .enumerate()
-                .filter(|(_, r)| r.guidance == Guidance::NonDisc && r.euler + r.holes() as i64 == 1)
+                .filter(|(_, r)| {
+                    r.guidance == Guidance::NonDisc && r.euler + r.holes.len() as i64 == 1
+                })
                 .filter_map(|(i, r)| r.layout_blocker(i))
                 .collect();
             notes.extend(blocked.iter().take(BLOCKERS_NAMED).cloned());
