@@ -8,7 +8,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DQuat, DVec3};
 use quadrille::layout::grid::{grid_layout, patch_polygons};
-use quadrille::layout::primal::QuadLayout;
+use quadrille::layout::primal::{LayoutExport, QuadLayout};
 use quadrille::layout::regions::{Guidance, Regions};
 use quadrille::layout::symmetry::{self, MirrorPlane};
 use quadrille::layout::{EdgeCrossing, EmbeddedLoop, Singularity};
@@ -1349,6 +1349,13 @@ fn check_octant_grid_with_holes(mesh: &TriMesh, counts: &[u32], coarse: &[u32]) 
     );
     let layout = QuadLayout::build(mesh, &loops, &r, &[]).unwrap();
     assert_eq!(layout.holes.len(), hole_count);
+    // The rims travel with the exported layout.
+    let exported = LayoutExport::from_json(&layout.to_json().unwrap()).unwrap();
+    assert_eq!(exported.holes.len(), hole_count);
+    for (a, b) in exported.holes.iter().zip(&layout.holes) {
+        assert_eq!(a.len(), b.len());
+        assert!(a.iter().zip(b).all(|(p, q)| p.distance(*q) < 1e-12));
+    }
     let index = SurfaceIndex::new(mesh).unwrap();
     for &n in coarse.iter().chain(counts) {
         let g = match grid_layout(&layout.export(), &[n; 3], &index) {

@@ -449,7 +449,8 @@ impl QuadLayout {
 
     /// JSON: `{ vertices: [{position, face, region, singular}], edges:
     /// [{ends, arc, loop_index, polyline}], patches: [{corners, edges,
-    /// crossing}] }`, positions as `[x, y, z]`.
+    /// crossing, reversed}], holes: [[point]] }` (holes only when there
+    /// are some), positions as `[x, y, z]`.
     pub fn to_json(&self) -> Result<String, serde_json::Error> {
         serde_json::to_string(&self.export())
     }
