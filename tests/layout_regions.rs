@@ -8,7 +8,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DQuat, DVec3};
 use quadrille::layout::grid::{grid_layout, patch_polygons};
-use quadrille::layout::primal::QuadLayout;
+use quadrille::layout::primal::{LayoutExport, QuadLayout};
 use quadrille::layout::regions::{Guidance, Regions};
 use quadrille::layout::symmetry::{self, MirrorPlane};
 use quadrille::layout::{EdgeCrossing, EmbeddedLoop, Singularity};
@@ -1281,4 +1281,161 @@ fn patch_polygons_follow_the_routes() {
     let m = PolyMesh::from_faces(positions, &faces).unwrap();
     assert!(m.boundary_loops().is_empty());
     assert_eq!(m.euler_characteristic(), 2);
+}
+
+/// `mesh` without the triangles around `vertices` (each leaves a hole of
+/// its one-ring), unreferenced vertices dropped.
+fn with_holes(mesh: &TriMesh, vertices: &[usize]) -> TriMesh {
+    let kept: Vec<[u32; 3]> = mesh
+        .triangles
+        .iter()
+        .filter(|t| !t.iter().any(|&v| vertices.contains(&(v as usize))))
+        .copied()
+        .collect();
+    let mut id = vec![u32::MAX; mesh.positions.len()];
+    let mut positions = Vec::new();
+    let triangles = kept
+        .iter()
+        .map(|t| {
+            t.map(|v| {
+                if id[v as usize] == u32::MAX {
+                    id[v as usize] = positions.len() as u32;
+                    positions.push(mesh.positions[v as usize]);
+                }
+                id[v as usize]
+            })
+        })
+        .collect();
+    TriMesh::new(positions, triangles).unwrap()
+}
+
+/// The input's boundary edges as segments.
+fn boundary_segments(mesh: &TriMesh) -> Vec<[DVec3; 2]> {
+    let mut directed = std::collections::HashSet::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            directed.insert((t[k], t[(k + 1) % 3]));
+        }
+    }
+    directed
+        .iter()
+        .filter(|&&(a, b)| !directed.contains(&(b, a)))
+        .map(|&(a, b)| [mesh.positions[a as usize], mesh.positions[b as usize]])
+        .collect()
+}
+
+fn distance_to_segment(p: DVec3, [a, b]: [DVec3; 2]) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    p.distance(a + t * ab)
+}
+
+/// Grids `mesh` (a sphere with holes the octant circles miss) and checks
+/// the result: manifold pure quads on the surface, the input's Euler
+/// characteristic and one boundary loop per hole, lying on the rims. The
+/// `coarse` counts, too small to cut two holes apart, may fail instead,
+/// naming the hole.
+fn check_octant_grid_with_holes(mesh: &TriMesh, counts: &[u32], coarse: &[u32]) {
+    let input = mesh.topology();
+    let holes = boundary_segments(mesh);
+    let loops = octant_loops(mesh);
+    assert!(loops.iter().all(|l| l.closed), "the circles miss the holes");
+    let r = Regions::compute(mesh, &loops, &[]).unwrap();
+    assert!(r.sufficient, "{:?}", summary(&r));
+    let hole_count = (2 - input.euler_characteristic) as usize;
+    assert_eq!(
+        r.regions.iter().map(|g| g.holes.len()).sum::<usize>(),
+        hole_count
+    );
+    let layout = QuadLayout::build(mesh, &loops, &r, &[]).unwrap();
+    assert_eq!(layout.holes.len(), hole_count);
+    // The rims travel with the exported layout.
+    let exported = LayoutExport::from_json(&layout.to_json().unwrap()).unwrap();
+    assert_eq!(exported.holes.len(), hole_count);
+    for (a, b) in exported.holes.iter().zip(&layout.holes) {
+        assert_eq!(a.len(), b.len());
+        assert!(a.iter().zip(b).all(|(p, q)| p.distance(*q) < 1e-12));
+    }
+    let index = SurfaceIndex::new(mesh).unwrap();
+    for &n in coarse.iter().chain(counts) {
+        let g = match grid_layout(&layout.export(), &[n; 3], &index) {
+            Ok(g) => g,
+            Err(e) if coarse.contains(&n) && e.to_string().contains("raise the grid counts") => {
+                println!("grid {n}: {e}");
+                continue;
+            }
+            Err(e) => panic!("grid {n}: {e}"),
+        };
+        let m = &g.mesh;
+        m.validate().expect("a valid, manifold half-edge mesh");
+        assert!((0..m.face_count() as u32).all(|f| m.degree(f) == 4));
+        assert_eq!(m.euler_characteristic(), input.euler_characteristic);
+        assert_eq!(m.boundary_loops().len(), hole_count, "a loop per hole");
+        assert_eq!(m.topology().components, 1);
+        for (v, p) in m.positions.iter().enumerate() {
+            assert!(index.distance(*p) < 1e-9, "vertex {v} off the surface");
+        }
+        // The boundary lies on the holes' rims.
+        for h in 0..m.halfedge_count() as u32 {
+            if m.is_boundary_halfedge(h) {
+                let p = m.positions[m.origin(h) as usize];
+                let d = holes
+                    .iter()
+                    .map(|&s| distance_to_segment(p, s))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    d < 1e-9,
+                    "boundary vertex {} off the rims: {d}",
+                    m.origin(h)
+                );
+            }
+        }
+        println!(
+            "sphere with {hole_count} holes, grid {n}: {} vertices, {} quads, {} folded",
+            m.vertex_count(),
+            m.face_count(),
+            g.folded
+        );
+    }
+}
+
+#[test]
+fn sphere_with_holes_grids_around_them() {
+    let sphere = sphere();
+    let centres = octant_centres(&sphere);
+    // Two small holes in two octants.
+    let (a, b) = (centres[0].vertex as usize, centres[5].vertex as usize);
+    check_octant_grid_with_holes(&with_holes(&sphere, &[a, b]), &[2, 3, 8], &[]);
+    // Two in one octant (a count of 8 puts them in different quads), and
+    // one more elsewhere.
+    let near = (0..sphere.positions.len())
+        .filter(|&v| {
+            let d = sphere.positions[v].distance(sphere.positions[a]);
+            d > 0.35 && d < 0.4
+        })
+        .min()
+        .unwrap();
+    let c = centres[7].vertex as usize;
+    check_octant_grid_with_holes(&with_holes(&sphere, &[a, near, c]), &[8, 12], &[2, 4]);
+}
+
+#[test]
+fn regions_touching_the_boundary_twice_are_red_and_say_why() {
+    // Two parallel dual curves: the middle band touches the top and the
+    // bottom of the square.
+    let mesh = flat_grid(1.0, 10);
+    let mut loops = plane_sections(&mesh, DVec3::X, 0.05);
+    loops.extend(plane_sections(&mesh, DVec3::X, 0.45));
+    let r = Regions::compute(&mesh, &loops, &[]).unwrap();
+    assert_eq!(r.regions.len(), 3);
+    assert!(!r.sufficient);
+    let red: Vec<usize> = (0..3)
+        .filter(|&g| r.regions[g].guidance == Guidance::NonDisc)
+        .collect();
+    assert_eq!(red.len(), 1);
+    let band = &r.regions[red[0]];
+    assert_eq!((band.euler, band.boundary_stretches()), (1, 2));
+    let why = band.layout_blocker(red[0]).unwrap();
+    assert!(why.contains(&format!("region {}", red[0])) && why.contains("2 stretches"));
+    assert!(QuadLayout::build(&mesh, &loops, &r, &[]).is_err());
 }

@@ -2,7 +2,7 @@
 //! with §1's "semi-regular quad meshes … a regular refinement of a quad
 //! layout"): the patches of the primal layout ([`super::primal`]) as
 //! polygon faces, and each patch filled with a regular grid of quads on the
-//! surface, giving a closed pure-quad mesh for the Catmull–Clark fit.
+//! surface, giving a pure-quad mesh for the Catmull–Clark fit.
 //!
 //! Every layout edge crosses one loop arc, so it belongs to that loop's dual
 //! strip; it is cut into the strip's count of segments (by arc length along
@@ -31,6 +31,18 @@
 //! [`LayoutGrid::folded`] counts them. Deviation: the paper leaves patch
 //! parametrization to the embedding optimizations it cites in §7
 //! ([Tarini et al. 2011; Campen et al. 2012]); this sweep is ours.
+//!
+//! Open surfaces: on a boundary-aligned layout the mesh boundary is made of
+//! layout edges and the grid's boundary follows it. A hole no dual curve
+//! ends on (not in the paper; "trimmed" by the hole in the paper's words,
+//! §5.7) is covered by the layout as if capped ([`super::primal`]); the
+//! grid then cuts it out: the grid quads over the hole — the one nearest
+//! it and those the sweep's projection pressed onto its rim — are removed
+//! and the boundary of their union is laid onto the hole's rim, so the
+//! hole stays a boundary loop of the pure-quad mesh (never closed over).
+//! A hole whose quads are no disc, or touch another hole's or the boundary
+//! (grid counts too small there), is an error naming it. Known limit:
+//! quads partly over a hole stay, pressed against its rim.
 
 use glam::{DMat3, DVec3};
 
@@ -275,12 +287,239 @@ pub fn grid_layout(
         }
         patch_faces.push(faces.len() as u32);
     }
+    let (positions, faces, patch_faces) = cut_holes(layout, positions, &faces, &patch_faces)?;
     let mesh = PolyMesh::from_faces(positions, &faces)?;
     Ok(LayoutGrid {
         mesh,
         patch_faces,
         folded,
     })
+}
+
+/// Cuts every hole of the layout ([`LayoutExport::holes`]) out of the grid:
+/// the quads over it go (the nearest by centroid, and those with every
+/// corner on its rim) and the boundary of their union is laid onto the
+/// hole's rim (its points at the boundary's arc-length proportions, from
+/// the rim point nearest its first). Returns the positions, faces and
+/// per-patch face ranges.
+fn cut_holes(
+    layout: &LayoutExport,
+    mut positions: Vec<DVec3>,
+    faces: &FaceList,
+    patch_faces: &[u32],
+) -> Result<(Vec<DVec3>, FaceList, Vec<u32>), GridError> {
+    if layout.holes.is_empty() {
+        return Ok((positions, faces.clone(), patch_faces.to_vec()));
+    }
+    // Vertices on the grid's boundary (the mesh boundary along stretches).
+    let mut directed = std::collections::HashSet::new();
+    for face in faces.iter() {
+        for k in 0..face.len() {
+            directed.insert((face[k], face[(k + 1) % face.len()]));
+        }
+    }
+    // Per vertex: on the grid's boundary, or the hole whose cut it borders.
+    const BOUNDARY: usize = usize::MAX - 1;
+    let mut taken = vec![usize::MAX; positions.len()];
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) {
+            taken[a as usize] = BOUNDARY;
+            taken[b as usize] = BOUNDARY;
+        }
+    }
+    let mut removed = vec![false; faces.len()];
+    for (k, rim) in layout.holes.iter().enumerate() {
+        let Some(&first) = rim.first() else {
+            continue;
+        };
+        let centre = rim.iter().sum::<DVec3>() / rim.len() as f64;
+        let cannot = |why: &str| {
+            GridError::Invalid(format!(
+                "hole {k} (at {:.3}, {:.3}, {:.3}) cannot be cut out of the grid: {why}",
+                first.x, first.y, first.z
+            ))
+        };
+        // The quads over the hole: the nearest to it, and those whose
+        // corners all lie on its rim (the sweep's projection pressed them
+        // there).
+        let centroid = |f: usize| {
+            let face = faces.face(f);
+            face.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / face.len() as f64
+        };
+        let nearest = (0..faces.len())
+            .min_by(|&a, &b| {
+                centroid(a)
+                    .distance_squared(centre)
+                    .total_cmp(&centroid(b).distance_squared(centre))
+            })
+            .ok_or_else(|| cannot("the grid has no quads"))?;
+        let reach = rim.iter().map(|p| p.distance(centre)).fold(0.0, f64::max) + ON_RIM;
+        let size = faces
+            .face(nearest)
+            .iter()
+            .map(|&v| positions[v as usize].distance(centroid(nearest)))
+            .fold(0.0, f64::max);
+        if centroid(nearest).distance(centre) > reach + size {
+            return Err(cannot(
+                "no grid quad lies over it (the grid does not reach it)",
+            ));
+        }
+        let on_rim: Vec<bool> = positions
+            .iter()
+            .map(|&p| p.distance(centre) <= reach && distance_to_closed(rim, p) <= ON_RIM)
+            .collect();
+        let over: Vec<usize> = (0..faces.len())
+            .filter(|&f| f == nearest || faces.face(f).iter().all(|&v| on_rim[v as usize]))
+            .collect();
+        if over.iter().any(|&f| removed[f]) {
+            return Err(cannot(
+                "its grid quads are another hole's too; raise the grid counts",
+            ));
+        }
+        let ring = ring_around(faces, &over).map_err(|why| cannot(&why))?;
+        if let Some(&w) = ring.iter().find(|&&w| taken[w as usize] != usize::MAX) {
+            return Err(cannot(&match taken[w as usize] {
+                BOUNDARY => "its grid quads touch the mesh boundary; raise the grid counts".into(),
+                other => format!("its grid quads touch hole {other}'s; raise the grid counts"),
+            }));
+        }
+        for &f in &over {
+            removed[f] = true;
+        }
+        for &f in &over {
+            for &w in faces.face(f) {
+                taken[w as usize] = k;
+            }
+        }
+        lay_on_rim(&ring, rim, &mut positions);
+    }
+    // Keep the other faces; every vertex still has one (no cut touches
+    // another or the boundary).
+    let mut kept = FaceList::new();
+    let mut kept_ranges = vec![0u32];
+    for p in 0..patch_faces.len() - 1 {
+        for f in patch_faces[p] as usize..patch_faces[p + 1] as usize {
+            if !removed[f] {
+                kept.push(faces.face(f));
+            }
+        }
+        kept_ranges.push(kept.len() as u32);
+    }
+    Ok((positions, kept, kept_ranges))
+}
+
+/// Farthest a grid vertex pressed onto a hole's rim lies from it.
+const ON_RIM: f64 = 1e-9;
+
+/// Distance from `p` to the closed polyline `rim`.
+fn distance_to_closed(rim: &[DVec3], p: DVec3) -> f64 {
+    (0..rim.len())
+        .map(|k| {
+            let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
+            let ab = b - a;
+            let t = if ab.length_squared() > 0.0 {
+                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(a + t * ab)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The boundary of the union of faces `cut` as one loop with the other
+/// faces on its left, or why it is not one simple loop (the cut is no
+/// disc).
+fn ring_around(faces: &FaceList, cut: &[usize]) -> Result<Vec<u32>, String> {
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for &f in cut {
+        let face = faces.face(f);
+        for k in 0..face.len() {
+            edges.push((face[k], face[(k + 1) % face.len()]));
+        }
+    }
+    // Edges two cut faces share are inside the cut.
+    let set: std::collections::HashSet<(u32, u32)> = edges.iter().copied().collect();
+    edges.retain(|&(a, b)| !set.contains(&(b, a)));
+    let mut next: std::collections::HashMap<u32, u32> = Default::default();
+    for &(a, b) in &edges {
+        if next.insert(a, b).is_some() {
+            return Err("the grid quads over it pinch at a vertex".into());
+        }
+    }
+    let Some(&(start, _)) = edges.first() else {
+        return Err("the grid quads over it have no boundary".into());
+    };
+    let mut ring = vec![start];
+    let mut at = next[&start];
+    while at != start {
+        if ring.len() > edges.len() {
+            return Err("the grid quads over it do not close around it".into());
+        }
+        ring.push(at);
+        at = *next
+            .get(&at)
+            .ok_or("the grid quads over it do not close around it")?;
+    }
+    if ring.len() != edges.len() {
+        return Err("the grid quads over it leave more than one loop".into());
+    }
+    // The cut lies on the ring's left: reversed, the kept faces do.
+    ring.reverse();
+    Ok(ring)
+}
+
+/// Moves the ring's vertices onto `rim` (closed, the surface on its left,
+/// as the ring), at the ring's own arc-length proportions, starting at the
+/// rim point nearest the ring's first vertex.
+fn lay_on_rim(ring: &[u32], rim: &[DVec3], positions: &mut [DVec3]) {
+    let closed = |points: &[DVec3]| -> Vec<f64> {
+        let mut c = vec![0.0];
+        for k in 0..points.len() {
+            let d = points[k].distance(points[(k + 1) % points.len()]);
+            c.push(c[k] + d);
+        }
+        c
+    };
+    let ring_points: Vec<DVec3> = ring.iter().map(|&v| positions[v as usize]).collect();
+    let (along_ring, along_rim) = (closed(&ring_points), closed(rim));
+    let (ring_length, rim_length) = (along_ring[ring.len()], along_rim[rim.len()]);
+    // Arc length of the rim point at `s` (mod its length).
+    let at = |s: f64| -> DVec3 {
+        let s = s.rem_euclid(rim_length.max(f64::MIN_POSITIVE));
+        let k = along_rim.partition_point(|&x| x <= s).clamp(1, rim.len()) - 1;
+        let length = along_rim[k + 1] - along_rim[k];
+        let t = if length > 0.0 {
+            (s - along_rim[k]) / length
+        } else {
+            0.0
+        };
+        rim[k].lerp(rim[(k + 1) % rim.len()], t)
+    };
+    // The rim point nearest the ring's first vertex.
+    let first = ring_points[0];
+    let mut start = (f64::INFINITY, 0.0);
+    for k in 0..rim.len() {
+        let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
+        let ab = b - a;
+        let t = if ab.length_squared() > 0.0 {
+            ((first - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let d = first.distance_squared(a + t * ab);
+        if d < start.0 {
+            start = (d, along_rim[k] + t * (along_rim[k + 1] - along_rim[k]));
+        }
+    }
+    for (k, &v) in ring.iter().enumerate() {
+        let share = if ring_length > 0.0 {
+            along_ring[k] / ring_length
+        } else {
+            k as f64 / ring.len() as f64
+        };
+        positions[v as usize] = at(start.1 + share * rim_length);
+    }
 }
 
 /// The interior of one patch grid (`(nu + 1) × (nv + 1)` points, row-major

@@ -27,9 +27,17 @@
 //!   boundary — at its sharpest boundary corner (turning ≥ π/4), else at
 //!   the boundary vertex farthest from the loops — and the layout edge of
 //!   an arc ending on the boundary is routed through that end, along the
-//!   boundary. A region touching the boundary along several stretches
-//!   still gets one vertex (a layout would need one per stretch); trimmed
-//!   (non-aligned) layouts are not built.
+//!   boundary. A region touching the boundary along several stretches has
+//!   no vertex (it would need one per stretch and an edge between them
+//!   that is dual to no loop): [`super::regions`] colours it red and names
+//!   it. Trimmed (non-aligned) layouts, where the boundary cuts patches,
+//!   are not built.
+//! - Holes no dual curve ends on (mesh-boundary loops inside a region; not
+//!   in the paper): the layout is built as if they were capped — a region's
+//!   vertex goes on the boundary only along a stretch between curve ends,
+//!   else to its geodesic centre, away from the holes (distance 0 on their
+//!   rims) — and [`QuadLayout::holes`] keeps their rims, along which
+//!   [`super::grid::grid_layout`] cuts them out of the grid.
 //! - [`QuadLayout::move_vertex`] snaps the new point to the surface and
 //!   re-routes from the region's mesh vertex nearest to it; a point outside
 //!   the vertex's region is rejected.
@@ -94,6 +102,9 @@ pub struct LayoutExport {
     pub vertices: Vec<LayoutVertex>,
     pub edges: Vec<LayoutEdge>,
     pub patches: Vec<LayoutPatch>,
+    /// See [`QuadLayout::holes`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub holes: Vec<Vec<DVec3>>,
 }
 
 impl LayoutExport {
@@ -110,10 +121,13 @@ impl LayoutExport {
             v.position = c.point;
             v.face = c.face;
         }
-        for e in &mut self.edges {
-            for p in &mut e.polyline {
-                *p = index.closest(*p).point;
-            }
+        for p in self
+            .edges
+            .iter_mut()
+            .flat_map(|e| &mut e.polyline)
+            .chain(self.holes.iter_mut().flatten())
+        {
+            *p = index.closest(*p).point;
         }
     }
 }
@@ -123,6 +137,10 @@ pub struct QuadLayout {
     pub vertices: Vec<LayoutVertex>,
     pub edges: Vec<LayoutEdge>,
     pub patches: Vec<LayoutPatch>,
+    /// The rims of the holes no dual curve ends on (closed, the surface on
+    /// their left): the layout covers them as if capped; the grid cuts
+    /// them out.
+    pub holes: Vec<Vec<DVec3>>,
     router: Router,
 }
 
@@ -277,6 +295,11 @@ impl QuadLayout {
             .collect();
 
         let arc_middles = arc_middles(mesh, loops, regions, &mut router);
+        let holes: Vec<&Vec<u32>> = regions.regions.iter().flat_map(|g| &g.holes).collect();
+        let mut on_hole = vec![false; nv];
+        for &v in holes.iter().copied().flatten() {
+            on_hole[v as usize] = true;
+        }
         let mut vertices = Vec::with_capacity(regions.regions.len());
         for (r, region) in regions.regions.iter().enumerate() {
             let single = match region.singularities[..] {
@@ -285,11 +308,13 @@ impl QuadLayout {
             };
             let vertex = if let Some(v) = single {
                 Some(v)
-            } else if region.touches_mesh_boundary {
+            } else if region.boundary_stretches() > 0 {
                 // Boundary-aligned layout: on the mesh boundary, at its
                 // sharpest corner in the region, else farthest from loops.
                 let on_region_boundary = |v: u32| {
-                    on_boundary[v as usize] && regions.vertex_region[v as usize] == r as u32
+                    on_boundary[v as usize]
+                        && !on_hole[v as usize]
+                        && regions.vertex_region[v as usize] == r as u32
                 };
                 let corner = (0..nv as u32)
                     .filter(|&v| on_region_boundary(v))
@@ -357,6 +382,10 @@ impl QuadLayout {
             vertices,
             edges: layout_edges,
             patches,
+            holes: holes
+                .iter()
+                .map(|rim| rim.iter().map(|&v| mesh.positions[v as usize]).collect())
+                .collect(),
             router,
         })
     }
@@ -414,12 +443,14 @@ impl QuadLayout {
             vertices: self.vertices.clone(),
             edges: self.edges.clone(),
             patches: self.patches.clone(),
+            holes: self.holes.clone(),
         }
     }
 
     /// JSON: `{ vertices: [{position, face, region, singular}], edges:
     /// [{ends, arc, loop_index, polyline}], patches: [{corners, edges,
-    /// crossing}] }`, positions as `[x, y, z]`.
+    /// crossing, reversed}], holes: [[point]] }` (holes only when there
+    /// are some), positions as `[x, y, z]`.
     pub fn to_json(&self) -> Result<String, serde_json::Error> {
         serde_json::to_string(&self.export())
     }

@@ -47,6 +47,18 @@
 //!   bbox diagonal around it (Dijkstra over mesh edges) holds |K| ≥ π/4
 //!   (half the curvature of a valence-3 or -5 corner), its sign is the
 //!   ball's; a pronounced seed suppresses other seeds within 2ρ.
+//! - Red on open surfaces (our reading of §5.7's boundary-aligned layouts,
+//!   which the paper leaves to the user): a region is a layout vertex, so it
+//!   may touch the mesh boundary along one stretch at most. Along one between
+//!   dual-curve ends its vertex lies there; a region touching the boundary
+//!   along k stretches is, doubled across the boundary (where a curve
+//!   meeting it orthogonally is half of a symmetric loop, §5.8), a surface
+//!   of χ = 2 − k, a disc only for k ≤ 1 — so k ≥ 2 is red. A hole (a
+//!   boundary loop no dual curve ends on, shorter than the region's longest
+//!   boundary cycle along loops: not its outside) is capped for the disc
+//!   test (χ + 1): the layout covers it and grid.rs cuts it out, any number
+//!   per region. Every
+//!   red region says why in [`Region::layout_blocker`].
 //! - Yellow (|v − v_expected| > 1 with K = (4 − v)π/2) only for regions not
 //!   touching the mesh boundary: the relation ignores boundary turning.
 //! - Meshes are assumed consistently oriented (left/right of a loop).
@@ -80,11 +92,14 @@ pub enum RegionError {
     Invalid(String),
 }
 
-/// The §4.2 colour of a region. Red (non-disc) wins over orange over yellow.
+/// The §4.2 colour of a region. Red (no layout vertex: not a disc, see
+/// [`Region::layout_blocker`]) wins over orange over yellow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Guidance {
     Ok,
-    /// Red: not disc-homeomorphic, further strips are required.
+    /// Red: not disc-homeomorphic (holes no dual curve ends on capped), or
+    /// touching the mesh boundary more than once (several stretches, or a
+    /// stretch and a hole, or several holes): further strips are required.
     NonDisc,
     /// Orange: several Gaussian-curvature extrema (singularities) inside.
     CurvatureExtrema,
@@ -113,6 +128,110 @@ pub struct Region {
     pub curvature_extrema: Vec<u32>,
     pub touches_mesh_boundary: bool,
     pub guidance: Guidance,
+    /// Its holes, capped for the disc test: mesh-boundary loops no dual
+    /// curve ends on that are shorter than its longest boundary cycle along
+    /// loops (with none, all but the longest such loop). Each as its mesh
+    /// vertices in order, the surface on the left.
+    pub holes: Vec<Vec<u32>>,
+}
+
+impl Region {
+    /// Stretches of the mesh boundary between dual-curve ends on its
+    /// boundary.
+    pub fn boundary_stretches(&self) -> usize {
+        boundary_stretches(&self.boundary)
+    }
+
+    /// Why region `r` (this one) can be no layout vertex, for the user:
+    /// `None` when it can.
+    pub fn layout_blocker(&self, r: usize) -> Option<String> {
+        let stretches = self.boundary_stretches();
+        if self.euler + self.holes.len() as i64 != 1 {
+            Some(format!("region {r} is not a disc: add strips to split it"))
+        } else if stretches > 1 {
+            Some(format!(
+                "region {r} touches the mesh boundary along {stretches} stretches: add a \
+                 strip that separates them"
+            ))
+        } else {
+            None
+        }
+    }
+}
+
+/// Mesh-boundary sides of these boundary cycles, but for the cycles that
+/// are a whole mesh-boundary loop.
+fn boundary_stretches(cycles: &[Vec<BoundarySide>]) -> usize {
+    cycles
+        .iter()
+        .filter(|c| c.as_slice() != [BoundarySide::MeshBoundary])
+        .flatten()
+        .filter(|s| **s == BoundarySide::MeshBoundary)
+        .count()
+}
+
+/// Whether a region can be one layout vertex (see the module doc): a disc
+/// once its holes are capped, touching the mesh boundary along at most one
+/// stretch (its vertex goes there).
+fn layout_disc(euler: i64, holes: usize, cycles: &[Vec<BoundarySide>]) -> bool {
+    euler + holes as i64 == 1 && boundary_stretches(cycles) <= 1
+}
+
+/// Per region, its holes (see [`Region::holes`]) among the mesh-boundary
+/// loops no dual curve ends on (`free`: region and rim).
+fn holes_of(
+    mesh: &TriMesh,
+    loops: &[EmbeddedLoop],
+    arcs: &[LoopArc],
+    boundary: &[Vec<Vec<BoundarySide>>],
+    free: Vec<(usize, Vec<u32>)>,
+) -> Vec<Vec<Vec<u32>>> {
+    let arc_length = |a: &LoopArc| -> f64 {
+        let l = &loops[a.loop_index as usize];
+        let p: Vec<DVec3> = a
+            .edge_crossings
+            .iter()
+            .map(|&i| crossing_point(mesh, l, i as usize))
+            .collect();
+        p.windows(2).map(|w| w[0].distance(w[1])).sum()
+    };
+    let lengths: Vec<f64> = arcs.iter().map(arc_length).collect();
+    let rim_length = |rim: &[u32]| -> f64 {
+        (0..rim.len())
+            .map(|k| {
+                mesh.positions[rim[k] as usize]
+                    .distance(mesh.positions[rim[(k + 1) % rim.len()] as usize])
+            })
+            .sum()
+    };
+    let mut rims: Vec<Vec<(f64, Vec<u32>)>> = vec![Vec::new(); boundary.len()];
+    for (r, rim) in free {
+        rims[r].push((rim_length(&rim), rim));
+    }
+    rims.into_iter()
+        .enumerate()
+        .map(|(r, mut rims)| {
+            rims.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let along_loops = boundary[r]
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .map(|s| match s {
+                            BoundarySide::Arc { arc, .. } => lengths[*arc as usize],
+                            BoundarySide::MeshBoundary => 0.0,
+                        })
+                        .sum::<f64>()
+                })
+                .fold(0.0, f64::max);
+            if along_loops == 0.0 {
+                rims.pop();
+            }
+            rims.into_iter()
+                .filter(|(length, _)| along_loops == 0.0 || *length < along_loops)
+                .map(|(_, rim)| rim)
+                .collect()
+        })
+        .collect()
 }
 
 /// One side of a region's boundary between two corners.
@@ -741,7 +860,9 @@ impl Regions {
             cycles,
             corners: valence,
             sequences: mut boundary,
+            free,
         } = walk_boundaries(mesh, &edges, &arr, loops, &arcs, &crossings, &ends)?;
+        let mut holes = holes_of(mesh, loops, &arcs, &boundary, free);
 
         let mut region_sing = vec![Vec::new(); nr];
         for (i, s) in singularities.iter().enumerate() {
@@ -777,7 +898,7 @@ impl Regions {
         let regions: Vec<Region> = (0..nr)
             .map(|r| {
                 let expected = 4.0 - curvature[r] / FRAC_PI_2;
-                let guidance = if euler[r] != 1 {
+                let guidance = if !layout_disc(euler[r], holes[r].len(), &boundary[r]) {
                     Guidance::NonDisc
                 } else if net_extrema[r].abs() >= 2 {
                     Guidance::CurvatureExtrema
@@ -798,6 +919,7 @@ impl Regions {
                     curvature_extrema: std::mem::take(&mut region_extrema[r]),
                     touches_mesh_boundary: touches[r],
                     guidance,
+                    holes: std::mem::take(&mut holes[r]),
                 }
             })
             .collect();
@@ -1094,6 +1216,8 @@ struct Boundaries {
     cycles: Vec<u32>,
     corners: Vec<u32>,
     sequences: Vec<Vec<Vec<BoundarySide>>>,
+    /// Mesh-boundary loops no dual curve ends on: region and rim.
+    free: Vec<(usize, Vec<u32>)>,
 }
 
 /// Boundary cycles and corners per region, by walking every region's
@@ -1246,7 +1370,8 @@ fn walk_boundaries(
     }
 
     // Mesh-boundary loops no dual curve ends on.
-    for r in free_boundary_loops(mesh, edges, arr, &out_boundary, &directed, &curve_ends) {
+    let free = free_boundary_loops(mesh, edges, arr, &out_boundary, &directed, &curve_ends);
+    for &(r, _) in &free {
         cycles[r] += 1;
         sequences[r].push(vec![BoundarySide::MeshBoundary]);
     }
@@ -1254,6 +1379,7 @@ fn walk_boundaries(
         cycles,
         corners,
         sequences,
+        free,
     })
 }
 
@@ -1319,8 +1445,9 @@ fn boundary_curve_ends(
     curve_ends
 }
 
-/// Mesh-boundary loops no dual curve ends on: the region beside each
-/// (it gets one more boundary cycle, a mesh-boundary side only).
+/// Mesh-boundary loops no dual curve ends on: the region beside each (it
+/// gets one more boundary cycle, a mesh-boundary side only) and the loop's
+/// vertices in order, the surface on the left.
 fn free_boundary_loops(
     mesh: &TriMesh,
     edges: &Edges,
@@ -1328,7 +1455,7 @@ fn free_boundary_loops(
     out_boundary: &HashMap<u32, u32>,
     directed: &HashMap<u32, (u32, u32)>,
     curve_ends: &CurveEnds,
-) -> Vec<usize> {
+) -> Vec<(usize, Vec<u32>)> {
     let mut regions = Vec::new();
     let boundary_edges = directed.len();
     let mut seen: HashMap<u32, bool> = HashMap::new();
@@ -1340,9 +1467,11 @@ fn free_boundary_loops(
         }
         let mut e = e0;
         let mut has_end = false;
+        let mut rim = Vec::new();
         for _ in 0..=boundary_edges {
             seen.insert(e, true);
             has_end |= curve_ends.contains_key(&e);
+            rim.extend(directed.get(&e).map(|&(u, _)| u));
             let Some(next) = directed.get(&e).and_then(|(_, v)| out_boundary.get(v)) else {
                 break;
             };
@@ -1354,7 +1483,7 @@ fn free_boundary_loops(
         if !has_end {
             let f = edges.faces[e0 as usize][0];
             let p = stretch_piece(mesh, edges, &arr.faces, e0 as usize, f, 0);
-            regions.push(arr.region_of_piece(p) as usize);
+            regions.push((arr.region_of_piece(p) as usize, rim));
         }
     }
     regions

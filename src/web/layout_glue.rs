@@ -231,6 +231,7 @@ pub fn analyze_loops(
                     },
                 )
                 .collect();
+            notes.extend(boundary_blockers(&regions));
             a.sufficient = regions.sufficient && !embedded.is_empty();
             a.timings.regions_ms = clock() - started;
             // §7: the primal layout, with the user's vertex moves.
@@ -320,6 +321,29 @@ pub fn unflatten_covered(counts: &[u32], flat: &[f64]) -> Option<Vec<Vec<DVec3>>
             })
             .collect(),
     )
+}
+
+/// Most red regions touching the mesh boundary more than once that the
+/// status names.
+const BLOCKERS_NAMED: usize = 3;
+
+/// What blocks the red regions that are discs (holes capped) but touch the
+/// mesh boundary along several stretches, for the status: the status
+/// line's "not a disc" does not say it.
+fn boundary_blockers(regions: &Regions) -> Vec<String> {
+    let blocked: Vec<String> = regions
+        .regions
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.guidance == Guidance::NonDisc && r.euler + r.holes.len() as i64 == 1)
+        .filter_map(|(i, r)| r.layout_blocker(i))
+        .collect();
+    let mut notes: Vec<String> = blocked.iter().take(BLOCKERS_NAMED).cloned().collect();
+    if blocked.len() > BLOCKERS_NAMED {
+        let more = blocked.len() - BLOCKERS_NAMED;
+        notes.push(format!("{more} more such region{}", plural(more)));
+    }
+    notes
 }
 
 const SINGULARITY_3: [u8; 4] = [31, 111, 221, 255];
