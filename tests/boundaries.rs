@@ -22,27 +22,9 @@ fn imported(mesh: &TriMesh) -> Imported {
 
 /// The triangles of `mesh` whose centroid passes `keep`, unused vertices dropped.
 fn keep(mesh: &TriMesh, keep: impl Fn(DVec3) -> bool) -> TriMesh {
-    let triangles: Vec<[u32; 3]> = mesh
-        .triangles
-        .iter()
-        .copied()
-        .filter(|t| keep(t.iter().map(|&v| mesh.positions[v as usize]).sum::<DVec3>() / 3.0))
-        .collect();
-    let mut index = vec![u32::MAX; mesh.positions.len()];
-    let mut positions = Vec::new();
-    let triangles = triangles
-        .iter()
-        .map(|t| {
-            t.map(|v| {
-                if index[v as usize] == u32::MAX {
-                    index[v as usize] = positions.len() as u32;
-                    positions.push(mesh.positions[v as usize]);
-                }
-                index[v as usize]
-            })
-        })
-        .collect();
-    TriMesh::new(positions, triangles).unwrap()
+    common::kept_triangles(mesh, |t| {
+        keep(t.iter().map(|&v| mesh.positions[v as usize]).sum::<DVec3>() / 3.0)
+    })
 }
 
 /// Runs the default pipeline; returns the input (local frame), the output

@@ -1286,27 +1286,9 @@ fn patch_polygons_follow_the_routes() {
 /// `mesh` without the triangles around `vertices` (each leaves a hole of
 /// its one-ring), unreferenced vertices dropped.
 fn with_holes(mesh: &TriMesh, vertices: &[usize]) -> TriMesh {
-    let kept: Vec<[u32; 3]> = mesh
-        .triangles
-        .iter()
-        .filter(|t| !t.iter().any(|&v| vertices.contains(&(v as usize))))
-        .copied()
-        .collect();
-    let mut id = vec![u32::MAX; mesh.positions.len()];
-    let mut positions = Vec::new();
-    let triangles = kept
-        .iter()
-        .map(|t| {
-            t.map(|v| {
-                if id[v as usize] == u32::MAX {
-                    id[v as usize] = positions.len() as u32;
-                    positions.push(mesh.positions[v as usize]);
-                }
-                id[v as usize]
-            })
-        })
-        .collect();
-    TriMesh::new(positions, triangles).unwrap()
+    common::kept_triangles(mesh, |t| {
+        !t.iter().any(|&v| vertices.contains(&(v as usize)))
+    })
 }
 
 /// The input's boundary edges as segments.

@@ -414,16 +414,7 @@ const ON_RIM: f64 = 1e-9;
 /// Distance from `p` to the closed polyline `rim`.
 fn distance_to_closed(rim: &[DVec3], p: DVec3) -> f64 {
     (0..rim.len())
-        .map(|k| {
-            let (a, b) = (rim[k], rim[(k + 1) % rim.len()]);
-            let ab = b - a;
-            let t = if ab.length_squared() > 0.0 {
-                ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p.distance(a + t * ab)
-        })
+        .map(|k| crate::spatial::segment_distance(p, rim[k], rim[(k + 1) % rim.len()]))
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -63,3 +63,25 @@ pub fn import(name: &str) -> Imported {
 pub fn mesh(name: &str) -> TriMesh {
     import(name).mesh
 }
+
+/// The triangles of `mesh` that `keep` accepts, unreferenced vertices
+/// dropped (numbered in order of first use).
+pub fn kept_triangles(mesh: &TriMesh, keep: impl Fn(&[u32; 3]) -> bool) -> TriMesh {
+    let mut id = vec![u32::MAX; mesh.positions.len()];
+    let mut positions = Vec::new();
+    let triangles = mesh
+        .triangles
+        .iter()
+        .filter(|t| keep(t))
+        .map(|t| {
+            t.map(|v| {
+                if id[v as usize] == u32::MAX {
+                    id[v as usize] = positions.len() as u32;
+                    positions.push(mesh.positions[v as usize]);
+                }
+                id[v as usize]
+            })
+        })
+        .collect();
+    TriMesh::new(positions, triangles).unwrap()
+}
