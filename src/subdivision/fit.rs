@@ -234,10 +234,12 @@ impl FitSummary {
 /// Control vertices moved between two progress reports.
 const PROGRESS_CHUNK: usize = 8192;
 
-/// LSPIA's step μ. With weights normalised per control vertex the step
-/// operator's eigenvalues lie in (0, 1], so any μ < 2 converges (Deng and
-/// Lin 2014, Theorem 1); 1.5 took spot's limit-surface mean distance to
-/// 5.89e-4 in 8 steps where μ = 1 needed 16 for 5.71e-4.
+/// LSPIA's step μ. Deng and Lin 2014 prove convergence for μ < 2 with
+/// their normalised B-spline weights (the step operator's eigenvalues then
+/// lie in (0, 1]); for our hat weights that is not proven, only measured:
+/// 1.5 took spot's limit-surface mean distance to 5.89e-4 in 8 steps where
+/// μ = 1 needed 16 for 5.71e-4, and every move is clamped to `ray_length`
+/// local edges.
 const LSPIA_STEP: f64 = 1.5;
 
 /// Each LSPIA move adds this share of the vertex's previous move (Polyak's
@@ -431,9 +433,9 @@ struct LspiaAt<'a> {
 }
 
 /// The least-squares finish (module docs): up to
-/// `params.lspia_iterations` steps moving the `smooth` control vertices,
-/// each by at most `ray_length` local edges, reporting progress from 70 %
-/// to 90 %.
+/// `params.lspia_iterations` steps moving the interior control vertices
+/// off creases, each by at most `ray_length` local edges, reporting
+/// progress from 70 % to 90 %.
 fn lspia(
     control: &mut PolyMesh,
     at_mesh: &LspiaAt,
