@@ -40,7 +40,7 @@ fn three_strips_on_every_shared_mesh() {
             assert!(!a.status.is_empty(), "{name}: no status");
             // Every committed loop embeds (thin parts, boundary ends) and the
             // parametrization solves; the regions are found on every
-            // mesh but the teapot (38 non-manifold vertices: its region
+            // mesh but the teapot (a non-manifold vertex: its region
             // boundaries do not close, reported in the status).
             assert!(!a.status.contains("jumps between"), "{name}: {}", a.status);
             assert!(

@@ -811,6 +811,74 @@ f 1 4 3
     );
 }
 
+/// Copies of a vertex along an unwelded seam (patch-modelled meshes such
+/// as the Utah teapot) are merged: two squares written as separate patches
+/// that share an edge's coordinates become one strip of four triangles
+/// with six vertices, one boundary loop and one component. The teapot: its
+/// patches' 403 copies merge and its boundary edges fall from 1,036 to 160.
+#[test]
+fn vertices_copied_along_a_seam_are_welded() {
+    let obj = "\
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 1 0 0
+v 2 0 0
+v 2 1 0
+v 1 1 0
+f 1 2 3
+f 1 3 4
+f 5 6 7
+f 5 7 8
+";
+    let m = imported(obj.as_bytes(), "seam.obj");
+    assert_eq!(m.report.repairs.welded_vertices, 2);
+    assert_eq!(m.report.repairs.unreferenced_vertices_removed, 0);
+    assert_eq!(
+        (
+            m.report.vertices,
+            m.report.boundary_edges,
+            m.report.components
+        ),
+        (6, 6, 1)
+    );
+    assert!(m.report.warnings.is_empty(), "{:?}", m.report.warnings);
+    let teapot = imported(&common::bytes("teapot.obj"), "teapot.obj");
+    assert_eq!(teapot.report.repairs.welded_vertices, 403);
+    assert_eq!(teapot.report.boundary_edges, 160);
+    assert_eq!(teapot.report.nonmanifold_edges, 0);
+}
+
+/// Parts that only touch at a point stay apart: welding them would make a
+/// bow-tie (non-manifold) vertex, so nothing is welded and a warning says
+/// why.
+#[test]
+fn parts_touching_at_a_point_are_not_welded() {
+    let obj = "\
+v 0 0 0
+v 1 0 0
+v 0 1 0
+v 0 0 0
+v -1 0 0
+v 0 -1 0
+f 1 2 3
+f 4 5 6
+";
+    let m = imported(obj.as_bytes(), "touching.obj");
+    assert_eq!(m.report.repairs.welded_vertices, 0);
+    assert_eq!((m.report.vertices, m.report.components), (6, 2));
+    assert_eq!(m.report.nonmanifold_vertices, 0);
+    assert!(
+        m.report
+            .warnings
+            .iter()
+            .any(|w| w.contains("left unwelded")),
+        "{:?}",
+        m.report.warnings
+    );
+}
+
 // ---------------------------------------------------------------------------
 // A real mesh through every format.
 // ---------------------------------------------------------------------------

@@ -20,7 +20,12 @@ pub struct Repairs {
     pub repeated_corners_removed: usize,
     /// Vertices no face uses.
     pub unreferenced_vertices_removed: usize,
-    /// Vertices merged because their coordinates were identical (STL).
+    /// Vertices merged into an earlier vertex with identical coordinates:
+    /// STL's corners, and in every format the copies along unwelded seams
+    /// (patch-modelled meshes such as the Utah teapot), unless merging
+    /// them would add non-manifold edges or vertices (parts touching at a
+    /// point) or inconsistently oriented edges; then none is merged and a
+    /// warning says so.
     pub welded_vertices: usize,
     /// Faces with more than three corners, split into triangles for the
     /// triangle mesh (the polygons themselves are kept for export).
@@ -103,36 +108,33 @@ pub(super) fn import_raw(raw: RawMesh, file: &str, format: Format) -> Result<Imp
     let frame = Frame::fit(&positions);
     let local: Vec<DVec3> = positions.iter().map(|&p| frame.to_local(p)).collect();
 
-    let mut kept = FaceList::new();
-    let mut seen: HashSet<Vec<u32>> = HashSet::with_capacity(faces.len());
-    let mut corners: Vec<u32> = Vec::new();
-    for face in faces.iter() {
-        corners.clear();
-        for (k, &i) in face.iter().enumerate() {
-            if face[(k + face.len() - 1) % face.len()] != i {
-                corners.push(i);
+    let unwelded = clean_faces(&faces, &local);
+    let welded_before = repairs.welded_vertices;
+    let (mut kept, cleaning) = match weld_coincident(&positions, &faces) {
+        None => unwelded,
+        Some((welded_faces, welded)) => {
+            let merged = clean_faces(&welded_faces, &local);
+            let (before, after) = (Topology::of(n, &unwelded.0), Topology::of(n, &merged.0));
+            if after.nonmanifold_edges <= before.nonmanifold_edges
+                && after.nonmanifold_vertices <= before.nonmanifold_vertices
+                && after.inconsistent_edges <= before.inconsistent_edges
+                && !merged.0.is_empty()
+            {
+                repairs.welded_vertices += welded;
+                merged
+            } else {
+                warnings.push(format!(
+                    "{welded} vertices share their coordinates with an earlier vertex and were \
+                     left unwelded: merging them would add non-manifold edges or vertices or \
+                     inconsistently oriented edges"
+                ));
+                unwelded
             }
         }
-        if corners.is_empty() {
-            corners.push(face[0]);
-        }
-        let mut key = corners.clone();
-        key.sort_unstable();
-        key.dedup();
-        if corners.len() < 3
-            || key.len() != corners.len()
-            || polygon_area(&local, &corners) <= ZERO_AREA
-        {
-            repairs.degenerate_faces_removed += 1;
-            continue;
-        }
-        repairs.repeated_corners_removed += face.len() - corners.len();
-        if !seen.insert(key) {
-            repairs.duplicate_faces_removed += 1;
-            continue;
-        }
-        kept.push(&corners);
-    }
+    };
+    repairs.degenerate_faces_removed = cleaning.degenerate_faces_removed;
+    repairs.repeated_corners_removed = cleaning.repeated_corners_removed;
+    repairs.duplicate_faces_removed = cleaning.duplicate_faces_removed;
     if kept.is_empty() {
         return Err(IoError::in_file(
             file,
@@ -156,7 +158,9 @@ pub(super) fn import_raw(raw: RawMesh, file: &str, format: Format) -> Result<Imp
             world_kept.push(positions[v]);
         }
     }
-    repairs.unreferenced_vertices_removed = n - used as usize;
+    // Copies welded here are no longer referenced; they count as welded only.
+    repairs.unreferenced_vertices_removed =
+        n - used as usize - (repairs.welded_vertices - welded_before);
     for i in &mut kept.indices {
         *i = remap[*i as usize];
     }
@@ -213,6 +217,73 @@ pub(super) fn import_raw(raw: RawMesh, file: &str, format: Format) -> Result<Imp
         polygons: kept,
         report,
     })
+}
+
+/// The faces that survive cleaning: consecutive repeated corners dropped,
+/// faces with fewer than three distinct corners or no area removed, and
+/// faces with the corner set of an earlier face removed; with the counts
+/// (only the three cleaning fields of [`Repairs`] are set).
+fn clean_faces(faces: &FaceList, local: &[DVec3]) -> (FaceList, Repairs) {
+    let mut repairs = Repairs::default();
+    let mut kept = FaceList::new();
+    let mut seen: HashSet<Vec<u32>> = HashSet::with_capacity(faces.len());
+    let mut corners: Vec<u32> = Vec::new();
+    for face in faces.iter() {
+        corners.clear();
+        for (k, &i) in face.iter().enumerate() {
+            if face[(k + face.len() - 1) % face.len()] != i {
+                corners.push(i);
+            }
+        }
+        if corners.is_empty() {
+            corners.push(face[0]);
+        }
+        let mut key = corners.clone();
+        key.sort_unstable();
+        key.dedup();
+        if corners.len() < 3
+            || key.len() != corners.len()
+            || polygon_area(local, &corners) <= ZERO_AREA
+        {
+            repairs.degenerate_faces_removed += 1;
+            continue;
+        }
+        repairs.repeated_corners_removed += face.len() - corners.len();
+        if !seen.insert(key) {
+            repairs.duplicate_faces_removed += 1;
+            continue;
+        }
+        kept.push(&corners);
+    }
+    (kept, repairs)
+}
+
+/// `faces` with every vertex replaced by the first vertex of identical
+/// coordinates, and how many vertices that merged; `None` when no two
+/// vertices share their coordinates.
+fn weld_coincident(positions: &[DVec3], faces: &FaceList) -> Option<(FaceList, usize)> {
+    let mut first: std::collections::HashMap<[u64; 3], u32> =
+        std::collections::HashMap::with_capacity(positions.len());
+    let mut to = Vec::with_capacity(positions.len());
+    for (v, p) in positions.iter().enumerate() {
+        let key = [p.x, p.y, p.z].map(|x| if x == 0.0 { 0 } else { x.to_bits() });
+        to.push(*first.entry(key).or_insert(v as u32));
+    }
+    let mut referenced = vec![false; positions.len()];
+    for &i in &faces.indices {
+        referenced[i as usize] = true;
+    }
+    let welded = (0..to.len())
+        .filter(|&v| referenced[v] && to[v] as usize != v)
+        .count();
+    if welded == 0 {
+        return None;
+    }
+    let mut out = faces.clone();
+    for i in &mut out.indices {
+        *i = to[*i as usize];
+    }
+    Some((out, welded))
 }
 
 /// Area of a planar-ish polygon by Newell's vector area.
