@@ -749,12 +749,7 @@ fn extreme_scales_and_offsets_normalise_and_restore() {
                 assert!((*a - *b).length() < local_tol, "{what}: {a} vs {b}");
             }
             // Export restores world coordinates.
-            let restored: Vec<DVec3> = m
-                .mesh
-                .positions
-                .iter()
-                .map(|&p| m.frame.to_world(p))
-                .collect();
+            let restored: Vec<DVec3> = m.frame.points_to_world(&m.mesh.positions);
             let out = write_by_extension("out.ply", &restored, &m.polygons).unwrap();
             let back = raw(&out, "out.ply");
             assert_eq!(back.faces, prism_faces(), "{what}");
@@ -887,12 +882,7 @@ f 4 5 6
 fn a_shared_mesh_reads_the_same_in_every_format() {
     let bytes = common::bytes("spot.obj");
     let obj = imported(&bytes, "spot.obj");
-    let world: Vec<DVec3> = obj
-        .mesh
-        .positions
-        .iter()
-        .map(|&p| obj.frame.to_world(p))
-        .collect();
+    let world: Vec<DVec3> = obj.frame.points_to_world(&obj.mesh.positions);
     let tris = &obj.mesh.triangles;
     let f32s: Vec<[[f32; 3]; 3]> = tris
         .iter()

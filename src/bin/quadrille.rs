@@ -94,12 +94,7 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Convert { input, output } => {
             let imported = import(&input)?;
-            let world: Vec<_> = imported
-                .mesh
-                .positions
-                .iter()
-                .map(|&p| imported.frame.to_world(p))
-                .collect();
+            let world: Vec<_> = imported.frame.points_to_world(&imported.mesh.positions);
             let name = output.display().to_string();
             let bytes = quadrille::io::write_by_extension(&name, &world, &imported.polygons)
                 .map_err(|e| e.to_string())?;
@@ -210,7 +205,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         );
     }
     let frame = pipeline.input.frame;
-    let world: Vec<_> = mesh.positions.iter().map(|&p| frame.to_world(p)).collect();
+    let world: Vec<_> = frame.points_to_world(&mesh.positions);
     let bytes = quadrille::io::write_by_extension(&name, &world, &mesh.to_face_list())
         .map_err(|e| e.to_string())?;
     std::fs::write(&args.output, bytes).map_err(|e| format!("{name}: {e}"))?;
@@ -221,7 +216,7 @@ fn remesh(args: RemeshArgs) -> Result<(), String> {
         let fit_params = pipeline.params.fit;
         let write = |path: &Path, m: &quadrille::mesh::PolyMesh| -> Result<(), String> {
             let name = path.display().to_string();
-            let world: Vec<_> = m.positions.iter().map(|&p| frame.to_world(p)).collect();
+            let world: Vec<_> = frame.points_to_world(&m.positions);
             let bytes = quadrille::io::write_by_extension(&name, &world, &m.to_face_list())
                 .map_err(|e| e.to_string())?;
             std::fs::write(path, bytes).map_err(|e| format!("{name}: {e}"))
@@ -364,7 +359,7 @@ fn write_control(
 ) -> Result<(), String> {
     let name = path.display().to_string();
     let m = &result.control;
-    let world: Vec<_> = m.positions.iter().map(|&p| frame.to_world(p)).collect();
+    let world: Vec<_> = frame.points_to_world(&m.positions);
     let creases = result.crease_vertex_pairs();
     let bytes = if quadrille::io::Format::from_extension(&name) == Some(quadrille::io::Format::Obj)
     {
@@ -513,7 +508,7 @@ fn fit(args: FitArgs) -> Result<(), String> {
     let frame = reference.frame;
     let write = |path: &Path, mesh: &quadrille::mesh::PolyMesh| -> Result<(), String> {
         let name = path.display().to_string();
-        let world: Vec<_> = mesh.positions.iter().map(|&p| frame.to_world(p)).collect();
+        let world: Vec<_> = frame.points_to_world(&mesh.positions);
         let bytes = quadrille::io::write_by_extension(&name, &world, &mesh.to_face_list())
             .map_err(|e| e.to_string())?;
         std::fs::write(path, bytes).map_err(|e| format!("{name}: {e}"))
@@ -614,11 +609,7 @@ fn param(args: ParamArgs) -> Result<(), String> {
     let mesh = &imported.mesh;
     let result =
         run(mesh, &params, &clock).map_err(|e| format!("{}: {e}", args.input.display()))?;
-    let world: Vec<_> = mesh
-        .positions
-        .iter()
-        .map(|&p| imported.frame.to_world(p))
-        .collect();
+    let world: Vec<_> = imported.frame.points_to_world(&mesh.positions);
     let text = quadrille::param::export::obj_with_uv(&world, &mesh.triangles, &result.map);
     std::fs::write(&args.output, text).map_err(|e| format!("{name}: {e}"))?;
     if let Some(path) = &args.stats {

@@ -88,6 +88,11 @@ impl Frame {
         self.center + self.scale * p
     }
 
+    /// Every point of `points` in world coordinates.
+    pub fn points_to_world(&self, points: &[DVec3]) -> Vec<DVec3> {
+        points.iter().map(|&p| self.to_world(p)).collect()
+    }
+
     /// A length measured in local units, expressed in world units.
     pub fn length_to_world(&self, l: f64) -> f64 {
         l * self.scale

@@ -155,12 +155,7 @@ impl LayoutAnalyzer {
                     .grid
                     .as_ref()
                     .ok_or_else(|| JsError::new("grid the layout first"))?;
-                let world: Vec<DVec3> = g
-                    .mesh
-                    .positions
-                    .iter()
-                    .map(|&p| self.frame.to_world(p))
-                    .collect();
+                let world: Vec<DVec3> = self.frame.points_to_world(&g.mesh.positions);
                 Ok(format!(
                     "# gridded quad layout (Quadrille): {} vertices, {} quads\n{}",
                     world.len(),

@@ -379,7 +379,7 @@ pub fn grid_mesh(
 /// maps to.
 pub fn layout_obj(layout: &LayoutExport, frame: &Frame) -> Result<String, GridError> {
     let (positions, faces) = patch_polygons(layout)?;
-    let world: Vec<DVec3> = positions.iter().map(|&p| frame.to_world(p)).collect();
+    let world: Vec<DVec3> = frame.points_to_world(&positions);
     Ok(format!(
         "# quad layout (dual strip weaving): {} vertices, {} edges, {} patches as faces\n{}",
         layout.vertices.len(),
