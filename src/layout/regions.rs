@@ -142,11 +142,16 @@ impl Region {
         boundary_stretches(&self.boundary)
     }
 
+    /// Whether it is a disc once its holes are capped.
+    pub fn is_capped_disc(&self) -> bool {
+        self.euler + self.holes.len() as i64 == 1
+    }
+
     /// Why region `r` (this one) can be no layout vertex, for the user:
     /// `None` when it can.
     pub fn layout_blocker(&self, r: usize) -> Option<String> {
         let stretches = self.boundary_stretches();
-        if self.euler + self.holes.len() as i64 != 1 {
+        if !self.is_capped_disc() {
             Some(format!("region {r} is not a disc: add strips to split it"))
         } else if stretches > 1 {
             Some(format!(

@@ -335,7 +335,7 @@ fn boundary_blockers(regions: &Regions) -> Vec<String> {
         .regions
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.guidance == Guidance::NonDisc && r.euler + r.holes.len() as i64 == 1)
+        .filter(|(_, r)| r.guidance == Guidance::NonDisc && r.is_capped_disc())
         .filter_map(|(i, r)| r.layout_blocker(i))
         .collect();
     let mut notes: Vec<String> = blocked.iter().take(BLOCKERS_NAMED).cloned().collect();
