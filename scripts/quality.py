@@ -69,6 +69,7 @@ IM_EQUIVALENT = {
             "smoothing_iterations": 2,
             "reproject": True,
             "reopen_input_holes": False,
+            "least_squares_iterations": 0,
         },
     },
 }
@@ -105,6 +106,9 @@ ROWS = {
     # The last step: quads with a corner above 170° untangled (vertices
     # moved), then split within a 5 % odd-face budget.
     "+wide-corner fix": {"extraction": {"post": {"fix_wide_corners": True}}},
+    # The very last step: the vertices moved so the faces, not only the
+    # vertices, approximate the input (src/extract/placement.rs).
+    "+least-squares placement": {"extraction": {"post": {"least_squares_iterations": 10}}},
     # The lattice spacing made consistent with the cross field (healing
     # length 5 target edges; src/field/scale_consistency.rs).
     "+scale consistency": {"field": {"scale_consistency": 5}},
@@ -121,6 +125,9 @@ ROWS = {
     "global x4 - feature curves": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 0}}, 4),
     "global - stiffening": ("default", {"remesh": {"mode": "global", "stiffening": 0}}),
     "global - conformal scale": ("default", {"remesh": {"mode": "global", "conformal_scale": 0}}),
+    "global - least-squares placement": ("default", {"remesh": {"mode": "global"},
+                                                     "extraction": {"post": {"least_squares_iterations": 0}}}),
+    "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -228,7 +235,8 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "global - feature curves", "global x4 - feature curves", "global - conformal scale",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
-              "default - cap vertices kept")
+              "default - cap vertices kept", "default - least-squares placement",
+              "global - least-squares placement")
 
 
 def reordered_copy(src, dst, seed):

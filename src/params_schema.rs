@@ -177,6 +177,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("extraction.post.smoothing_feature_degrees", 0.0, 180.0, "Smoothing keeps vertices whose dihedral angle exceeds this (features)."),
         flag("extraction.post.regular_shape_smoothing", "Smooth towards each face's best-fitting regular polygon (square for quads) instead of the neighbours' mean."),
         flag("extraction.post.reproject", "Project the vertices onto the input at the end."),
+        int("extraction.post.least_squares_iterations", 0.0, 100.0, "Last step, both modes: least-squares steps moving the vertices so the faces, not only the vertices, approximate the input (0 = vertices on the input)."),
         flag("extraction.post.reopen_input_holes", "Remove the faces over an input hole (at least two edges around) that the output closed over."),
         flag("extraction.pure_quad", "One Catmull–Clark split at the end: an all-quad mesh."),
         // fit

@@ -415,6 +415,8 @@ impl Params {
             Some(Stage::Parametrization)
         } else if self.extraction.post.reopen_input_holes
             != other.extraction.post.reopen_input_holes
+            || self.extraction.post.least_squares_iterations
+                != other.extraction.post.least_squares_iterations
         {
             Some(Stage::PostProcess)
         } else if self.fit != other.fit {
@@ -1237,6 +1239,20 @@ impl Pipeline {
         {
             result.mesh = mesh;
             result.report.input_holes_reopened = opened;
+        }
+        let steps = self.params.extraction.post.least_squares_iterations;
+        if steps > 0
+            && let Some(surface) = surface.as_deref()
+        {
+            progress.report(0.95, "least-squares placement")?;
+            result.report.least_squares_steps = extract::placement::least_squares_placement(
+                &mut result.mesh,
+                surface,
+                &self.input.mesh.positions,
+                steps,
+                subdivision::fit::feature_curves(&self.input.mesh, self.params.fit.crease_degrees)
+                    .as_ref(),
+            );
         }
         Ok(PostProcessStage { result })
     }

@@ -234,6 +234,9 @@ fn pure_quad_split_is_closed_on_the_surface_and_smoothed() {
         params.sizing.target_vertex_count = Some(600);
         params.extraction.pure_quad = true;
         params.extraction.post.smoothing_iterations = smoothing;
+        // The split's smoothing and reprojection alone: the least-squares
+        // placement (its own test below) moves the vertices off the input.
+        params.extraction.post.least_squares_iterations = 0;
         let input = from_mesh(generate::icosphere(1.0, 4));
         // The import normalises (largest axis 1): the radius it gives.
         let radius = input.mesh.positions[0].length();
@@ -261,4 +264,97 @@ fn pure_quad_split_is_closed_on_the_surface_and_smoothed() {
     // Measured: 8.0° unsmoothed, 5.4° with the smoothing before the split
     // only, 4.0° with the smoothing after it as well.
     assert!(deviation[1] < 5.0, "{deviation:?}");
+}
+
+/// A cube's faces cut into n × n quads, projected onto the unit sphere.
+fn quad_sphere(n: usize) -> PolyMesh {
+    use glam::DVec3;
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let mut faces = FaceList::new();
+    let mut vertex = |p: DVec3, positions: &mut Vec<DVec3>| -> u32 {
+        // Grid points are exact multiples of 1/n: a key in integers.
+        let k = (p * n as f64).round().as_ivec3();
+        *index.entry((k.x, k.y, k.z)).or_insert_with(|| {
+            positions.push(p.normalize());
+            positions.len() as u32 - 1
+        })
+    };
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            // u × v = normal: the quads turn counter-clockwise outside.
+            let unit = |i: usize, x: f64| {
+                let mut a = [0.0; 3];
+                a[i % 3] = x;
+                DVec3::from_array(a)
+            };
+            let (normal, u, v) = (unit(axis, sign), unit(axis + 1, 1.0), unit(axis + 2, sign));
+            let at = |i: usize, j: usize| {
+                normal
+                    + u * (2.0 * i as f64 / n as f64 - 1.0)
+                    + v * (2.0 * j as f64 / n as f64 - 1.0)
+            };
+            for i in 0..n {
+                for j in 0..n {
+                    let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
+                        .map(|p| vertex(p, &mut positions));
+                    faces.push(&q);
+                }
+            }
+        }
+    }
+    PolyMesh::from_faces(positions, &faces).expect("a closed quad sphere")
+}
+
+/// The least-squares placement's point: a mesh of chords of a sphere lies
+/// inside it; placed, its faces straddle the sphere. Measured against the
+/// exact sphere (the input is a fine icosphere): the mean distance of
+/// points spread over the quads to the sphere at least halves, the
+/// vertices move out, and the quads keep their shape.
+#[test]
+fn least_squares_placement_makes_the_faces_straddle_a_sphere() {
+    use quadrille::extract::placement::least_squares_placement;
+    let input = generate::icosphere(1.0, 6);
+    let surface = quadrille::spatial::SurfaceIndex::new(&input).expect("a surface");
+    let mut mesh = quad_sphere(4);
+    assert!(mesh.topology().is_closed_manifold());
+    // Mean |‖p‖ − 1| over a 4 × 4 grid of bilinear points in every quad.
+    let error = |mesh: &PolyMesh| {
+        let faces = mesh.to_face_list();
+        let (mut sum, mut count) = (0.0, 0);
+        for f in faces.iter() {
+            let p: Vec<_> = f.iter().map(|&v| mesh.positions[v as usize]).collect();
+            for a in 0..4 {
+                for b in 0..4 {
+                    let (s, t) = ((a as f64 + 0.5) / 4.0, (b as f64 + 0.5) / 4.0);
+                    let x = p[0] * (1.0 - s) * (1.0 - t)
+                        + p[1] * s * (1.0 - t)
+                        + p[2] * s * t
+                        + p[3] * (1.0 - s) * t;
+                    sum += (x.length() - 1.0).abs();
+                    count += 1;
+                }
+            }
+        }
+        sum / count as f64
+    };
+    let corners = |mesh: &PolyMesh| {
+        quadrille::metrics::quad_metrics(&mesh.positions, &mesh.to_face_list())
+            .corner_angle_deviation_degrees
+    };
+    let (before, corners_before) = (error(&mesh), corners(&mesh));
+    let steps = least_squares_placement(&mut mesh, &surface, &input.positions, 10, None);
+    let (after, corners_after) = (error(&mesh), corners(&mesh));
+    println!(
+        "{steps} steps: mean distance {before:.2e} → {after:.2e}, corner deviation {corners_before:.2}° → {corners_after:.2}°"
+    );
+    assert!(after < 0.5 * before, "{before:.2e} → {after:.2e}");
+    assert!(
+        mesh.positions.iter().all(|p| p.length() > 1.0),
+        "every vertex moves out"
+    );
+    assert!(
+        corners_after < corners_before + 0.5,
+        "{corners_before} → {corners_after}"
+    );
 }

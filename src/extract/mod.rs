@@ -16,6 +16,7 @@
 
 pub mod clusters;
 pub mod faces;
+pub mod placement;
 pub mod postprocess;
 pub mod pure_quad;
 pub mod qex;

@@ -474,26 +474,14 @@ fn lspia(
             crate::parallel::map_into(chunk, &mut chunk_offsets, |&p| index.closest(p).point - p);
             offsets.extend_from_slice(&chunk_offsets);
         }
-        let n = control.vertex_count();
-        let (mut sum, mut weight) = (vec![DVec3::ZERO; n], vec![0.0; n]);
-        for (w, offset) in weights.iter().zip(&offsets) {
-            for &(v, x) in w {
-                sum[v as usize] += x * *offset;
-                weight[v as usize] += x;
-            }
-        }
-        let mut largest = 0.0f64;
-        for &v in &smooth {
-            let v = v as usize;
-            if weight[v] > 0.0 {
-                let bound = params.ray_length * edge_length[v];
-                let step = (LSPIA_STEP * sum[v] / weight[v] + LSPIA_MOMENTUM * previous[v])
-                    .clamp_length_max(bound);
-                previous[v] = step;
-                control.positions[v] += step;
-                largest = largest.max(step.length());
-            }
-        }
+        let largest = lspia_move(
+            &mut control.positions,
+            &weights,
+            &offsets,
+            &smooth,
+            &|v| params.ray_length * edge_length[v],
+            &mut previous,
+        );
         summary.lspia_iterations = it + 1;
         summary.lspia_max_move.push(largest);
         if largest < params.tolerance * scale {
@@ -503,11 +491,46 @@ fn lspia(
     Ok(())
 }
 
+/// One LSPIA move (Deng and Lin 2014, with the momentum of the module
+/// docs): each vertex of `movable` moves by [`LSPIA_STEP`] × the weighted
+/// mean of the `offsets` of the samples that weigh on it (`weights`, one
+/// list per sample) plus [`LSPIA_MOMENTUM`] × its `previous` move, clamped
+/// to `bound(v)`. Returns the largest move.
+pub(crate) fn lspia_move(
+    positions: &mut [DVec3],
+    weights: &[Vec<(u32, f64)>],
+    offsets: &[DVec3],
+    movable: &[u32],
+    bound: &dyn Fn(usize) -> f64,
+    previous: &mut [DVec3],
+) -> f64 {
+    let n = positions.len();
+    let (mut sum, mut weight) = (vec![DVec3::ZERO; n], vec![0.0; n]);
+    for (w, offset) in weights.iter().zip(offsets) {
+        for &(v, x) in w {
+            sum[v as usize] += x * *offset;
+            weight[v as usize] += x;
+        }
+    }
+    let mut largest = 0.0f64;
+    for &v in movable {
+        let v = v as usize;
+        if weight[v] > 0.0 {
+            let step = (LSPIA_STEP * sum[v] / weight[v] + LSPIA_MOMENTUM * previous[v])
+                .clamp_length_max(bound(v));
+            previous[v] = step;
+            positions[v] += step;
+            largest = largest.max(step.length());
+        }
+    }
+    largest
+}
+
 /// Per vertex of `control` subdivided once (numbered as
 /// [`subdivide_creased`] numbers them: control vertices, edge points, face
 /// points), its bilinear weights on the control vertices: 1 on itself, ½
 /// on each end of its edge, 1/n on each corner of its n-gon.
-fn hat_weights(control: &PolyMesh) -> Vec<Vec<(u32, f64)>> {
+pub(crate) fn hat_weights(control: &PolyMesh) -> Vec<Vec<(u32, f64)>> {
     let mut weights: Vec<Vec<(u32, f64)>> = (0..control.vertex_count() as u32)
         .map(|v| vec![(v, 1.0)])
         .collect();
@@ -545,7 +568,7 @@ fn start_mesh(
 /// The reference's feature curves: its interior edges whose faces' normals
 /// differ by more than `degrees` ([`EdgeTopology::sharp_edges`]). `None`
 /// when `degrees` is 0 or there are none.
-fn feature_curves(reference: &TriMesh, degrees: f64) -> Option<CurveIndex> {
+pub(crate) fn feature_curves(reference: &TriMesh, degrees: f64) -> Option<CurveIndex> {
     if degrees.is_nan() || degrees <= 0.0 {
         return None;
     }
@@ -619,7 +642,7 @@ fn offset_to_surface(index: &SurfaceIndex, l: DVec3, n: DVec3, bound: f64) -> (D
 }
 
 /// Mean length of each vertex's edges.
-fn mean_edge_lengths(mesh: &PolyMesh) -> Vec<f64> {
+pub(crate) fn mean_edge_lengths(mesh: &PolyMesh) -> Vec<f64> {
     (0..mesh.vertex_count() as u32)
         .map(|v| {
             let p = mesh.positions[v as usize];
