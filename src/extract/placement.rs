@@ -223,8 +223,10 @@ fn input_pulls(
 const INPUT_SHARE: f64 = 0.3;
 
 /// Input points per output vertex the input's side of the energy reads
-/// at most (every input vertex up to that).
-const INPUT_SAMPLES_PER_VERTEX: usize = 16;
+/// at most (every input vertex up to that). 16 gave the same distances
+/// within 2 % (medians over 5 vertex orders; rocker-arm, spot, cow,
+/// bunny) for 2.4 times the closest-point queries on the bunny.
+const INPUT_SAMPLES_PER_VERTEX: usize = 4;
 
 /// Barycentric coordinates of `p` (a point of the triangle) in `t`,
 /// clamped to non-negative and summing to 1; the centre for a degenerate
