@@ -398,7 +398,7 @@ impl Params {
             Some(Stage::Position)
         } else if extraction_differs(&self.extraction, &other.extraction) {
             Some(Stage::Extraction)
-        } else if self.extraction != other.extraction {
+        } else if self.extraction != other.extraction || self.placement_curves_differ(other) {
             Some(Stage::PostProcess)
         } else if self.fit != other.fit {
             Some(Stage::Fit)
@@ -407,9 +407,17 @@ impl Params {
         }
     }
 
+    /// The least-squares placement keeps the vertices on the input's
+    /// feature curves, found at the fit's crease angle.
+    fn placement_curves_differ(&self, other: &Params) -> bool {
+        self.extraction.post.least_squares_iterations > 0
+            && self.fit.crease_degrees != other.fit.crease_degrees
+    }
+
     /// The global mode reads the map's parameters
     /// ([`crate::param::Params::from_pipeline`]), of the post-processing
-    /// only the reopening of input holes, and the fit.
+    /// only the reopening of input holes and the least-squares placement,
+    /// and the fit.
     fn first_changed_global_stage(&self, other: &Params) -> Option<Stage> {
         if crate::param::Params::from_pipeline(self) != crate::param::Params::from_pipeline(other) {
             Some(Stage::Parametrization)
@@ -417,6 +425,7 @@ impl Params {
             != other.extraction.post.reopen_input_holes
             || self.extraction.post.least_squares_iterations
                 != other.extraction.post.least_squares_iterations
+            || self.placement_curves_differ(other)
         {
             Some(Stage::PostProcess)
         } else if self.fit != other.fit {

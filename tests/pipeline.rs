@@ -257,10 +257,27 @@ fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
         Some(Stage::PostProcess)
     );
     assert_eq!(changed(&|p| p.fit.max_iterations = 3), Some(Stage::Fit));
+    // The least-squares placement keeps the vertices on the feature curves
+    // found at the fit's crease angle.
+    assert_eq!(
+        changed(&|p| p.extraction.post.least_squares_iterations = 0),
+        Some(Stage::PostProcess)
+    );
+    assert_eq!(
+        changed(&|p| p.fit.crease_degrees = 30.0),
+        Some(Stage::PostProcess)
+    );
     // The same changes in the local mode.
     let mut other = local.clone();
     other.field.orientation_iterations += 1;
     assert_eq!(local.first_changed_stage(&other), Some(Stage::Orientation));
+    let mut other = local.clone();
+    other.fit.crease_degrees = 30.0;
+    assert_eq!(local.first_changed_stage(&other), Some(Stage::PostProcess));
+    other.extraction.post.least_squares_iterations = 0;
+    let mut without = local.clone();
+    without.extraction.post.least_squares_iterations = 0;
+    assert_eq!(without.first_changed_stage(&other), Some(Stage::Fit));
 
     // Switching the mode keeps the analysis and drops the other mode's
     // outputs; the global run starts with the map. (Cancelled when the
