@@ -125,8 +125,8 @@ ROWS = {
     "global x4 - feature curves": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 0}}, 4),
     "global - stiffening": ("default", {"remesh": {"mode": "global", "stiffening": 0}}),
     "global - conformal scale": ("default", {"remesh": {"mode": "global", "conformal_scale": 0}}),
-    "global - least-squares placement": ("default", {"remesh": {"mode": "global"},
-                                                     "extraction": {"post": {"least_squares_iterations": 0}}}),
+    "global + least-squares placement": ("default", {"remesh": {"mode": "global",
+                                                                "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
@@ -236,7 +236,7 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept", "default - least-squares placement",
-              "global - least-squares placement")
+              "global + least-squares placement")
 
 
 def reordered_copy(src, dst, seed):

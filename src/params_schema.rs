@@ -101,6 +101,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("remesh.feature_curve_degrees", 0.0, 180.0, "Global mode: sharp edges whose face normals differ by more than this, and that are still creases at the target scale, lie on integer isolines (feature curves, Bommes et al. 2009 §4); 0 turns them off."),
         int("remesh.stiffening", 0.0, 20.0, "Global mode: MIQ's stiffening re-solves after the rounding (faces flipped against an unflipped cross weigh more); 0 turns it off."),
         num("remesh.conformal_scale", 0.0, 10.0, "Global mode: the map's target edge follows the conformal scale of the flat metric whose only curvature is the cross field's cones (square quads away from them), within this factor of the sizing; 0 turns it off."),
+        flag("remesh.least_squares_placement", "Global mode: the quads also get the least-squares vertex placement (extraction.post.least_squares_iterations); off by default (it costs the regular quads more shape than it gains in distance)."),
         flag("remesh.count_correction", "Global mode: when the quads' vertex count is more than 10 % off the target, compute the map again (up to four times) for a target from the power law through the last two counts and keep the closest result."),
         // analysis
         choice("analysis.normal_weighting", &["angle", "area"], "How incident faces are weighted in a vertex normal."),
@@ -177,7 +178,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("extraction.post.smoothing_feature_degrees", 0.0, 180.0, "Smoothing keeps vertices whose dihedral angle exceeds this (features)."),
         flag("extraction.post.regular_shape_smoothing", "Smooth towards each face's best-fitting regular polygon (square for quads) instead of the neighbours' mean."),
         flag("extraction.post.reproject", "Project the vertices onto the input at the end."),
-        int("extraction.post.least_squares_iterations", 0.0, 100.0, "Last step, both modes: least-squares steps moving the vertices so the faces, not only the vertices, approximate the input (0 = vertices on the input)."),
+        int("extraction.post.least_squares_iterations", 0.0, 100.0, "Last step (local mode; global with remesh.least_squares_placement): least-squares steps moving the vertices so the faces, not only the vertices, approximate the input (0 = vertices on the input)."),
         flag("extraction.post.reopen_input_holes", "Remove the faces over an input hole (at least two edges around) that the output closed over."),
         flag("extraction.pure_quad", "One Catmull–Clark split at the end: an all-quad mesh."),
         // fit

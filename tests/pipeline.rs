@@ -257,16 +257,23 @@ fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
         Some(Stage::PostProcess)
     );
     assert_eq!(changed(&|p| p.fit.max_iterations = 3), Some(Stage::Fit));
-    // The least-squares placement keeps the vertices on the feature curves
-    // found at the fit's crease angle.
+    // The least-squares placement (off in the global mode unless asked
+    // for) keeps the vertices on the feature curves found at the fit's
+    // crease angle.
     assert_eq!(
         changed(&|p| p.extraction.post.least_squares_iterations = 0),
-        Some(Stage::PostProcess)
+        None
     );
+    assert_eq!(changed(&|p| p.fit.crease_degrees = 30.0), Some(Stage::Fit));
     assert_eq!(
-        changed(&|p| p.fit.crease_degrees = 30.0),
+        changed(&|p| p.remesh.least_squares_placement = true),
         Some(Stage::PostProcess)
     );
+    let mut placed = global.clone();
+    placed.remesh.least_squares_placement = true;
+    let mut other = placed.clone();
+    other.fit.crease_degrees = 30.0;
+    assert_eq!(placed.first_changed_stage(&other), Some(Stage::PostProcess));
     // The same changes in the local mode.
     let mut other = local.clone();
     other.field.orientation_iterations += 1;

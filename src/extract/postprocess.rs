@@ -171,7 +171,8 @@ pub struct PostProcessParams {
     /// ([`super::reopen`]). Default on; the shared meshes at their default
     /// targets have no such hole, so their outputs are unchanged.
     pub reopen_input_holes: bool,
-    /// After everything else, in both remeshing modes: this many steps of
+    /// After everything else (in the global mode only with
+    /// `remesh.least_squares_placement`): this many steps of
     /// least-squares vertex placement ([`super::placement`]); 0 leaves
     /// every vertex on the input. Default 10 (converged: 30 steps change
     /// the distances by under 1 %). Measured with `make quality`'s meshes,
