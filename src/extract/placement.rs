@@ -174,7 +174,7 @@ fn keep_shapes(pos: &mut [DVec3], before: &[DVec3], faces: &[Vec<u32>], previous
 /// offset from its closest point on the output (a fan triangle of a face)
 /// to it, weighing on that triangle's corners by the closest point's
 /// barycentric coordinates, scaled so that all input points together
-/// weigh as much as the `output_samples`. Empty when the output's
+/// weigh [`INPUT_SHARE`] × the `output_samples`. Empty when the output's
 /// triangles make no index.
 fn input_pulls(
     pos: &[DVec3],
