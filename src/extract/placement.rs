@@ -32,6 +32,7 @@
 
 use glam::DVec3;
 
+use super::postprocess::widest_quad_corner;
 use crate::mesh::{PolyMesh, TriMesh, face_newell_normal};
 use crate::spatial::{CurveIndex, SurfaceIndex};
 use crate::subdivision::fit::{hat_weights, lspia_move, mean_edge_lengths};
@@ -132,17 +133,11 @@ fn vertex_normals(pos: &[DVec3], faces: &[Vec<u32>]) -> Vec<DVec3> {
 /// spoiled (undoing can only bring a face back to how it was). The
 /// vertices undone lose their momentum.
 fn keep_shapes(pos: &mut [DVec3], before: &[DVec3], faces: &[Vec<u32>], previous: &mut [DVec3]) {
-    let widest = |pos: &[DVec3], f: &[u32]| -> f64 {
-        if f.len() != 4 {
-            return 0.0;
-        }
-        let p: [DVec3; 4] = std::array::from_fn(|i| pos[f[i] as usize]);
-        crate::metrics::quad_corner_angles(&p)
-            .into_iter()
-            .fold(0.0, f64::max)
-    };
     let limit = WIDE_CORNER.to_radians();
-    let width: Vec<f64> = faces.iter().map(|f| widest(before, f)).collect();
+    let width: Vec<f64> = faces
+        .iter()
+        .map(|f| widest_quad_corner(before, f))
+        .collect();
     let normal: Vec<DVec3> = faces
         .iter()
         .map(|f| face_newell_normal(before, f))
@@ -150,7 +145,7 @@ fn keep_shapes(pos: &mut [DVec3], before: &[DVec3], faces: &[Vec<u32>], previous
     loop {
         let mut undone = false;
         for (i, f) in faces.iter().enumerate() {
-            let w = widest(pos, f);
+            let w = widest_quad_corner(pos, f);
             let flipped = face_newell_normal(pos, f).dot(normal[i]) < 0.0;
             if flipped || (w > limit && w > width[i]) {
                 for &v in f {

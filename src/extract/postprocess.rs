@@ -897,7 +897,7 @@ pub fn fix_wide_corners(
 
 /// A quad's widest corner (radians; reflex corners read above π), 0 for
 /// other faces.
-fn widest_quad_corner(pos: &[DVec3], f: &[u32]) -> f64 {
+pub(crate) fn widest_quad_corner(pos: &[DVec3], f: &[u32]) -> f64 {
     if f.len() != 4 {
         return 0.0;
     }
