@@ -1140,7 +1140,7 @@ fn sphere_octant_grid_is_a_closed_quad_mesh_on_the_sphere() {
     // One count for all strips: the cube's regular refinement.
     let n = 8usize;
     let started = std::time::Instant::now();
-    let g = grid_layout(&layout.export(), &[n as u32; 3], &index).unwrap();
+    let g = grid_layout(&layout.export(), &[n as u32; 3], &mesh, &index).unwrap();
     println!(
         "sphere octants, grid {n}: {} vertices, {} quads in {:.2} ms",
         g.mesh.vertex_count(),
@@ -1188,7 +1188,7 @@ fn sphere_octant_grid_takes_one_count_per_strip() {
     let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
     let index = SurfaceIndex::new(&mesh).unwrap();
     let counts = [2u32, 3, 5];
-    let g = grid_layout(&layout.export(), &counts, &index).unwrap();
+    let g = grid_layout(&layout.export(), &counts, &mesh, &index).unwrap();
     check_closed_quads(&g.mesh, |c| c);
     // Each patch is the crossing of two strips: counts a·b, two per pair.
     let [a, b, c] = counts.map(|x| x as usize);
@@ -1203,8 +1203,8 @@ fn sphere_octant_grid_takes_one_count_per_strip() {
         );
     }
     // Bad counts are errors, not panics.
-    assert!(grid_layout(&layout.export(), &[8, 8], &index).is_err());
-    assert!(grid_layout(&layout.export(), &[8, 0, 8], &index).is_err());
+    assert!(grid_layout(&layout.export(), &[8, 8], &mesh, &index).is_err());
+    assert!(grid_layout(&layout.export(), &[8, 0, 8], &mesh, &index).is_err());
 }
 
 #[test]
@@ -1216,7 +1216,7 @@ fn torus_grid_wraps_the_half_tubes() {
     let layout = QuadLayout::build(&mesh, &loops, &r, &[]).unwrap();
     let index = SurfaceIndex::new(&mesh).unwrap();
     let started = std::time::Instant::now();
-    let g = grid_layout(&layout.export(), &[8; 3], &index).unwrap();
+    let g = grid_layout(&layout.export(), &[8; 3], &mesh, &index).unwrap();
     println!(
         "torus, 3 strips, grid 8: {} vertices, {} quads in {:.2} ms",
         g.mesh.vertex_count(),
@@ -1340,7 +1340,7 @@ fn check_octant_grid_with_holes(mesh: &TriMesh, counts: &[u32], coarse: &[u32]) 
     }
     let index = SurfaceIndex::new(mesh).unwrap();
     for &n in coarse.iter().chain(counts) {
-        let g = match grid_layout(&layout.export(), &[n; 3], &index) {
+        let g = match grid_layout(&layout.export(), &[n; 3], mesh, &index) {
             Ok(g) => g,
             Err(e) if coarse.contains(&n) && e.to_string().contains("raise the grid counts") => {
                 println!("grid {n}: {e}");
@@ -1372,13 +1372,54 @@ fn check_octant_grid_with_holes(mesh: &TriMesh, counts: &[u32], coarse: &[u32]) 
                 );
             }
         }
+        // No quad is folded, or pressed flat against a rim.
+        let (corner, area) = worst_rim_quad(m);
+        assert_eq!(g.folded, 0, "grid {n}: folded quads");
+        assert!(corner < 170.0, "grid {n}: a corner of {corner:.1}°");
+        assert!(area > 0.05, "grid {n}: a quad of {area:.3} the mean area");
         println!(
-            "sphere with {hole_count} holes, grid {n}: {} vertices, {} quads, {} folded",
+            "sphere with {hole_count} holes, grid {n}: {} vertices, {} quads, {} folded, \
+             largest corner {corner:.1}°, smallest area {area:.3} × the mean",
             m.vertex_count(),
             m.face_count(),
             g.folded
         );
     }
+}
+
+/// Of the faces with a corner on the mesh boundary: the largest corner
+/// angle (degrees) and the smallest area relative to the mean face area
+/// (Newell areas).
+fn worst_rim_quad(m: &PolyMesh) -> (f64, f64) {
+    let mut on_boundary = vec![false; m.vertex_count()];
+    for h in 0..m.halfedge_count() as u32 {
+        if m.is_boundary_halfedge(h) {
+            on_boundary[m.origin(h) as usize] = true;
+        }
+    }
+    let faces = m.to_face_list();
+    let mut corner: f64 = 0.0;
+    let (mut areas, mut rim_areas) = (Vec::new(), Vec::new());
+    for face in faces.iter() {
+        let p: Vec<DVec3> = face.iter().map(|&v| m.positions[v as usize]).collect();
+        let k = p.len();
+        let rim = face.iter().any(|&v| on_boundary[v as usize]);
+        let mut newell = DVec3::ZERO;
+        for i in 0..k {
+            let (prev, here, next) = (p[(i + k - 1) % k], p[i], p[(i + 1) % k]);
+            if rim {
+                corner = corner.max((prev - here).angle_between(next - here).to_degrees());
+            }
+            newell += here.cross(next);
+        }
+        areas.push(0.5 * newell.length());
+        if rim {
+            rim_areas.push(0.5 * newell.length());
+        }
+    }
+    let mean = areas.iter().sum::<f64>() / areas.len() as f64;
+    let least = rim_areas.iter().copied().fold(f64::INFINITY, f64::min);
+    (corner, least / mean)
 }
 
 #[test]

@@ -35,19 +35,25 @@
 //! Open surfaces: on a boundary-aligned layout the mesh boundary is made of
 //! layout edges and the grid's boundary follows it. A hole no dual curve
 //! ends on (not in the paper; "trimmed" by the hole in the paper's words,
-//! §5.7) is covered by the layout as if capped ([`super::primal`]); the
-//! grid then cuts it out: the grid quads over the hole — the one nearest
-//! it and those the sweep's projection pressed onto its rim — are removed
-//! and the boundary of their union is laid onto the hole's rim, so the
-//! hole stays a boundary loop of the pure-quad mesh (never closed over).
-//! A hole whose quads are no disc, or touch another hole's or the boundary
-//! (grid counts too small there), is an error naming it. Known limit:
-//! quads partly over a hole stay, pressed against its rim.
+//! §5.7) is covered by the layout as if capped ([`super::primal`]), and
+//! the grid is made on the input with those holes capped (a fan around
+//! each rim's centroid), so the sweep and the smoothing run across a hole
+//! as across the surface and no grid point is pressed onto its rim. Each
+//! hole is then cut out along its rim: the quads over its cap go (those
+//! whose centroid lies on it, the one over its centre, those around a
+//! corner left on it), grown into a disc (enclosed pockets and pinches
+//! added); the ring around them is laid onto the rim and the two vertex
+//! rings beyond are relaxed. The hole stays a boundary loop of the
+//! pure-quad mesh (never closed over), every vertex on the input. A cut
+//! that touches another hole's or the boundary (grid counts too small
+//! there) is an error naming the hole.
+
+use std::collections::HashMap;
 
 use glam::{DMat3, DVec3};
 
 use super::primal::LayoutExport;
-use crate::mesh::{FaceList, MeshError, PolyMesh};
+use crate::mesh::{BoundaryArcs, FaceList, MeshError, PolyMesh, TriMesh};
 use crate::spatial::SurfaceIndex;
 
 /// The grid count a strip gets unless the user picks another.
@@ -186,11 +192,18 @@ pub fn resample(polyline: &[DVec3], n: usize) -> Vec<DVec3> {
 pub fn grid_layout(
     layout: &LayoutExport,
     counts: &[u32],
+    mesh: &TriMesh,
     index: &SurfaceIndex,
 ) -> Result<LayoutGrid, GridError> {
     if layout.patches.is_empty() {
         return Err(GridError::Invalid("the layout has no patches".into()));
     }
+    let capped = if layout.holes.is_empty() {
+        None
+    } else {
+        Some(Capped::new(&layout.holes, mesh)?)
+    };
+    let index = capped.as_ref().map_or(index, |c| &c.index);
     // Per edge: its count and the ids of its samples, ends included.
     let mut positions: Vec<DVec3> = layout.vertices.iter().map(|v| v.position).collect();
     let mut samples: Vec<Vec<u32>> = Vec::with_capacity(layout.edges.len());
@@ -230,7 +243,6 @@ pub fn grid_layout(
     }
     let mut faces = FaceList::new();
     let mut patch_faces = vec![0u32];
-    let mut folded = 0;
     for p in 0..layout.patches.len() {
         check_patch(layout, p)?;
         let patch = &layout.patches[p];
@@ -271,8 +283,7 @@ pub fn grid_layout(
                 }
             })
             .collect();
-        let (filled, folded_here) = fill_patch(&boundary, nu, nv, index);
-        folded += folded_here;
+        let filled = fill_patch(&boundary, nu, nv, index);
         for j in 1..nv {
             for i in 1..nu {
                 ids[i + j * w] = positions.len() as u32;
@@ -287,7 +298,11 @@ pub fn grid_layout(
         }
         patch_faces.push(faces.len() as u32);
     }
-    let (positions, faces, patch_faces) = cut_holes(layout, positions, &faces, &patch_faces)?;
+    let (positions, faces, patch_faces) = match &capped {
+        Some(capped) => cut_holes(capped, positions, &faces, &patch_faces)?,
+        None => (positions, faces, patch_faces),
+    };
+    let folded = folded_faces(&positions, &faces, index);
     let mesh = PolyMesh::from_faces(positions, &faces)?;
     Ok(LayoutGrid {
         mesh,
@@ -296,81 +311,186 @@ pub fn grid_layout(
     })
 }
 
-/// Cuts every hole of the layout ([`LayoutExport::holes`]) out of the grid:
-/// the quads over it go (the nearest by centroid, and those with every
-/// corner on its rim) and the boundary of their union is laid onto the
-/// hole's rim (its points at the boundary's arc-length proportions, from
-/// the rim point nearest its first). Returns the positions, faces and
-/// per-patch face ranges.
+/// The input with the layout's holes capped: the grid is swept, projected
+/// and smoothed on it, so no grid point is pressed onto a rim, and cut
+/// along the rims afterwards ([`cut_holes`]).
+struct Capped {
+    index: SurfaceIndex,
+    /// Faces of the input; face `input_faces + i` caps hole `cap_of[i]`.
+    input_faces: usize,
+    cap_of: Vec<usize>,
+    /// Per hole, the input's boundary loop it lies on (the surface on its
+    /// left) and the cap's centre.
+    rims: Vec<Vec<DVec3>>,
+    centres: Vec<DVec3>,
+}
+
+impl Capped {
+    /// Caps each of `holes` (rims of the layout, [`LayoutExport::holes`])
+    /// on `mesh`: the input's boundary loop most of the rim's points are
+    /// nearest to, closed by a fan around its centroid. A rim that lies on
+    /// no boundary loop, or on one another rim took, is an error naming it.
+    fn new(holes: &[Vec<DVec3>], mesh: &TriMesh) -> Result<Capped, GridError> {
+        let arcs = BoundaryArcs::new(mesh);
+        let mut loops: Vec<Vec<u32>> = vec![Vec::new(); arcs.length.len()];
+        for v in 0..mesh.positions.len() {
+            if arcs.is_boundary(v) {
+                loops[arcs.loop_of[v] as usize].push(v as u32);
+            }
+        }
+        for l in &mut loops {
+            l.sort_by(|&a, &b| arcs.arc[a as usize].total_cmp(&arcs.arc[b as usize]));
+        }
+        let on_boundary: Vec<u32> = loops.iter().flatten().copied().collect();
+        let mut positions = mesh.positions.clone();
+        let mut triangles = mesh.triangles.clone();
+        let (mut cap_of, mut rims, mut centres) = (Vec::new(), Vec::new(), Vec::new());
+        let mut taken: Vec<Option<usize>> = vec![None; loops.len()];
+        for (k, hole) in holes.iter().enumerate() {
+            let mut votes = vec![0usize; loops.len()];
+            for &p in hole {
+                let nearest = on_boundary.iter().min_by(|&&a, &&b| {
+                    let (a, b) = (positions[a as usize], positions[b as usize]);
+                    a.distance_squared(p).total_cmp(&b.distance_squared(p))
+                });
+                if let Some(&v) = nearest {
+                    votes[arcs.loop_of[v as usize] as usize] += 1;
+                }
+            }
+            let best = (0..loops.len())
+                .filter(|&l| votes[l] > 0)
+                .max_by_key(|&l| (votes[l], std::cmp::Reverse(l)));
+            let Some(best) = best.filter(|&l| loops[l].len() >= 3) else {
+                return Err(GridError::Invalid(format!(
+                    "hole {k} lies on no boundary loop of the surface"
+                )));
+            };
+            if let Some(other) = taken[best] {
+                return Err(GridError::Invalid(format!(
+                    "holes {other} and {k} lie on the same boundary loop of the surface"
+                )));
+            }
+            taken[best] = Some(k);
+            let rim = &loops[best];
+            let points: Vec<DVec3> = rim.iter().map(|&v| positions[v as usize]).collect();
+            let centre = points.iter().sum::<DVec3>() / points.len() as f64;
+            let c = positions.len() as u32;
+            positions.push(centre);
+            for i in 0..rim.len() {
+                // The input runs a → b; its cap b → a.
+                triangles.push([rim[(i + 1) % rim.len()], rim[i], c]);
+                cap_of.push(k);
+            }
+            rims.push(points);
+            centres.push(centre);
+        }
+        let capped = TriMesh::new(positions, triangles)?;
+        let index = SurfaceIndex::new(&capped)
+            .ok_or_else(|| GridError::Invalid("the surface has no triangles".into()))?;
+        Ok(Capped {
+            index,
+            input_faces: mesh.face_count(),
+            cap_of,
+            rims,
+            centres,
+        })
+    }
+
+    /// The hole whose cap `p` lies on (nearest), if any.
+    fn hole_at(&self, p: DVec3) -> Option<usize> {
+        let f = self.index.closest(p).face as usize;
+        f.checked_sub(self.input_faces)
+            .and_then(|i| self.cap_of.get(i).copied())
+    }
+}
+
+/// Cuts every hole of the layout out of the grid made on the capped
+/// surface: the quads over its cap go — those whose centroid lies on it,
+/// the one over its centre, and those around a corner on the cap that no
+/// cut quad has — together with the kept pockets they enclose and the
+/// quads around a vertex where they pinch, so that they form a disc; the
+/// ring around them is laid onto the rim (at the ring's arc-length
+/// proportions; a ring corner moves by less than a quad) and the two rings
+/// of vertices beyond it are relaxed. A cut that touches the grid's
+/// boundary or another hole's is an error naming the hole. Returns the
+/// positions (vertices only in cut quads dropped), faces and per-patch face
+/// ranges.
 fn cut_holes(
-    layout: &LayoutExport,
-    mut positions: Vec<DVec3>,
+    capped: &Capped,
+    positions: Vec<DVec3>,
     faces: &FaceList,
     patch_faces: &[u32],
 ) -> Result<(Vec<DVec3>, FaceList, Vec<u32>), GridError> {
-    if layout.holes.is_empty() {
-        return Ok((positions, faces.clone(), patch_faces.to_vec()));
-    }
-    // Vertices on the grid's boundary (the mesh boundary along stretches).
-    let mut directed = std::collections::HashSet::new();
-    for face in faces.iter() {
+    let mut positions = positions;
+    let n = positions.len();
+    // Directed edges → face, and vertex → faces.
+    let mut edge_face: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut vertex_faces: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (f, face) in faces.iter().enumerate() {
         for k in 0..face.len() {
-            directed.insert((face[k], face[(k + 1) % face.len()]));
+            edge_face.insert((face[k], face[(k + 1) % face.len()]), f);
+            vertex_faces[face[k] as usize].push(f);
         }
     }
     // Per vertex: on the grid's boundary, or the hole whose cut it borders.
     const BOUNDARY: usize = usize::MAX - 1;
-    let mut taken = vec![usize::MAX; positions.len()];
-    for &(a, b) in &directed {
-        if !directed.contains(&(b, a)) {
+    let mut taken = vec![usize::MAX; n];
+    for &(a, b) in edge_face.keys() {
+        if !edge_face.contains_key(&(b, a)) {
             taken[a as usize] = BOUNDARY;
             taken[b as usize] = BOUNDARY;
         }
     }
+    // The quad a point on the grid lies in: the nearest of its triangles.
+    let triangles: Vec<[u32; 3]> = faces
+        .iter()
+        .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
+        .collect();
+    let grid_index = TriMesh::new(positions.clone(), triangles)
+        .ok()
+        .and_then(|m| SurfaceIndex::new(&m))
+        .ok_or_else(|| GridError::Invalid("the grid has no quads".into()))?;
+    let hole_of: Vec<Option<usize>> = positions.iter().map(|&p| capped.hole_at(p)).collect();
     let mut removed = vec![false; faces.len()];
-    for (k, rim) in layout.holes.iter().enumerate() {
-        let Some(&first) = rim.first() else {
-            continue;
-        };
-        let centre = rim.iter().sum::<DVec3>() / rim.len() as f64;
+    let mut rings: Vec<Vec<u32>> = Vec::new();
+    for (k, rim) in capped.rims.iter().enumerate() {
+        let first = rim[0];
         let cannot = |why: &str| {
             GridError::Invalid(format!(
                 "hole {k} (at {:.3}, {:.3}, {:.3}) cannot be cut out of the grid: {why}",
                 first.x, first.y, first.z
             ))
         };
-        // The quads over the hole: the nearest to it, and those whose
-        // corners all lie on its rim (the sweep's projection pressed them
-        // there).
-        let centroid = |f: usize| {
-            let face = faces.face(f);
-            face.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / face.len() as f64
-        };
-        let nearest = (0..faces.len())
-            .min_by(|&a, &b| {
-                centroid(a)
-                    .distance_squared(centre)
-                    .total_cmp(&centroid(b).distance_squared(centre))
+        // The quads whose centroid lies on the cap, and the one over its
+        // centre (a hole inside one quad).
+        let mut cut: Vec<bool> = (0..faces.len())
+            .map(|f| {
+                let q: Vec<DVec3> = faces
+                    .face(f)
+                    .iter()
+                    .map(|&v| positions[v as usize])
+                    .collect();
+                capped.hole_at(centroid(&q)) == Some(k)
             })
-            .ok_or_else(|| cannot("the grid has no quads"))?;
-        let reach = rim.iter().map(|p| p.distance(centre)).fold(0.0, f64::max) + ON_RIM;
-        let size = faces
-            .face(nearest)
-            .iter()
-            .map(|&v| positions[v as usize].distance(centroid(nearest)))
-            .fold(0.0, f64::max);
-        if centroid(nearest).distance(centre) > reach + size {
-            return Err(cannot(
-                "no grid quad lies over it (the grid does not reach it)",
-            ));
+            .collect();
+        cut[grid_index.closest(capped.centres[k]).face as usize / 2] = true;
+        // A corner on the cap must end up inside the cut or on its ring.
+        loop {
+            close_cut(faces, &edge_face, &vertex_faces, &removed, &mut cut);
+            let mut grown = false;
+            for (v, hole) in hole_of.iter().enumerate() {
+                if *hole == Some(k) && !vertex_faces[v].iter().any(|&f| cut[f]) {
+                    for &f in &vertex_faces[v] {
+                        grown |= !removed[f];
+                        cut[f] |= !removed[f];
+                    }
+                }
+            }
+            if !grown {
+                break;
+            }
         }
-        let on_rim: Vec<bool> = positions
-            .iter()
-            .map(|&p| p.distance(centre) <= reach && distance_to_closed(rim, p) <= ON_RIM)
-            .collect();
-        let over: Vec<usize> = (0..faces.len())
-            .filter(|&f| f == nearest || faces.face(f).iter().all(|&v| on_rim[v as usize]))
-            .collect();
+        let over: Vec<usize> = (0..faces.len()).filter(|&f| cut[f]).collect();
         if over.iter().any(|&f| removed[f]) {
             return Err(cannot(
                 "its grid quads are another hole's too; raise the grid counts",
@@ -385,16 +505,13 @@ fn cut_holes(
         }
         for &f in &over {
             removed[f] = true;
-        }
-        for &f in &over {
             for &w in faces.face(f) {
                 taken[w as usize] = k;
             }
         }
         lay_on_rim(&ring, rim, &mut positions);
+        rings.push(ring);
     }
-    // Keep the other faces; every vertex still has one (no cut touches
-    // another or the boundary).
     let mut kept = FaceList::new();
     let mut kept_ranges = vec![0u32];
     for p in 0..patch_faces.len() - 1 {
@@ -405,17 +522,174 @@ fn cut_holes(
         }
         kept_ranges.push(kept.len() as u32);
     }
+    relax_near_rims(capped, &rings, &kept, &mut positions);
+    let (positions, kept) = drop_unused(positions, &kept);
     Ok((positions, kept, kept_ranges))
 }
 
-/// Farthest a grid vertex pressed onto a hole's rim lies from it.
-const ON_RIM: f64 = 1e-9;
+/// Grows `cut` (faces) until it is a disc: the faces of every pocket it
+/// encloses (a component of the other faces, through shared edges, but the
+/// largest; faces `removed` by other cuts count as absent), and the faces
+/// around every vertex where its boundary passes twice.
+fn close_cut(
+    faces: &FaceList,
+    edge_face: &HashMap<(u32, u32), usize>,
+    vertex_faces: &[Vec<usize>],
+    removed: &[bool],
+    cut: &mut [bool],
+) {
+    for _ in 0..MAX_CLOSING_ROUNDS {
+        let mut changed = false;
+        // Pockets.
+        let mut component = vec![usize::MAX; faces.len()];
+        let mut sizes = Vec::new();
+        for start in 0..faces.len() {
+            if cut[start] || removed[start] || component[start] != usize::MAX {
+                continue;
+            }
+            let c = sizes.len();
+            let mut stack = vec![start];
+            component[start] = c;
+            let mut size = 0;
+            while let Some(f) = stack.pop() {
+                size += 1;
+                let face = faces.face(f);
+                for k in 0..face.len() {
+                    if let Some(&g) = edge_face.get(&(face[(k + 1) % face.len()], face[k])) {
+                        if !cut[g] && !removed[g] && component[g] == usize::MAX {
+                            component[g] = c;
+                            stack.push(g);
+                        }
+                    }
+                }
+            }
+            sizes.push(size);
+        }
+        let largest = (0..sizes.len()).max_by_key(|&c| (sizes[c], std::cmp::Reverse(c)));
+        for f in 0..faces.len() {
+            if component[f] != usize::MAX && Some(component[f]) != largest {
+                cut[f] = true;
+                changed = true;
+            }
+        }
+        // Pinches: a vertex the cut's boundary leaves more than once.
+        let mut leaving: HashMap<u32, u32> = HashMap::new();
+        for f in (0..faces.len()).filter(|&f| cut[f]) {
+            let face = faces.face(f);
+            for k in 0..face.len() {
+                let (a, b) = (face[k], face[(k + 1) % face.len()]);
+                if edge_face.get(&(b, a)).is_none_or(|&g| !cut[g]) {
+                    *leaving.entry(a).or_insert(0) += 1;
+                }
+            }
+        }
+        for (&v, &count) in &leaving {
+            if count > 1 {
+                for &f in &vertex_faces[v as usize] {
+                    if !cut[f] && !removed[f] {
+                        cut[f] = true;
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            return;
+        }
+    }
+}
 
-/// Distance from `p` to the closed polyline `rim`.
-fn distance_to_closed(rim: &[DVec3], p: DVec3) -> f64 {
-    (0..rim.len())
-        .map(|k| crate::spatial::segment_distance(p, rim[k], rim[(k + 1) % rim.len()]))
-        .fold(f64::INFINITY, f64::min)
+/// Most rounds of [`close_cut`] (each adds faces; a cut that keeps growing
+/// fails the ring test after).
+const MAX_CLOSING_ROUNDS: usize = 32;
+
+/// Vertex rings beyond a hole's ring that [`relax_near_rims`] moves.
+const RELAXED_RINGS: usize = 2;
+/// Its Jacobi steps.
+const RELAXING_STEPS: usize = 12;
+
+/// Evens out the quads next to the cut holes: Jacobi steps of Laplacian
+/// smoothing (half steps, projected onto the capped surface) on the
+/// vertices within [`RELAXED_RINGS`] edges of a ring, the rings and the
+/// grid's boundary fixed; a step that would land on a cap is not taken.
+fn relax_near_rims(capped: &Capped, rings: &[Vec<u32>], faces: &FaceList, positions: &mut [DVec3]) {
+    if rings.is_empty() {
+        return;
+    }
+    let n = positions.len();
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut directed = std::collections::HashSet::new();
+    for face in faces.iter() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            directed.insert((a, b));
+            neighbours[a as usize].push(b);
+            neighbours[b as usize].push(a);
+        }
+    }
+    for l in &mut neighbours {
+        l.sort_unstable();
+        l.dedup();
+    }
+    let mut depth = vec![usize::MAX; n];
+    let mut frontier: Vec<u32> = rings.iter().flatten().copied().collect();
+    for &v in &frontier {
+        depth[v as usize] = 0;
+    }
+    for d in 1..=RELAXED_RINGS {
+        let mut next = Vec::new();
+        for &v in &frontier {
+            for &w in &neighbours[v as usize] {
+                if depth[w as usize] == usize::MAX {
+                    depth[w as usize] = d;
+                    next.push(w);
+                }
+            }
+        }
+        frontier = next;
+    }
+    let on_boundary = |v: u32| {
+        neighbours[v as usize]
+            .iter()
+            .any(|&w| directed.contains(&(v, w)) != directed.contains(&(w, v)))
+    };
+    let moving: Vec<u32> = (0..n as u32)
+        .filter(|&v| (1..=RELAXED_RINGS).contains(&depth[v as usize]) && !on_boundary(v))
+        .collect();
+    for _ in 0..RELAXING_STEPS {
+        let prev = positions.to_vec();
+        for &v in &moving {
+            let around = &neighbours[v as usize];
+            let mean =
+                around.iter().map(|&w| prev[w as usize]).sum::<DVec3>() / around.len() as f64;
+            let p = capped.index.closest(0.5 * (prev[v as usize] + mean)).point;
+            if capped.hole_at(p).is_none() {
+                positions[v as usize] = p;
+            }
+        }
+    }
+}
+
+/// The positions `faces` use, in their order, and the faces renumbered.
+fn drop_unused(positions: Vec<DVec3>, faces: &FaceList) -> (Vec<DVec3>, FaceList) {
+    let mut used = vec![false; positions.len()];
+    for &v in &faces.indices {
+        used[v as usize] = true;
+    }
+    let mut new_id = vec![u32::MAX; positions.len()];
+    let mut kept = Vec::new();
+    for (v, p) in positions.into_iter().enumerate() {
+        if used[v] {
+            new_id[v] = kept.len() as u32;
+            kept.push(p);
+        }
+    }
+    let mut out = FaceList::new();
+    for face in faces.iter() {
+        let renumbered: Vec<u32> = face.iter().map(|&v| new_id[v as usize]).collect();
+        out.push(&renumbered);
+    }
+    (kept, out)
 }
 
 /// The boundary of the union of faces `cut` as one loop with the other
@@ -518,12 +792,7 @@ fn lay_on_rim(ring: &[u32], rim: &[DVec3], positions: &mut [DVec3]) {
 /// (rows moved with the side curves' frames) or translated (rows shifted,
 /// projection sliding them along the surface), the one with the fewest
 /// folded quads and then the least Dirichlet energy, smoothed.
-fn fill_patch(
-    boundary: &[DVec3],
-    nu: usize,
-    nv: usize,
-    index: &SurfaceIndex,
-) -> (Vec<DVec3>, usize) {
+fn fill_patch(boundary: &[DVec3], nu: usize, nv: usize, index: &SurfaceIndex) -> Vec<DVec3> {
     let w = nu + 1;
     let mut candidates = Vec::with_capacity(4);
     for rigid in [true, false] {
@@ -538,8 +807,31 @@ fn fill_patch(
         .map(|(_, c)| c)
         .unwrap_or_else(|| boundary.to_vec());
     smooth(&mut best, nu, nv, index);
-    let folded = folded_quads(&best, nu, nv, index);
-    (best, folded)
+    best
+}
+
+/// Faces whose normal (Newell) points against the surface normal at their
+/// centroid.
+fn folded_faces(positions: &[DVec3], faces: &FaceList, index: &SurfaceIndex) -> usize {
+    faces
+        .iter()
+        .filter(|face| {
+            let q: Vec<DVec3> = face.iter().map(|&v| positions[v as usize]).collect();
+            let n = index.face_normal(index.closest(centroid(&q)).face);
+            newell(&q).dot(n) <= 0.0
+        })
+        .count()
+}
+
+fn centroid(points: &[DVec3]) -> DVec3 {
+    points.iter().sum::<DVec3>() / points.len().max(1) as f64
+}
+
+/// The polygon's Newell normal (twice its vector area).
+fn newell(points: &[DVec3]) -> DVec3 {
+    (0..points.len())
+        .map(|k| points[k].cross(points[(k + 1) % points.len()]))
+        .sum()
 }
 
 /// Grid quads whose normal (Newell) points against the surface normal at
@@ -555,13 +847,8 @@ fn folded_quads(p: &[DVec3], nu: usize, nv: usize, index: &SurfaceIndex) -> usiz
                 p[i + 1 + (j + 1) * w],
                 p[i + (j + 1) * w],
             ];
-            let mut normal = DVec3::ZERO;
-            for k in 0..4 {
-                normal += q[k].cross(q[(k + 1) % 4]);
-            }
-            let centroid = 0.25 * (q[0] + q[1] + q[2] + q[3]);
-            let n = index.face_normal(index.closest(centroid).face);
-            if normal.dot(n) <= 0.0 {
+            let n = index.face_normal(index.closest(centroid(&q)).face);
+            if newell(&q).dot(n) <= 0.0 {
                 folded += 1;
             }
         }

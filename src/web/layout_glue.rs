@@ -356,11 +356,12 @@ pub fn detect_mirror(mesh: &TriMesh) -> Option<MirrorPlane> {
 
 /// The layout gridded with `strip_counts[i]` segments across committed
 /// strip `i` (a strip without a count gets [`crate::layout::grid::DEFAULT_COUNT`]),
-/// on the surface of `index`.
+/// on `mesh`, whose surface `index` is.
 pub fn grid_mesh(
     layout: &LayoutExport,
     loop_strip: &[usize],
     strip_counts: &[u32],
+    mesh: &TriMesh,
     index: &SurfaceIndex,
 ) -> Result<LayoutGrid, GridError> {
     let counts: Vec<u32> = loop_strip
@@ -372,7 +373,7 @@ pub fn grid_mesh(
                 .unwrap_or(crate::layout::grid::DEFAULT_COUNT)
         })
         .collect();
-    grid_layout(layout, &counts, index)
+    grid_layout(layout, &counts, mesh, index)
 }
 
 /// The layout's patches as OBJ polygon faces, in the coordinates `frame`
@@ -646,7 +647,7 @@ mod tests {
         let layout = a.layout.as_ref().expect("a layout");
         let index = SurfaceIndex::new(&mesh).unwrap();
         let started = std::time::Instant::now();
-        let g = grid_mesh(layout, &a.loop_strip, &[8, 8, 8], &index).unwrap();
+        let g = grid_mesh(layout, &a.loop_strip, &[8, 8, 8], &mesh, &index).unwrap();
         let ms = started.elapsed().as_secs_f64() * 1e3;
         let m = &g.mesh;
         println!(
