@@ -36,8 +36,8 @@
 //! layout edges and the grid's boundary follows it. A hole no dual curve
 //! ends on (not in the paper; "trimmed" by the hole in the paper's words,
 //! §5.7) is covered by the layout as if capped ([`super::primal`]), and
-//! the grid is made on the input with those holes capped (a fan around
-//! each rim's centroid), so the sweep and the smoothing run across a hole
+//! the grid is made on the input with those holes capped (each rim
+//! ear-clipped in its plane), so the sweep and the smoothing run across a hole
 //! as across the surface and no grid point is pressed onto its rim. Each
 //! hole is then cut out along its rim: the quads over its cap go (those
 //! whose centroid lies on it, the one over its centre, those around a
@@ -53,7 +53,7 @@ use std::collections::HashMap;
 use glam::{DMat3, DVec3};
 
 use super::primal::LayoutExport;
-use crate::mesh::{BoundaryArcs, FaceList, MeshError, PolyMesh, TriMesh};
+use crate::mesh::{BoundaryArcs, EAR_CLIPPING_LIMIT, FaceList, MeshError, PolyMesh, TriMesh};
 use crate::spatial::SurfaceIndex;
 
 /// The grid count a strip gets unless the user picks another.
@@ -201,7 +201,7 @@ pub fn grid_layout(
     let capped = if layout.holes.is_empty() {
         None
     } else {
-        Some(Capped::new(&layout.holes, mesh)?)
+        Some(Capped::new(&layout.holes, mesh, index)?)
     };
     let index = capped.as_ref().map_or(index, |c| &c.index);
     // Per edge: its count and the ids of its samples, ends included.
@@ -314,23 +314,31 @@ pub fn grid_layout(
 /// The input with the layout's holes capped: the grid is swept, projected
 /// and smoothed on it, so no grid point is pressed onto a rim, and cut
 /// along the rims afterwards ([`cut_holes`]).
-struct Capped {
+struct Capped<'a> {
     index: SurfaceIndex,
+    input: &'a SurfaceIndex,
     /// Faces of the input; face `input_faces + i` caps hole `cap_of[i]`.
     input_faces: usize,
     cap_of: Vec<usize>,
     /// Per hole, the input's boundary loop it lies on (the surface on its
-    /// left) and the cap's centre.
+    /// left), the cap's point nearest the rim's centroid, and how far from
+    /// the input a point on its cap must lie to be off the input.
     rims: Vec<Vec<DVec3>>,
     centres: Vec<DVec3>,
+    on_surface: Vec<f64>,
 }
 
-impl Capped {
+impl<'a> Capped<'a> {
     /// Caps each of `holes` (rims of the layout, [`LayoutExport::holes`])
     /// on `mesh`: the input's boundary loop most of the rim's points are
-    /// nearest to, closed by a fan around its centroid. A rim that lies on
-    /// no boundary loop, or on one another rim took, is an error naming it.
-    fn new(holes: &[Vec<DVec3>], mesh: &TriMesh) -> Result<Capped, GridError> {
+    /// nearest to, closed by [`cap`]. A rim that lies on no boundary loop,
+    /// or on one another rim took, is an error naming it. `input_index` is
+    /// `mesh`'s surface.
+    fn new(
+        holes: &[Vec<DVec3>],
+        mesh: &TriMesh,
+        input_index: &'a SurfaceIndex,
+    ) -> Result<Capped<'a>, GridError> {
         let arcs = BoundaryArcs::new(mesh);
         let mut loops: Vec<Vec<u32>> = vec![Vec::new(); arcs.length.len()];
         for v in 0..mesh.positions.len() {
@@ -344,7 +352,7 @@ impl Capped {
         let on_boundary: Vec<u32> = loops.iter().flatten().copied().collect();
         let mut positions = mesh.positions.clone();
         let mut triangles = mesh.triangles.clone();
-        let (mut cap_of, mut rims, mut centres) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut cap_of, mut rims, mut on_surface) = (Vec::new(), Vec::new(), Vec::new());
         let mut taken: Vec<Option<usize>> = vec![None; loops.len()];
         for (k, hole) in holes.iter().enumerate() {
             let mut votes = vec![0usize; loops.len()];
@@ -373,35 +381,77 @@ impl Capped {
             taken[best] = Some(k);
             let rim = &loops[best];
             let points: Vec<DVec3> = rim.iter().map(|&v| positions[v as usize]).collect();
-            let centre = points.iter().sum::<DVec3>() / points.len() as f64;
-            let c = positions.len() as u32;
-            positions.push(centre);
-            for i in 0..rim.len() {
-                // The input runs a → b; its cap b → a.
-                triangles.push([rim[(i + 1) % rim.len()], rim[i], c]);
-                cap_of.push(k);
-            }
+            let first = triangles.len();
+            triangles.extend(cap(rim, &positions));
+            cap_of.extend(std::iter::repeat_n(k, triangles.len() - first));
+            let spacing = (0..points.len())
+                .map(|i| points[i].distance(points[(i + 1) % points.len()]))
+                .sum::<f64>()
+                / points.len() as f64;
+            on_surface.push(ON_SURFACE * spacing);
             rims.push(points);
-            centres.push(centre);
         }
         let capped = TriMesh::new(positions, triangles)?;
         let index = SurfaceIndex::new(&capped)
             .ok_or_else(|| GridError::Invalid("the surface has no triangles".into()))?;
+        let centres = rims
+            .iter()
+            .map(|r| {
+                index
+                    .closest(r.iter().sum::<DVec3>() / r.len() as f64)
+                    .point
+            })
+            .collect();
         Ok(Capped {
             index,
+            input: input_index,
             input_faces: mesh.face_count(),
             cap_of,
             rims,
             centres,
+            on_surface,
         })
     }
 
-    /// The hole whose cap `p` lies on (nearest), if any.
+    /// The hole whose cap `p` lies on (nearest), if any: a point on a cap
+    /// that lies on the input too (a cap overlapping the surface beside a
+    /// concave rim) is on the input.
     fn hole_at(&self, p: DVec3) -> Option<usize> {
         let f = self.index.closest(p).face as usize;
-        f.checked_sub(self.input_faces)
-            .and_then(|i| self.cap_of.get(i).copied())
+        let k = f
+            .checked_sub(self.input_faces)
+            .and_then(|i| self.cap_of.get(i).copied())?;
+        (self.input.distance(p) > self.on_surface[k]).then_some(k)
     }
+}
+
+/// Farthest a point lies from the input and still counts as on it, in
+/// units of the rim's mean edge length.
+const ON_SURFACE: f64 = 1e-3;
+
+/// Triangles closing the boundary loop `rim` (vertex ids, the surface on
+/// its left), oriented with the surface: the polygon ear-clipped
+/// ([`FaceList::triangulate`]) in its Newell plane, a rim longer than
+/// [`EAR_CLIPPING_LIMIT`] as a coarser polygon of every s-th rim vertex
+/// plus the slivers between it and the rim.
+fn cap(rim: &[u32], positions: &[DVec3]) -> Vec<[u32; 3]> {
+    let reversed: Vec<u32> = rim.iter().rev().copied().collect();
+    let n = reversed.len();
+    let step = n.div_ceil(EAR_CLIPPING_LIMIT).max(1);
+    let mut polygons = FaceList::new();
+    let corners: Vec<usize> = (0..n).step_by(step).collect();
+    let coarse: Vec<u32> = corners.iter().map(|&i| reversed[i]).collect();
+    if coarse.len() >= 3 {
+        polygons.push(&coarse);
+    }
+    for (j, &from) in corners.iter().enumerate() {
+        let to = corners.get(j + 1).copied().unwrap_or(n);
+        if to - from >= 2 {
+            let sliver: Vec<u32> = (from..=to).map(|i| reversed[i % n]).collect();
+            polygons.push(&sliver);
+        }
+    }
+    polygons.triangulate(positions)
 }
 
 /// Cuts every hole of the layout out of the grid made on the capped
@@ -476,8 +526,8 @@ fn cut_holes(
         cut[grid_index.closest(capped.centres[k]).face as usize / 2] = true;
         // A corner on the cap must end up inside the cut or on its ring.
         loop {
+            let mut grown = connect_cut(faces, &edge_face, &removed, &mut cut);
             close_cut(faces, &edge_face, &vertex_faces, &removed, &mut cut);
-            let mut grown = false;
             for (v, hole) in hole_of.iter().enumerate() {
                 if *hole == Some(k) && !vertex_faces[v].iter().any(|&f| cut[f]) {
                     for &f in &vertex_faces[v] {
@@ -525,6 +575,68 @@ fn cut_holes(
     relax_near_rims(capped, &rings, &kept, &mut positions);
     let (positions, kept) = drop_unused(positions, &kept);
     Ok((positions, kept, kept_ranges))
+}
+
+/// Joins the first piece of `cut` (faces connected through shared edges)
+/// to the nearest other piece by the shortest chain of faces between them
+/// (faces `removed` by other cuts are absent); returns whether it did.
+fn connect_cut(
+    faces: &FaceList,
+    edge_face: &HashMap<(u32, u32), usize>,
+    removed: &[bool],
+    cut: &mut [bool],
+) -> bool {
+    let neighbours = |f: usize| {
+        let face = faces.face(f);
+        (0..face.len()).filter_map(move |k| {
+            edge_face
+                .get(&(face[(k + 1) % face.len()], face[k]))
+                .copied()
+        })
+    };
+    let Some(start) = (0..faces.len()).find(|&f| cut[f]) else {
+        return false;
+    };
+    // The first piece.
+    let mut piece = vec![false; faces.len()];
+    piece[start] = true;
+    let mut stack = vec![start];
+    while let Some(f) = stack.pop() {
+        for g in neighbours(f) {
+            if cut[g] && !piece[g] {
+                piece[g] = true;
+                stack.push(g);
+            }
+        }
+    }
+    if (0..faces.len()).all(|f| !cut[f] || piece[f]) {
+        return false;
+    }
+    // Breadth-first from the piece to the nearest other cut face.
+    let mut parent = vec![usize::MAX; faces.len()];
+    let mut queue: std::collections::VecDeque<usize> =
+        (0..faces.len()).filter(|&f| piece[f]).collect();
+    for &f in &queue {
+        parent[f] = f;
+    }
+    while let Some(f) = queue.pop_front() {
+        for g in neighbours(f) {
+            if removed[g] || parent[g] != usize::MAX {
+                continue;
+            }
+            parent[g] = f;
+            if cut[g] {
+                let mut at = parent[g];
+                while !piece[at] {
+                    cut[at] = true;
+                    at = parent[at];
+                }
+                return true;
+            }
+            queue.push_back(g);
+        }
+    }
+    false
 }
 
 /// Grows `cut` (faces) until it is a disc: the faces of every pocket it
