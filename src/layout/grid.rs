@@ -52,6 +52,7 @@ use std::collections::HashMap;
 
 use glam::{DMat3, DVec3};
 
+use super::OrdF64;
 use super::primal::LayoutExport;
 use crate::mesh::{BoundaryArcs, EAR_CLIPPING_LIMIT, FaceList, MeshError, PolyMesh, TriMesh};
 use crate::spatial::SurfaceIndex;
@@ -204,6 +205,7 @@ pub fn grid_layout(
         Some(Capped::new(&layout.holes, mesh, index)?)
     };
     let index = capped.as_ref().map_or(index, |c| &c.index);
+    let mut paths = SurfacePaths::new(capped.as_ref().map_or(mesh, |c| &c.mesh), index);
     // Per edge: its count and the ids of its samples, ends included.
     let mut positions: Vec<DVec3> = layout.vertices.iter().map(|v| v.position).collect();
     let mut samples: Vec<Vec<u32>> = Vec::with_capacity(layout.edges.len());
@@ -283,7 +285,7 @@ pub fn grid_layout(
                 }
             })
             .collect();
-        let filled = fill_patch(&boundary, nu, nv, index);
+        let filled = fill_patch(&boundary, nu, nv, &mut paths);
         for j in 1..nv {
             for i in 1..nu {
                 ids[i + j * w] = positions.len() as u32;
@@ -315,6 +317,7 @@ pub fn grid_layout(
 /// and smoothed on it, so no grid point is pressed onto a rim, and cut
 /// along the rims afterwards ([`cut_holes`]).
 struct Capped<'a> {
+    mesh: TriMesh,
     index: SurfaceIndex,
     input: &'a SurfaceIndex,
     /// Faces of the input; face `input_faces + i` caps hole `cap_of[i]`.
@@ -350,7 +353,7 @@ impl<'a> Capped<'a> {
             l.sort_by(|&a, &b| arcs.arc[a as usize].total_cmp(&arcs.arc[b as usize]));
         }
         let on_boundary: Vec<u32> = loops.iter().flatten().copied().collect();
-        let mut positions = mesh.positions.clone();
+        let positions = mesh.positions.clone();
         let mut triangles = mesh.triangles.clone();
         let (mut cap_of, mut rims, mut on_surface) = (Vec::new(), Vec::new(), Vec::new());
         let mut taken: Vec<Option<usize>> = vec![None; loops.len()];
@@ -403,6 +406,7 @@ impl<'a> Capped<'a> {
             })
             .collect();
         Ok(Capped {
+            mesh: capped,
             index,
             input: input_index,
             input_faces: mesh.face_count(),
@@ -903,10 +907,17 @@ fn lay_on_rim(ring: &[u32], rim: &[DVec3], positions: &mut [DVec3]) {
 /// in v, boundary given): of the sweeps along v and along u, each rigid
 /// (rows moved with the side curves' frames) or translated (rows shifted,
 /// projection sliding them along the surface), the one with the fewest
-/// folded quads and then the least Dirichlet energy, smoothed.
-fn fill_patch(boundary: &[DVec3], nu: usize, nv: usize, index: &SurfaceIndex) -> Vec<DVec3> {
+/// folded quads and then the least Dirichlet energy, smoothed. A fifth
+/// candidate, [`split_geodesically`], keeps every grid line on the surface
+/// (no closest-point jump to another sheet), which the sweeps' projected
+/// rows need not on patches that wrap around a protrusion.
+fn fill_patch(boundary: &[DVec3], nu: usize, nv: usize, paths: &mut SurfacePaths) -> Vec<DVec3> {
+    let index = paths.index;
     let w = nu + 1;
-    let mut candidates = Vec::with_capacity(4);
+    let mut candidates = Vec::with_capacity(5);
+    let mut split = boundary.to_vec();
+    split_geodesically(&mut split, w, [0, nu], [0, nv], paths);
+    candidates.push(split);
     for rigid in [true, false] {
         candidates.push(sweep_blend(boundary, [nu, nv], [1, w], rigid, index));
         candidates.push(sweep_blend(boundary, [nv, nu], [w, 1], rigid, index));
@@ -920,6 +931,174 @@ fn fill_patch(boundary: &[DVec3], nu: usize, nv: usize, index: &SurfaceIndex) ->
         .unwrap_or_else(|| boundary.to_vec());
     smooth(&mut best, nu, nv, index);
     best
+}
+
+/// Fills the interior of the sub-grid `[i0, i1] × [j0, j1]` of `p` (row
+/// stride `w`, its border given) by halving it: the middle column is the
+/// shortest surface path between its two border ends, the middle row the
+/// paths from its border ends to the column's middle point, each cut into
+/// equal arc lengths; then the four quarters alike.
+fn split_geodesically(
+    p: &mut [DVec3],
+    w: usize,
+    [i0, i1]: [usize; 2],
+    [j0, j1]: [usize; 2],
+    paths: &mut SurfacePaths,
+) {
+    if i1 - i0 < 2 || j1 - j0 < 2 {
+        return;
+    }
+    let (im, jm) = ((i0 + i1) / 2, (j0 + j1) / 2);
+    let column = resample(&paths.path(p[im + j0 * w], p[im + j1 * w]), j1 - j0);
+    for j in j0 + 1..j1 {
+        p[im + j * w] = column[j - j0];
+    }
+    let middle = p[im + jm * w];
+    let left = resample(&paths.path(p[i0 + jm * w], middle), im - i0);
+    let right = resample(&paths.path(middle, p[i1 + jm * w]), i1 - im);
+    for i in i0 + 1..im {
+        p[i + jm * w] = left[i - i0];
+    }
+    for i in im + 1..i1 {
+        p[i + jm * w] = right[i - im];
+    }
+    for (is, js) in [
+        ([i0, im], [j0, jm]),
+        ([im, i1], [j0, jm]),
+        ([i0, im], [jm, j1]),
+        ([im, i1], [jm, j1]),
+    ] {
+        split_geodesically(p, w, is, js, paths);
+    }
+}
+
+/// Shortest paths on the surface the grid lies on: A* over its mesh edges
+/// between the mesh vertices nearest two surface points, the points put at
+/// the ends, straightened by [`PATH_SMOOTHING_STEPS`] projected Laplacian
+/// steps (ends fixed). The search's scratch is kept between calls.
+struct SurfacePaths<'a> {
+    mesh: &'a TriMesh,
+    index: &'a SurfaceIndex,
+    adjacency: crate::mesh::VertexAdjacency,
+    distance: Vec<f64>,
+    parent: Vec<u32>,
+    stamp: Vec<u32>,
+    generation: u32,
+}
+
+/// Laplacian steps straightening a surface path.
+const PATH_SMOOTHING_STEPS: usize = 8;
+
+impl<'a> SurfacePaths<'a> {
+    fn new(mesh: &'a TriMesh, index: &'a SurfaceIndex) -> SurfacePaths<'a> {
+        let n = mesh.positions.len();
+        SurfacePaths {
+            mesh,
+            index,
+            adjacency: crate::mesh::VertexAdjacency::new(mesh),
+            distance: vec![f64::INFINITY; n],
+            parent: vec![u32::MAX; n],
+            stamp: vec![0; n],
+            generation: 0,
+        }
+    }
+
+    /// The mesh vertex of the triangle under `p` nearest to it.
+    fn vertex_near(&self, p: DVec3) -> u32 {
+        let t = self.mesh.triangles[self.index.closest(p).face as usize];
+        t.into_iter()
+            .min_by(|&a, &b| {
+                let (a, b) = (
+                    self.mesh.positions[a as usize],
+                    self.mesh.positions[b as usize],
+                );
+                a.distance_squared(p).total_cmp(&b.distance_squared(p))
+            })
+            .unwrap_or(t[0])
+    }
+
+    /// The path from `a` to `b` (both on the surface) as a polyline; the
+    /// segment between them walked onto the surface when the mesh does not
+    /// join them.
+    fn path(&mut self, a: DVec3, b: DVec3) -> Vec<DVec3> {
+        let (from, to) = (self.vertex_near(a), self.vertex_near(b));
+        let mut points = vec![a];
+        match self.vertices_between(from, to) {
+            Some(vertices) => {
+                points.extend(vertices.iter().map(|&v| self.mesh.positions[v as usize]))
+            }
+            None => {
+                let n = WALK_STEPS;
+                let mut at = a;
+                for k in 1..n {
+                    at = walk(self.index, at, a.lerp(b, k as f64 / n as f64));
+                    points.push(at);
+                }
+            }
+        }
+        points.push(b);
+        let last = points.len() - 1;
+        for _ in 0..PATH_SMOOTHING_STEPS {
+            let prev = points.clone();
+            for k in 1..last {
+                let mean = 0.5 * (prev[k - 1] + prev[k + 1]);
+                points[k] = self.index.closest(0.5 * (prev[k] + mean)).point;
+            }
+        }
+        points
+    }
+
+    /// Mesh vertices of a shortest edge path from `from` to `to` (A*,
+    /// straight-line distance as the heuristic), or `None`.
+    fn vertices_between(&mut self, from: u32, to: u32) -> Option<Vec<u32>> {
+        use std::cmp::Reverse;
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+        let positions = &self.mesh.positions;
+        let goal = positions[to as usize];
+        let g = self.generation;
+        let mut heap = std::collections::BinaryHeap::new();
+        self.stamp[from as usize] = g;
+        self.distance[from as usize] = 0.0;
+        self.parent[from as usize] = u32::MAX;
+        heap.push(Reverse((
+            OrdF64(positions[from as usize].distance(goal)),
+            from,
+        )));
+        while let Some(Reverse((OrdF64(estimate), v))) = heap.pop() {
+            let d = self.distance[v as usize];
+            if estimate > d + positions[v as usize].distance(goal) + 1e-12 {
+                continue;
+            }
+            if v == to {
+                let mut out = vec![to];
+                let mut at = to;
+                while self.parent[at as usize] != u32::MAX {
+                    at = self.parent[at as usize];
+                    out.push(at);
+                }
+                out.reverse();
+                return Some(out);
+            }
+            for &u in self.adjacency.neighbors(v as usize) {
+                let du = d + positions[v as usize].distance(positions[u as usize]);
+                let seen = self.stamp[u as usize] == g;
+                if !seen || du < self.distance[u as usize] {
+                    self.stamp[u as usize] = g;
+                    self.distance[u as usize] = du;
+                    self.parent[u as usize] = v;
+                    heap.push(Reverse((
+                        OrdF64(du + positions[u as usize].distance(goal)),
+                        u,
+                    )));
+                }
+            }
+        }
+        None
+    }
 }
 
 /// Faces whose normal (Newell) points against the surface normal at their
@@ -1047,7 +1226,7 @@ fn sweep_blend(
                     let u = i as f64 / w as f64;
                     let p0 = first[next] + r0 * (prev[i] - first[j]);
                     let p1 = last[next] + r1 * (prev[i] - last[j]);
-                    out[i] = index.closest(p0.lerp(p1, u)).point;
+                    out[i] = walk(index, prev[i], p0.lerp(p1, u));
                 }
                 out
             } else {
@@ -1064,10 +1243,26 @@ fn sweep_blend(
     for j in 1..h {
         let v = j as f64 / h as f64;
         for i in 1..w {
-            out[at(i, j)] = index.closest(up[j][i].lerp(down[j][i], v)).point;
+            out[at(i, j)] = walk(index, up[j][i], up[j][i].lerp(down[j][i], v));
         }
     }
     out
+}
+
+/// Steps of [`walk`].
+const WALK_STEPS: usize = 8;
+
+/// The surface point reached from `from` (on the surface) towards `to` in
+/// [`WALK_STEPS`] projected steps: it stays on the sheet `from` lies on
+/// where the closest point of `to` may lie on another (across a thin part
+/// or a concave bend).
+fn walk(index: &SurfaceIndex, from: DVec3, to: DVec3) -> DVec3 {
+    let step = (to - from) / WALK_STEPS as f64;
+    let mut at = from;
+    for _ in 0..WALK_STEPS {
+        at = index.closest(at + step).point;
+    }
+    at
 }
 
 /// Substeps of a shifted sweep between two rows.
