@@ -266,6 +266,15 @@ pub fn analyze_loops(
         a.counts.layout_vertices = l.vertices.len();
         a.counts.layout_edges = l.edges.len();
         a.counts.patches = l.patches.len();
+        if l.patches.is_empty() {
+            // §7: a patch is a crossing of two loops; the regions' disc test
+            // (§4.2) passes with one loop on a sphere, which lays out nothing.
+            notes.push(
+                "no patches yet: a strip no other strip crosses lays out nothing; add a crossing \
+                 strip"
+                    .into(),
+            );
+        }
         a.json = l.to_json().unwrap_or_default();
         a.layout = Some(l.export());
         a.loop_strip = committed_of.clone();
@@ -498,6 +507,18 @@ mod tests {
     fn commit_through(d: &mut LayoutDesign, p: DVec3, direction: DVec3) {
         d.add_anchor(p, Some(direction));
         d.commit().expect("a loop through the anchor");
+    }
+
+    #[test]
+    fn one_loop_on_a_sphere_says_it_lays_out_nothing() {
+        let mesh = crate::mesh::generate::icosphere(1.0, 3);
+        let mut d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
+        commit_through(&mut d, DVec3::X, DVec3::Y);
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        // Two discs: sufficient by §4.2, but no crossing, so no patch.
+        assert_eq!((a.counts.regions, a.counts.red), (2, 0));
+        assert_eq!(a.counts.patches, 0);
+        assert!(a.status.contains("no patches yet"), "{}", a.status);
     }
 
     #[test]
