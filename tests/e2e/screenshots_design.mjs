@@ -272,6 +272,8 @@ try {
         console.log(`  ${d.strips} strips: ${d.status}`);
       }
       if (!d.sufficient) continue;
+      // The layout before its grid is drawn over it.
+      await shot(page, `${name}-1-layout.png`);
       for (let count = gridCount; count <= 64; count *= 2) {
         await page.fill('#design-grid-count', String(count));
         const tryGrid = await page.evaluate(() => window.quadrille.gridLayout().then(
@@ -288,7 +290,7 @@ try {
         break;
       }
     }
-    await shot(page, `${name}-1-layout.png`);
+    if (!d.sufficient) await shot(page, `${name}-1-layout.png`);
     if (!g) {
       if (d.sufficient) {
         // The layout that did not grid, for a look at it.
