@@ -21,14 +21,20 @@
 //! or shifted with the side curves' moves in substeps (blended by u, the
 //! projection sliding it along the surface, resampled by arc length so its
 //! points follow the ends); the sweep runs from the bottom and from the top
-//! side and the two are blended by v (so both are met exactly). Sweeps run
-//! along v and along u, rigid and shifted; of the four, the grid with the
+//! side and the two are blended by v (so both are met exactly); a
+//! projected point is reached by walking from the previous row's point in
+//! small projected steps, so it stays on that sheet. Sweeps run along v and
+//! along u, rigid and shifted; a fifth candidate halves the patch by
+//! shortest surface paths (the middle column between its side midpoints,
+//! then the row halves to the column's middle; recursively), which no
+//! closest-point jump can fold. Of the five, the grid with the
 //! fewest folded quads (normal against the surface's), then the lowest
 //! Dirichlet energy (sum of squared edge lengths), is kept, and a few
 //! Jacobi steps of Laplacian smoothing, each projected, even out the
-//! spacing. Known limit: where a side winds around a tube within a few
-//! rows (the torus' half-tube patches), a quad or two beside it can fold;
-//! [`LayoutGrid::folded`] counts them. Deviation: the paper leaves patch
+//! spacing. Known limits: a protrusion inside a patch (an ear) is left
+//! out by the path split and folds the sweeps; where a side winds around a
+//! tube within a few rows (the torus' half-tube patches), a quad or two
+//! beside it can fold; [`LayoutGrid::folded`] counts them. Deviation: the paper leaves patch
 //! parametrization to the embedding optimizations it cites in §7
 //! ([Tarini et al. 2011; Campen et al. 2012]); this sweep is ours.
 //!
