@@ -1010,26 +1010,28 @@ impl<'a> SurfacePaths<'a> {
     }
 
     /// The mesh vertex of the triangle under `p` nearest to it.
-    fn vertex_near(&self, p: DVec3) -> u32 {
-        let t = self.mesh.triangles[self.index.closest(p).face as usize];
-        t.into_iter()
-            .min_by(|&a, &b| {
-                let (a, b) = (
-                    self.mesh.positions[a as usize],
-                    self.mesh.positions[b as usize],
-                );
-                a.distance_squared(p).total_cmp(&b.distance_squared(p))
-            })
-            .unwrap_or(t[0])
+    /// `None` when the index is not the mesh's (no such triangle).
+    fn vertex_near(&self, p: DVec3) -> Option<u32> {
+        let t = self
+            .mesh
+            .triangles
+            .get(self.index.closest(p).face as usize)?;
+        t.iter().copied().min_by(|&a, &b| {
+            let (a, b) = (
+                self.mesh.positions[a as usize],
+                self.mesh.positions[b as usize],
+            );
+            a.distance_squared(p).total_cmp(&b.distance_squared(p))
+        })
     }
 
     /// The path from `a` to `b` (both on the surface) as a polyline; the
     /// segment between them walked onto the surface when the mesh does not
     /// join them.
     fn path(&mut self, a: DVec3, b: DVec3) -> Vec<DVec3> {
-        let (from, to) = (self.vertex_near(a), self.vertex_near(b));
+        let ends = self.vertex_near(a).zip(self.vertex_near(b));
         let mut points = vec![a];
-        match self.vertices_between(from, to) {
+        match ends.and_then(|(from, to)| self.vertices_between(from, to)) {
             Some(vertices) => {
                 points.extend(vertices.iter().map(|&v| self.mesh.positions[v as usize]))
             }
