@@ -188,7 +188,8 @@ impl LayoutAnalyzer {
         let index = self
             .surface_index()
             .ok_or_else(|| JsError::new("the surface is empty"))?;
-        let g = layout_glue::grid_mesh(&layout, &loop_strip, &counts, index)
+        let mesh = self.original.as_ref().unwrap_or(&self.mesh);
+        let g = layout_glue::grid_mesh(&layout, &loop_strip, &counts, mesh, index)
             .map_err(|e| JsError::new(&e.to_string()))?;
         let out = Object::new();
         let mut segments = Vec::new();

@@ -266,6 +266,15 @@ pub fn analyze_loops(
         a.counts.layout_vertices = l.vertices.len();
         a.counts.layout_edges = l.edges.len();
         a.counts.patches = l.patches.len();
+        if l.patches.is_empty() {
+            // §7: a patch is a crossing of two loops; the regions' disc test
+            // (§4.2) passes with one loop on a sphere, which lays out nothing.
+            notes.push(
+                "no patches yet: a strip no other strip crosses lays out nothing; add a crossing \
+                 strip"
+                    .into(),
+            );
+        }
         a.json = l.to_json().unwrap_or_default();
         a.layout = Some(l.export());
         a.loop_strip = committed_of.clone();
@@ -356,11 +365,12 @@ pub fn detect_mirror(mesh: &TriMesh) -> Option<MirrorPlane> {
 
 /// The layout gridded with `strip_counts[i]` segments across committed
 /// strip `i` (a strip without a count gets [`crate::layout::grid::DEFAULT_COUNT`]),
-/// on the surface of `index`.
+/// on `mesh`, whose surface `index` is.
 pub fn grid_mesh(
     layout: &LayoutExport,
     loop_strip: &[usize],
     strip_counts: &[u32],
+    mesh: &TriMesh,
     index: &SurfaceIndex,
 ) -> Result<LayoutGrid, GridError> {
     let counts: Vec<u32> = loop_strip
@@ -372,7 +382,7 @@ pub fn grid_mesh(
                 .unwrap_or(crate::layout::grid::DEFAULT_COUNT)
         })
         .collect();
-    grid_layout(layout, &counts, index)
+    grid_layout(layout, &counts, mesh, index)
 }
 
 /// The layout's patches as OBJ polygon faces, in the coordinates `frame`
@@ -497,6 +507,18 @@ mod tests {
     fn commit_through(d: &mut LayoutDesign, p: DVec3, direction: DVec3) {
         d.add_anchor(p, Some(direction));
         d.commit().expect("a loop through the anchor");
+    }
+
+    #[test]
+    fn one_loop_on_a_sphere_says_it_lays_out_nothing() {
+        let mesh = crate::mesh::generate::icosphere(1.0, 3);
+        let mut d = LayoutDesign::new(LoopEngine::new(&mesh, &ElasticaParams::default()));
+        commit_through(&mut d, DVec3::X, DVec3::Y);
+        let a = analyze(&mesh, &mut d, &|| 0.0);
+        // Two discs: sufficient by §4.2, but no crossing, so no patch.
+        assert_eq!((a.counts.regions, a.counts.red), (2, 0));
+        assert_eq!(a.counts.patches, 0);
+        assert!(a.status.contains("no patches yet"), "{}", a.status);
     }
 
     #[test]
@@ -646,7 +668,7 @@ mod tests {
         let layout = a.layout.as_ref().expect("a layout");
         let index = SurfaceIndex::new(&mesh).unwrap();
         let started = std::time::Instant::now();
-        let g = grid_mesh(layout, &a.loop_strip, &[8, 8, 8], &index).unwrap();
+        let g = grid_mesh(layout, &a.loop_strip, &[8, 8, 8], &mesh, &index).unwrap();
         let ms = started.elapsed().as_secs_f64() * 1e3;
         let m = &g.mesh;
         println!(

@@ -1,8 +1,13 @@
 // Screenshots of the design mode (dual strip weaving) on the real page, for
 // notes; not a test and not part of `make test`. For each sample: strips
 // are committed the way a user does (hover, the wheel for another loop,
-// Enter; led by the region colours, see designGreedy) until the layout is
-// sufficient, then the layout is gridded and fitted. Three PNGs per sample in OUT_DIR:
+// Enter; led by the region colours, see designGreedy; the torus and the
+// bunny by set anchors, see designTorus and designBunny) until the layout is
+// sufficient, then the layout is gridded (the count doubled while the grid
+// asks for higher counts, up to 64) and fitted; a layout that does not grid,
+// or grids with more than 5 % of its quads folded, gets more strips (up to 4 more per round, 3
+// rounds), led by the orange regions (several curvature extrema), and is
+// gridded again. Three PNGs per sample in OUT_DIR:
 //   NAME-1-layout.png   the strips, the regions and the layout
 //   NAME-2-grid.png     the gridded layout (pure quads) on the surface
 //   NAME-3-limit.png    the fitted Catmull–Clark limit surface, coloured by error
@@ -30,11 +35,17 @@ const maxStrips = Number(process.env.SHOTS_STRIPS || 16);
 const chaseOrange = process.env.SHOTS_ORANGE === '1';
 const LONG = { timeout: 600000 };
 
+// The design as the analysis sees it. Sufficient regions whose layout has
+// no patch (a loop no other strip crosses) make no grid: counted as
+// insufficient, every face as if red, so a crossing strip improves on it.
 const designed = (page) => page.evaluate(() => {
   const d = window.quadrille.design;
-  return d.analysis && d.state && d.analysis.revision === d.state.revision
-    ? { strips: d.state.loops.length, counts: d.analysis.counts, sufficient: d.analysis.sufficient, status: d.analysis.status,
-      red: d.analysis.regionCategory.filter((c) => c === 6).length } : null; // faces in red regions (REGION_RED)
+  if (!(d.analysis && d.state && d.analysis.revision === d.state.revision)) return null;
+  const c = d.analysis.counts;
+  const noPatch = c.patches === 0;
+  return { strips: d.state.loops.length, counts: c, sufficient: d.analysis.sufficient && !noPatch, status: d.analysis.status,
+    red: noPatch ? d.analysis.regionCategory.length // faces in red regions (REGION_RED)
+      : d.analysis.regionCategory.filter((k) => k === 6).length };
 });
 const waitForAnalysis = (page) => page.waitForFunction(() => {
   const d = window.quadrille.design;
@@ -42,20 +53,47 @@ const waitForAnalysis = (page) => page.waitForFunction(() => {
 }, null, LONG);
 
 // Hovers at `hit`, optionally turns the wheel `wheel` notches (the next
-// alternative loops), and commits the loop drawn with Enter.
+// alternative loops), and commits the loop drawn with Enter. Returns false
+// (nothing committed) when no closed loop is proposed there.
 async function commitAt(page, hit, wheel = 0) {
   const loops = await page.evaluate(() => window.quadrille.design.state.loops.length);
+  // Keys to the view, not to the grid-count field a grid left focused.
+  await page.evaluate(() => document.activeElement?.blur());
+  // Away first: a move onto the point the pointer is already at hovers
+  // nothing (the second alternative at one target).
+  await page.mouse.move(0, 0);
   const n = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
   await page.mouse.move(hit.x, hit.y);
-  await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, n, DESIGN_WAIT);
+  try {
+    await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, n, { timeout: 30000 });
+  } catch {
+    return false;
+  }
   for (let k = 0; k < wheel; k++) {
     const b = await page.evaluate(() => window.quadrille.design.state.browse[0]);
     await page.mouse.wheel(0, 120);
-    await page.waitForFunction((b) => window.quadrille.design.state.browse[0] !== b, b, DESIGN_WAIT);
+    try {
+      await page.waitForFunction((b) => window.quadrille.design.state.browse[0] !== b, b, { timeout: 30000 });
+    } catch {
+      return false; // no other alternative there
+    }
   }
+  // Closed loops only: a dual curve ending on one of a scan's holes (the
+  // bunny's base) makes the regions beside it touch the boundary twice.
+  const closed = await page.evaluate(() => {
+    const p = window.quadrille.design.proposal;
+    const n = p.length;
+    return n >= 6 && Math.hypot(p[0] - p[n - 3], p[1] - p[n - 2], p[2] - p[n - 1]) < 1e-6;
+  });
+  if (!closed) return false;
   await page.keyboard.press('Enter');
-  await page.waitForFunction((l) => window.quadrille.design.state.loops.length > l, loops, DESIGN_WAIT);
+  try {
+    await page.waitForFunction((l) => window.quadrille.design.state.loops.length > l, loops, { timeout: 30000 });
+  } catch {
+    return false;
+  }
   await waitForAnalysis(page);
+  return true;
 }
 
 const polylineLength = (p) => {
@@ -83,6 +121,31 @@ async function designTorus(page) {
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => window.quadrille.design.state.loops.length === 3, null, DESIGN_WAIT);
   await waitForAnalysis(page);
+}
+
+// The bunny: five loops, each through four directional anchors on a plane
+// section that misses the base's holes (around the lower body, the rump, the
+// side, the neck, and lengthwise over the head and one ear; the native test
+// bunny_layout_grids_around_its_holes grids these sections), in the page's
+// (normalised) coordinates. The automatic proposals near the base end on its
+// holes, which the greedy design cannot get past.
+const BUNNY_LOOPS = [
+  [[[0.38502, -0.25, -0.00823], [0.2648, 0, 0.9643]], [[0.15757, -0.25, 0.36884], [-0.9873, 0, 0.159]], [[-0.33626, -0.25, 0.23405], [-0.8573, 0, -0.5148]], [[-0.09195, -0.25, -0.17227], [0.3596, 0, -0.9331]]],
+  [[[0.3, -0.18259, 0.291], [0, -0.981, 0.194]], [[0.3, -0.47568, 0.13588], [0, -0.2706, -0.9627]], [[0.3, -0.26072, -0.12131], [0, 0.954, -0.2999]], [[0.3, 0.05826, 0.03459], [0, 0.2483, 0.9687]]],
+  [[[-0.08391, 0.05704, 0.2], [0.9967, 0.0811, 0]], [[0.40264, -0.30393, 0.2], [0.9193, 0.3935, 0]], [[-0.19845, -0.487, 0.2], [-0.9996, 0.0297, 0]], [[-0.45039, 0.01878, 0.2], [-0.8261, 0.5635, 0]]],
+  [[[-0.44139, 0.2, 0.03992], [-0.3294, 0, 0.9442]], [[-0.45268, 0.2, 0.26219], [0.5236, 0, 0.852]], [[-0.26814, 0.2, 0.22121], [0.6989, 0, -0.7152]], [[-0.24861, 0.2, -0.00435], [-0.8421, 0, -0.5394]]],
+  [[[-0.34, 0.29164, 0.05132], [0, -0.0815, -0.9967]], [[-0.34, 0.2996, -0.31219], [0, -0.9975, -0.0705]], [[-0.34, -0.17692, -0.09928], [0, -0.9891, 0.1473]], [[-0.34, -0.05049, 0.2633], [0, 0.9003, -0.4352]]],
+];
+async function designBunny(page) {
+  for (const anchors of BUNNY_LOOPS) {
+    const loops = await page.evaluate(() => window.quadrille.design.state.loops.length);
+    for (const [p, d] of anchors) await page.evaluate(([p, d]) => window.quadrille.designAction('addAnchor', [p, d]), [p, d]);
+    await page.evaluate(() => window.quadrille.designAction('commit', []));
+    await page.waitForFunction((l) => window.quadrille.design.state.loops.length > l, loops, DESIGN_WAIT);
+    await waitForAnalysis(page);
+    const d = await designed(page);
+    console.log(`  strip ${d.strips}: ${d.status}`);
+  }
 }
 
 // Where a region of guidance colour `kind` ('red': not a disc, 'orange':
@@ -136,19 +199,24 @@ const improves = (a, b) => (a.red !== b.red ? a.red < b.red
 // tried. When no such region is in view the view turns.
 // Until the layout is sufficient (without orange regions, with
 // SHOTS_ORANGE=1) or `maxStrips` strips were tried.
-async function designGreedy(page) {
+async function designGreedy(page, { orange = chaseOrange, budget = maxStrips } = {}) {
   const start = await page.evaluate(() => window.quadrille.camera());
   const views = [[0, 0], [Math.PI / 2, 0], [Math.PI, 0], [-Math.PI / 2, 0], [0, 1.2], [0, -1.2]];
   let view = 0;
-  const hits = await surfaceGrid(page, 16);
-  const byY = [...hits].sort((a, b) => a.y - b.y);
-  await commitAt(page, byY[Math.floor(byY.length / 2)]);
   let now = await designed(page);
-  console.log(`  strip 1: kept · ${now.status}`);
-  let tried = 1;
+  let tried = 0;
+  if (!now || now.strips === 0) {
+    const hits = await surfaceGrid(page, 16);
+    const byY = [...hits].sort((a, b) => a.y - b.y);
+    await commitAt(page, byY[Math.floor(byY.length / 2)]);
+    now = await designed(page);
+    console.log(`  strip 1: kept · ${now.status}`);
+    tried = 1;
+  }
   let turns = 0;
-  while (tried < maxStrips && !(now.sufficient && (!chaseOrange || now.counts.orange === 0))) {
+  while (tried < budget && !(now.sufficient && (!orange || now.counts.orange === 0))) {
     const kind = now.counts.red > 0 ? 'red' : 'orange';
+    // (no patch yet, nothing red: an orange region, or the view turns)
     const target = await regionPoint(page, kind);
     if (!target) {
       if (++turns > views.length) break;
@@ -158,9 +226,9 @@ async function designGreedy(page) {
       continue;
     }
     turns = 0;
-    for (let wheel = 0; wheel < 3 && tried < maxStrips; wheel++) {
+    for (let wheel = 0; wheel < 3 && tried < budget; wheel++) {
       tried++;
-      await commitAt(page, target, wheel);
+      if (!(await commitAt(page, target, wheel))) continue;
       const next = await designed(page);
       const kept = improves(next, now);
       console.log(`  strip ${next.strips} (${kind} region, alternative ${wheel}): ${kept ? 'kept' : 'undone'} · ${next.status}`);
@@ -190,27 +258,52 @@ try {
     await enterDesign(page, 300000);
     console.log(`${name}: ${await page.textContent('#design-note')}`);
     if (name === 'torus') await designTorus(page);
+    else if (name === 'stanford-bunny') await designBunny(page);
     else await designGreedy(page);
-    const d = await designed(page);
+    let d = await designed(page);
     console.log(`  ${d.strips} strips: ${d.status}`);
-    await shot(page, `${name}-1-layout.png`);
-    if (!d.sufficient) {
-      console.log('  no layout: not gridded');
-    } else {
-      await page.fill('#design-grid-count', String(gridCount));
-      const g = await page.evaluate(() => window.quadrille.gridLayout().then((g) => ({ vertices: g.vertices, faces: g.faces, folded: g.folded, ms: g.ms }),
-        (e) => ({ error: e.message })));
-      if (g.error) {
+    // Grid; on "raise the grid counts" double the count; when it does not
+    // grid or folds, add strips (orange regions first) and try again.
+    let g = null;
+    for (let round = 0; round < 4 && !g; round++) {
+      if (round > 0 || !d.sufficient) {
+        await designGreedy(page, { orange: true, budget: d.strips + 4 });
+        d = await designed(page);
+        console.log(`  ${d.strips} strips: ${d.status}`);
+      }
+      if (!d.sufficient) continue;
+      // The layout before its grid is drawn over it.
+      await shot(page, `${name}-1-layout.png`);
+      for (let count = gridCount; count <= 64; count *= 2) {
+        await page.fill('#design-grid-count', String(count));
+        const tryGrid = await page.evaluate(() => window.quadrille.gridLayout().then(
+          (g) => ({ vertices: g.vertices, faces: g.faces, folded: g.folded, ms: g.ms }), (e) => ({ error: e.message })));
+        if (tryGrid.error) {
+          console.log(`  grid ${count} failed: ${tryGrid.error}`);
+          if (/raise the grid counts/.test(tryGrid.error)) continue;
+          break;
+        }
+        console.log(`  grid ${count}: ${tryGrid.vertices} vertices, ${tryGrid.faces} quads, ${tryGrid.folded} folded, ${tryGrid.ms.toFixed(0)} ms`);
+        // More than 5 % folded quads: more strips first, unless this was
+        // the last round.
+        if (20 * tryGrid.folded <= tryGrid.faces || round === 3) g = tryGrid;
+        break;
+      }
+    }
+    if (!d.sufficient) await shot(page, `${name}-1-layout.png`);
+    if (!g) {
+      if (d.sufficient) {
         // The layout that did not grid, for a look at it.
         writeFileSync(join(out, `${name}-layout.json`), await page.evaluate(() => window.quadrille.exportLayout('json')));
-        console.log(`  grid ${gridCount} failed: ${g.error} (layout in ${join(out, `${name}-layout.json`)})`);
+        console.log(`  no grid (layout in ${join(out, `${name}-layout.json`)})`);
       } else {
-        console.log(`  grid ${gridCount}: ${g.vertices} vertices, ${g.faces} quads, ${g.folded} folded, ${g.ms.toFixed(0)} ms`);
-        await shot(page, `${name}-2-grid.png`);
-        await page.evaluate(() => window.quadrille.fitLayout().then(() => null));
-        console.log(`  fit: ${await page.textContent('#design-grid-status')}`);
-        await shot(page, `${name}-3-limit.png`);
+        console.log('  no layout: not gridded');
       }
+    } else {
+      await shot(page, `${name}-2-grid.png`);
+      await page.evaluate(() => window.quadrille.fitLayout().then(() => null));
+      console.log(`  fit: ${await page.textContent('#design-grid-status')}`);
+      await shot(page, `${name}-3-limit.png`);
     }
     if (errors.length) console.log(`  console errors: ${errors.join(' | ')}`);
     await page.close();
