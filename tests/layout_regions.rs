@@ -1306,6 +1306,41 @@ fn boundary_segments(mesh: &TriMesh) -> Vec<[DVec3; 2]> {
         .collect()
 }
 
+/// A gridded layout's invariants around holes: a valid manifold of quads
+/// with Euler characteristic `chi`, one boundary loop per hole (`holes`),
+/// every vertex within `tolerance` of the input and every boundary vertex
+/// on a rim segment (`rims`).
+fn assert_gridded_around_holes(
+    m: &PolyMesh,
+    chi: i64,
+    holes: usize,
+    rims: &[[DVec3; 2]],
+    index: &SurfaceIndex,
+    tolerance: f64,
+) {
+    m.validate().expect("a valid, manifold half-edge mesh");
+    assert!((0..m.face_count() as u32).all(|f| m.degree(f) == 4));
+    assert_eq!(m.euler_characteristic(), chi);
+    assert_eq!(m.boundary_loops().len(), holes, "a loop per hole");
+    for (v, p) in m.positions.iter().enumerate() {
+        assert!(index.distance(*p) < tolerance, "vertex {v} off the input");
+    }
+    for h in 0..m.halfedge_count() as u32 {
+        if m.is_boundary_halfedge(h) {
+            let p = m.positions[m.origin(h) as usize];
+            let d = rims
+                .iter()
+                .map(|&s| distance_to_segment(p, s))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d < 1e-9,
+                "boundary vertex {} off the rims: {d}",
+                m.origin(h)
+            );
+        }
+    }
+}
+
 fn distance_to_segment(p: DVec3, [a, b]: [DVec3; 2]) -> f64 {
     let ab = b - a;
     let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
@@ -1349,29 +1384,15 @@ fn check_octant_grid_with_holes(mesh: &TriMesh, counts: &[u32], coarse: &[u32]) 
             Err(e) => panic!("grid {n}: {e}"),
         };
         let m = &g.mesh;
-        m.validate().expect("a valid, manifold half-edge mesh");
-        assert!((0..m.face_count() as u32).all(|f| m.degree(f) == 4));
-        assert_eq!(m.euler_characteristic(), input.euler_characteristic);
-        assert_eq!(m.boundary_loops().len(), hole_count, "a loop per hole");
         assert_eq!(m.topology().components, 1);
-        for (v, p) in m.positions.iter().enumerate() {
-            assert!(index.distance(*p) < 1e-9, "vertex {v} off the surface");
-        }
-        // The boundary lies on the holes' rims.
-        for h in 0..m.halfedge_count() as u32 {
-            if m.is_boundary_halfedge(h) {
-                let p = m.positions[m.origin(h) as usize];
-                let d = holes
-                    .iter()
-                    .map(|&s| distance_to_segment(p, s))
-                    .fold(f64::INFINITY, f64::min);
-                assert!(
-                    d < 1e-9,
-                    "boundary vertex {} off the rims: {d}",
-                    m.origin(h)
-                );
-            }
-        }
+        assert_gridded_around_holes(
+            m,
+            input.euler_characteristic,
+            hole_count,
+            &holes,
+            &index,
+            1e-9,
+        );
         // No quad is folded, or pressed flat against a rim.
         let (corner, area) = worst_rim_quad(m);
         assert_eq!(g.folded, 0, "grid {n}: folded quads");
@@ -1516,23 +1537,7 @@ fn bunny_layout_grids_around_its_holes() {
             Err(e) => panic!("grid {n}: {e}"),
         };
         let m = &g.mesh;
-        m.validate().expect("a valid, manifold half-edge mesh");
-        assert!((0..m.face_count() as u32).all(|f| m.degree(f) == 4));
-        assert_eq!(m.euler_characteristic(), chi);
-        assert_eq!(m.boundary_loops().len(), 5, "a loop per hole");
-        for p in &m.positions {
-            assert!(index.distance(*p) < 1e-6, "a vertex off the input");
-        }
-        for h in 0..m.halfedge_count() as u32 {
-            if m.is_boundary_halfedge(h) {
-                let p = m.positions[m.origin(h) as usize];
-                let d = rims
-                    .iter()
-                    .map(|&s| distance_to_segment(p, s))
-                    .fold(f64::INFINITY, f64::min);
-                assert!(d < 1e-9, "a boundary vertex off the rims: {d}");
-            }
-        }
+        assert_gridded_around_holes(m, chi, 5, &rims, &index, 1e-6);
         let (corner, area) = worst_rim_quad(m);
         println!(
             "bunny, grid {n}: {} vertices, {} quads, {} folded; at the rims: largest corner \
