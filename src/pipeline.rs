@@ -167,11 +167,12 @@ pub struct RemeshParams {
     /// mode. Measured (`make quality`, medians over 5 vertex orders at the
     /// default target, off → on): mean corner deviation fandisk 5.66° →
     /// 5.88°, rocker-arm 5.24° → 6.22°, spot 9.35° → 10.45°, cow 7.52° →
-    /// 10.15°, bunny 4.05° → 4.46° (three of them then above Instant
-    /// Meshes', issue 19's bar), for Hausdorff distances 15–43 % lower on
-    /// fandisk, rocker-arm, spot and the cow (spot 0.125 → 0.072) and
-    /// unchanged on the other four; the mean distance output → input 4–17 %
-    /// lower on seven, the cow's 12 % higher.
+    /// 10.15°, bunny 4.05° → 4.46°, suzanne 16.60° → 16.98° (fandisk,
+    /// rocker-arm, spot and suzanne then above Instant Meshes', issue 19's
+    /// bar; without it only the beetle is), for Hausdorff distances 15–43 %
+    /// lower on fandisk, rocker-arm, spot and the cow (spot 0.125 → 0.072)
+    /// and unchanged on the other four; the mean distance output → input
+    /// 4–17 % lower on seven, the cow's 12 % higher.
     pub least_squares_placement: bool,
 }
 
