@@ -209,8 +209,8 @@ fn input_pulls(
 
 /// The input's side of the energy weighs this much against the output's.
 /// Measured (medians over 5 vertex orders on `make quality`'s 8 meshes,
-/// change against no placement; mean distance output → input, input →
-/// output): 0.3 lowers the first on 7 of them by 4–17 % (fandisk +3 %)
+/// 16 input points per output vertex, change against no placement; mean
+/// distance output → input, input → output): 0.3 lowers the first on 7 of them by 4–17 % (fandisk +3 %)
 /// and the second on all by 4–37 %; 1 lowers the second by 4–41 % but the
 /// first on only 5 (fandisk +6 %, suzanne +3 %); 0 (the output's side
 /// alone) lowers the first most, 7–19 %, but lets spot's horn tips retract

@@ -174,19 +174,19 @@ pub struct PostProcessParams {
     /// After everything else (in the global mode only with
     /// `remesh.least_squares_placement`): this many steps of
     /// least-squares vertex placement ([`super::placement`]); 0 leaves
-    /// every vertex on the input. Default 10 (converged: 30 steps change
-    /// the distances by under 1 %). Measured with `make quality`'s meshes,
-    /// medians over 5 vertex orders, local defaults 0 → 10 steps: mean
-    /// distance output → input fandisk 8.37e-4 → 8.59e-4, rocker-arm
-    /// 1.67e-3 → 1.59e-3, spot 6.46e-3 → 5.44e-3, cow 4.69e-3 → 4.21e-3,
-    /// bunny 9.81e-4 → 8.97e-4, beetle 4.89e-3 → 4.53e-3, teapot 3.26e-3 →
-    /// 2.71e-3, suzanne 1.45e-2 → 1.40e-2; input → output 4–37 % lower on
-    /// all eight; Hausdorff 12–35 % lower on five (spot 0.063 → 0.041),
-    /// the cow's −1 %, the bunny's and the beetle's unchanged; corner
-    /// deviation +0.2 … +7 % (bunny 4.10° → 4.37°); the fitted limit
-    /// surface fandisk −15 %, teapot −4 %, the rest within 1 %. The rows
-    /// "default - least-squares placement" of docs/QUALITY.md keep the
-    /// comparison current.
+    /// every vertex on the input. Default 10 (5 give the same mean distance
+    /// output → input but 3–12 % more input → output). Measured by `make
+    /// quality` (docs/QUALITY.md at 1c5b6b2, medians over 5 vertex orders,
+    /// local defaults, 0 → 10 steps): mean distance output → input fandisk
+    /// 8.37e-4 → 8.58e-4, rocker-arm 1.67e-3 → 1.60e-3, spot 6.46e-3 →
+    /// 5.43e-3, cow 4.69e-3 → 4.33e-3, bunny 1.02e-3 → 9.31e-4, beetle
+    /// 4.89e-3 → 4.54e-3, teapot 3.26e-3 → 2.77e-3, suzanne 1.45e-2 →
+    /// 1.37e-2; input → output 2–35 % lower on all eight (single runs);
+    /// Hausdorff 15–39 % lower on five (spot 0.063 → 0.042), the cow's
+    /// −1 %, the bunny's and the beetle's unchanged; corner deviation
+    /// +0 … +5.5 % (bunny 4.75° → 5.01°); the fitted limit surface fandisk
+    /// −15 %, teapot −2 %, suzanne +3 %, the rest within 1.5 %. The rows
+    /// "default - least-squares placement" keep the comparison current.
     pub least_squares_iterations: usize,
 }
 
