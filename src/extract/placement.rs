@@ -8,7 +8,7 @@
 //!
 //! The energy is two-sided: Hoppe et al. 1993's distance energy with the
 //! connectivity fixed (the squared distances of the input's points to the
-//! mesh, [`input_pulls`]) plus the squared distances of the mesh's points
+//! mesh, [`InputSide`]) plus the squared distances of the mesh's points
 //! to the input, weighted [`INPUT_SHARE`] to 1, plus a spring that holds
 //! each vertex's tangential position. The mesh's points are its vertices,
 //! edge midpoints and face centroids (its points after one linear
@@ -78,6 +78,8 @@ pub fn least_squares_placement(
     let faces: Vec<Vec<u32>> = (0..mesh.face_count() as u32)
         .map(|f| mesh.face_vertices(f).collect())
         .collect();
+    let input_side = InputSide::new(&faces, input, mesh.vertex_count(), weights.len());
+    let mut all_weights = weights.clone();
     let start = mesh.positions.clone();
     let mut previous = vec![DVec3::ZERO; mesh.vertex_count()];
     let (mut samples, mut offsets) = (Vec::new(), Vec::new());
@@ -90,9 +92,8 @@ pub fn least_squares_placement(
                 .sum::<DVec3>()
         }));
         crate::parallel::map_into(&samples, &mut offsets, |&p| surface.closest(p).point - p);
-        let (in_weights, in_offsets) = input_pulls(&before, &faces, input, samples.len());
-        let all_weights: Vec<Vec<(u32, f64)>> = weights.iter().cloned().chain(in_weights).collect();
-        offsets.extend(in_offsets);
+        all_weights.truncate(weights.len());
+        input_side.pulls(&before, &mut all_weights, &mut offsets);
         let normals = vertex_normals(&before, &faces);
         lspia_move(
             &mut mesh.positions,
@@ -164,47 +165,64 @@ fn keep_shapes(pos: &mut [DVec3], before: &[DVec3], faces: &[Vec<u32>], previous
     }
 }
 
-/// The input's side of the distance energy: for every `stride`-th input
-/// point (at most [`INPUT_SAMPLES_PER_VERTEX`] per output vertex), the
-/// offset from its closest point on the output (a fan triangle of a face)
-/// to it, weighing on that triangle's corners by the closest point's
-/// barycentric coordinates, scaled so that all input points together
-/// weigh [`INPUT_SHARE`] × the `output_samples`. Empty when the output's
-/// triangles make no index.
-fn input_pulls(
-    pos: &[DVec3],
-    faces: &[Vec<u32>],
-    input: &[DVec3],
-    output_samples: usize,
-) -> (Vec<Vec<(u32, f64)>>, Vec<DVec3>) {
-    let triangles: Vec<[u32; 3]> = faces
-        .iter()
-        .flat_map(|f| (1..f.len() - 1).map(move |k| [f[0], f[k], f[k + 1]]))
-        .collect();
-    let Some(index) = TriMesh::new(pos.to_vec(), triangles.clone())
-        .ok()
-        .and_then(|t| SurfaceIndex::new(&t))
-    else {
-        return (Vec::new(), Vec::new());
-    };
-    let stride = input
-        .len()
-        .div_ceil(INPUT_SAMPLES_PER_VERTEX * pos.len())
-        .max(1);
-    let points: Vec<DVec3> = input.iter().step_by(stride).copied().collect();
-    let scale = INPUT_SHARE * output_samples as f64 / points.len().max(1) as f64;
-    let mut pulls: Vec<(Vec<(u32, f64)>, DVec3)> = Vec::new();
-    crate::parallel::map_into(&points, &mut pulls, |&x| {
-        let c = index.closest(x);
-        let t = triangles[c.face as usize];
-        let b = barycentric(
-            c.point,
-            [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]],
-        );
-        let w = (0..3).map(|i| (t[i], scale * b[i])).collect();
-        (w, x - c.point)
-    });
-    pulls.into_iter().unzip()
+/// The input's side of the distance energy ([`Self::pulls`]): the
+/// output's faces as fan triangles, every `stride`-th input point (at most
+/// [`INPUT_SAMPLES_PER_VERTEX`] per output vertex) and the weight of each,
+/// so that all of them together weigh [`INPUT_SHARE`] × the output's
+/// samples. Built once; the connectivity does not change.
+struct InputSide {
+    triangles: Vec<[u32; 3]>,
+    points: Vec<DVec3>,
+    scale: f64,
+}
+
+impl InputSide {
+    fn new(faces: &[Vec<u32>], input: &[DVec3], vertices: usize, output_samples: usize) -> Self {
+        let triangles: Vec<[u32; 3]> = faces
+            .iter()
+            .flat_map(|f| (1..f.len() - 1).map(move |k| [f[0], f[k], f[k + 1]]))
+            .collect();
+        let stride = input
+            .len()
+            .div_ceil((INPUT_SAMPLES_PER_VERTEX * vertices).max(1))
+            .max(1);
+        let points: Vec<DVec3> = input.iter().step_by(stride).copied().collect();
+        let scale = INPUT_SHARE * output_samples as f64 / points.len().max(1) as f64;
+        InputSide {
+            triangles,
+            points,
+            scale,
+        }
+    }
+
+    /// For every input point, the offset from its closest point on the
+    /// output at `pos` (a fan triangle) to it, weighing on that triangle's
+    /// corners by the closest point's barycentric coordinates. Appended to
+    /// `weights` and `offsets`; nothing when the output's triangles make
+    /// no index.
+    fn pulls(&self, pos: &[DVec3], weights: &mut Vec<Vec<(u32, f64)>>, offsets: &mut Vec<DVec3>) {
+        let Some(index) = TriMesh::new(pos.to_vec(), self.triangles.clone())
+            .ok()
+            .and_then(|t| SurfaceIndex::new(&t))
+        else {
+            return;
+        };
+        let mut pulls: Vec<(Vec<(u32, f64)>, DVec3)> = Vec::new();
+        crate::parallel::map_into(&self.points, &mut pulls, |&x| {
+            let c = index.closest(x);
+            let t = self.triangles[c.face as usize];
+            let b = barycentric(
+                c.point,
+                [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]],
+            );
+            let w = (0..3).map(|i| (t[i], self.scale * b[i])).collect();
+            (w, x - c.point)
+        });
+        for (w, offset) in pulls {
+            weights.push(w);
+            offsets.push(offset);
+        }
+    }
 }
 
 /// The input's side of the energy weighs this much against the output's.
