@@ -210,3 +210,46 @@ fn a_coarse_target_finishes_with_a_mesh() {
         out.vertex_count()
     );
 }
+
+#[test]
+fn holes_narrower_than_a_face_are_opened() {
+    // Four holes 3.7–4.9 target edges around in a plane: the extraction
+    // closes one of them under a face whose centroid lies outside it, so
+    // only the second pass of `reopen_closed_loops` (the face closest to
+    // the hole's centre removed, its corners moved onto the rim) opens it.
+    let holed = keep(&generate::flat_grid(1.0, 160), |c| {
+        (0..4).all(|i| {
+            let (x, r) = (-0.6 + 0.4 * i as f64, 0.02 * (1.0 + 0.15 * i as f64));
+            (c.x - x).powi(2) + c.y * c.y > r * r
+        })
+    });
+    let run = |reopen: bool| {
+        let mut p = Pipeline::new(imported(&holed), Params::default());
+        p.params.extraction.post.reopen_input_holes = reopen;
+        p.run(&mut |_, _, _| true, &mut |_, _| {}, &|| 0.0).unwrap();
+        let s = p
+            .analysis
+            .as_ref()
+            .unwrap()
+            .surface
+            .sizing
+            .context
+            .global_edge_length;
+        let post = p.postprocess.as_ref().unwrap();
+        (
+            p.input.mesh.clone(),
+            post.mesh().clone(),
+            s,
+            post.result.report.input_holes_reopened,
+        )
+    };
+    let (input, closed, _, _) = run(false);
+    let before = quadrille::metrics::preservation_metrics(&closed, &input);
+    assert!(!before.loops_closed.is_empty(), "{before:?}");
+    let (input, out, s, reopened) = run(true);
+    assert_eq!(reopened, before.loops_closed.len());
+    assert_eq!(
+        check_boundaries_kept("plane with small holes", &input, &out, s),
+        5
+    );
+}
