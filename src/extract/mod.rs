@@ -467,7 +467,7 @@ pub fn post_process(
     if p.fix_wide_corners && p.wide_corner_degrees > 0.0 {
         let list = mesh.to_face_list();
         let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
-        let (moved, split) = postprocess::fix_wide_corners(
+        let (moved, dissolved, split) = postprocess::fix_wide_corners(
             &mut faces,
             &mut mesh_graph,
             p.wide_corner_degrees,
@@ -475,10 +475,11 @@ pub fn post_process(
             surface,
         );
         report.wide_corner_vertices_moved += moved;
+        report.wide_corner_rim_vertices_dissolved += dissolved;
         report.wide_corner_quads_split += split;
-        // The split's triangles may pair with other odd faces into quads
-        // whose corners stay below the bar.
-        if split > 0 && p.pair_non_quads_degrees > 0.0 {
+        // The triangles left may pair with other odd faces into quads whose
+        // corners stay below the bar.
+        if dissolved + split > 0 && p.pair_non_quads_degrees > 0.0 {
             let narrow = postprocess::PostProcessParams {
                 pair_max_corner_deviation: p
                     .pair_max_corner_deviation
@@ -488,7 +489,7 @@ pub fn post_process(
             report.non_quad_pairs_merged +=
                 postprocess::pair_non_quads(&mut faces, &mesh_graph, &narrow, surface);
         }
-        if moved + split > 0 {
+        if moved + dissolved + split > 0 {
             let (again, map2) = repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
             mesh = again;
             mesh_graph = mesh_graph.select(&map2);

@@ -234,8 +234,10 @@ pub struct PostProcessReport {
     pub edges_rotated: usize,
     pub diagonals_collapsed: usize,
     pub smoothed_vertices: usize,
-    /// [`fix_wide_corners`]: vertices moved, quads split.
+    /// [`fix_wide_corners`]: vertices moved, boundary vertices dissolved,
+    /// quads split.
     pub wide_corner_vertices_moved: usize,
+    pub wide_corner_rim_vertices_dissolved: usize,
     pub wide_corner_quads_split: usize,
     /// [`super::reopen`]: input holes opened again.
     pub input_holes_reopened: usize,
@@ -759,15 +761,17 @@ fn split_at_widest_corner(
 /// would cut it); boundary vertices stay. Then the quads still wide are
 /// split, widest first, into two triangles through the wide corner (the
 /// diagonal that halves it; skipped when that diagonal is already an edge)
-/// while at most `split_budget_percent` of the faces are odd. Returns (vertices
-/// moved, quads split).
+/// while at most `split_budget_percent` of the faces are odd; before that,
+/// a wide corner at a boundary vertex of one quad is dissolved instead
+/// ([`dissolve_rim_vertices`]). Returns (vertices moved, boundary vertices
+/// dissolved, quads split).
 pub fn fix_wide_corners(
     faces: &mut Vec<Vec<u32>>,
     g: &mut Graph,
     max_degrees: f64,
     split_budget_percent: f64,
     surface: Option<&SurfaceIndex>,
-) -> (usize, usize) {
+) -> (usize, usize, usize) {
     let limit = max_degrees.to_radians();
     let n = g.len();
     let vf = vertex_faces(n, faces);
@@ -894,8 +898,44 @@ pub fn fix_wide_corners(
             break;
         }
     }
+    let dissolved = dissolve_rim_vertices(faces, g, limit);
     let splits = split_wide_quads(faces, g, limit, split_budget_percent);
-    (moved.iter().filter(|&&m| m).count(), splits)
+    (moved.iter().filter(|&&m| m).count(), dissolved, splits)
+}
+
+/// The widest rim corner [`fix_wide_corners`] dissolves: a boundary vertex
+/// this far from straight (20°) lies within a sixth of an edge of the chord
+/// that replaces it.
+const RIM_DISSOLVE_DEGREES: f64 = 200.0;
+
+/// The wide corners at boundary vertices of one quad (a quad running along
+/// a rim that bends away from it, as around a hole: two of its edges on the
+/// rim meet at 180° plus the bend). Such a vertex leaves the quad, which
+/// becomes a triangle whose new edge is the chord of the rim, when the
+/// corner is at most [`RIM_DISSOLVE_DEGREES`] and the chord is no edge yet.
+/// Returns the number of vertices dissolved (they keep their ids, unused).
+fn dissolve_rim_vertices(faces: &mut [Vec<u32>], g: &Graph, limit: f64) -> usize {
+    let vf = vertex_faces(g.len(), faces);
+    let mut edges = edge_set(faces);
+    let mut dissolved = 0;
+    for (v, incident) in vf.iter().enumerate() {
+        let &[f] = incident.as_slice() else { continue };
+        if !g.boundary[v] || faces[f].len() != 4 {
+            continue;
+        }
+        let q = rotate_to(&faces[f], v as u32);
+        let p: [DVec3; 4] = std::array::from_fn(|i| g.pos[q[i] as usize]);
+        let corner = crate::metrics::quad_corner_angles(&p)[0];
+        if corner <= limit || corner > RIM_DISSOLVE_DEGREES.to_radians() {
+            continue;
+        }
+        if !edges.insert(key(q[1], q[3])) {
+            continue;
+        }
+        faces[f] = vec![q[1], q[2], q[3]];
+        dissolved += 1;
+    }
+    dissolved
 }
 
 /// A quad's widest corner (radians; reflex corners read above π), 0 for
@@ -1760,8 +1800,8 @@ mod tests {
         ];
         let before = widest_corner(&g, &faces);
         assert!(before > 170.0, "{before}");
-        let (moved, split) = fix_wide_corners(&mut faces, &mut g, 170.0, 5.0, None);
-        assert_eq!((moved, split), (1, 0));
+        let (moved, dissolved, split) = fix_wide_corners(&mut faces, &mut g, 170.0, 5.0, None);
+        assert_eq!((moved, dissolved, split), (1, 0, 0));
         let after = widest_corner(&g, &faces);
         assert!(after < 170.0, "{after}");
         for v in 0..9 {
@@ -1781,14 +1821,50 @@ mod tests {
         let mut kept = vec![vec![0, 1, 2, 3]];
         assert_eq!(
             fix_wide_corners(&mut kept, &mut g, 170.0, 5.0, None),
-            (0, 0)
+            (0, 0, 0)
         );
         assert_eq!(kept, vec![vec![0, 1, 2, 3]]);
         let mut faces = vec![vec![0, 1, 2, 3]];
         assert_eq!(
             fix_wide_corners(&mut faces, &mut g, 170.0, 100.0, None),
-            (0, 1)
+            (0, 0, 1)
         );
         assert_eq!(faces, vec![vec![2, 3, 0], vec![2, 0, 1]]);
+    }
+
+    /// A quad along a rim that bends away from it by 6° (a 186° corner at
+    /// a boundary vertex of that quad alone) loses that vertex: a triangle
+    /// on the rim's chord, no split. Its 233° dart above (a notch, not a
+    /// bend) and a 170° corner are left.
+    #[test]
+    fn a_rim_vertex_of_one_quad_at_a_wide_corner_is_dissolved() {
+        let corner = |y: f64| {
+            let mut g = plane_graph(vec![
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(0.5, y, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+            ]);
+            g.boundary = vec![true; 4];
+            let mut faces = vec![vec![0, 1, 2, 3]];
+            let widest = widest_corner(&g, &faces);
+            (
+                dissolve_rim_vertices(&mut faces, &g, 170f64.to_radians()),
+                faces,
+                widest,
+            )
+        };
+        let (n, faces, widest) = corner(0.45);
+        assert!((widest - 186.0).abs() < 1.0, "{widest}");
+        assert_eq!((n, faces), (1, vec![vec![3, 0, 1]]));
+        let (n, faces, widest) = corner(0.51);
+        assert!(widest < 180.0 && widest > 170.0, "{widest}");
+        assert_eq!((n, faces), (1, vec![vec![3, 0, 1]]));
+        let (n, _, widest) = corner(0.6);
+        assert!(widest < 170.0, "{widest}");
+        assert_eq!(n, 0);
+        let (n, _, widest) = corner(0.25);
+        assert!(widest > 200.0, "{widest}");
+        assert_eq!(n, 0);
     }
 }
