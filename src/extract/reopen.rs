@@ -56,9 +56,11 @@ pub fn reopen_closed_loops(
         return None;
     }
     let first = remove_faces_over_rims(mesh, input, surface, &audit);
-    let current = first.as_ref().unwrap_or(mesh);
-    let audit = loop_audit(current, input);
-    let second = open_small_loops(current, input, &audit);
+    let audit = match &first {
+        Some(opened) => loop_audit(opened, input),
+        None => audit,
+    };
+    let second = open_small_loops(first.as_ref().unwrap_or(mesh), input, &audit);
     let result = second.or(first)?;
     let after = closed(&loop_audit(&result, input));
     (after < before).then_some((result, before - after))
