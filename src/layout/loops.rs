@@ -26,7 +26,8 @@
 //!   boundary g-edges per mesh (cached until the covered strips change)
 //!   serves every dual-curve query; it is settled lazily, only as far as
 //!   the queries' cost bounds need (the hover query doubles a radius until
-//!   a dual curve or a loop below it exists).
+//!   a dual curve or a loop below it exists), and fully in the design
+//!   tool's idle time (`prepare_fields`), so that no hover grows it.
 //! - §5.7 connects ∂ to "all g-edges incident to a boundary vertex" (E∂).
 //!   Taken literally, every g-edge within k rings of the boundary is at
 //!   distance 0 from ∂ in both directions, so an anchor near the boundary
@@ -281,7 +282,8 @@ impl ElasticaGraph {
 
 /// The distances from ∂ (§5.7) of the g′-nodes, by one Dijkstra from all
 /// boundary g-edges that is resumed only as far as the queries need
-/// (`LoopEngine::settle_boundary`); dropped when the covered strips change.
+/// (`LoopEngine::settle_boundary`) or, in idle time, by slices to the end
+/// (`LoopEngine::prepare_fields`); dropped when the covered strips change.
 #[derive(Debug, Clone, Default)]
 struct BoundaryField {
     dist: Vec<f32>,
@@ -995,13 +997,32 @@ impl LoopEngine {
     /// more anchors, the field of each positional anchor, the last
     /// [`FIELD_CACHE`]), into the cache of recent anchors' fields, so that
     /// the next query (a grab, a drag update, a further click) resumes them
-    /// instead of settling them then. A field is the same whichever call
-    /// settled it so far, so every loop stays the same. Returns whether a
-    /// field is still not fully settled.
+    /// instead of settling them then; then the distances from ∂ (open
+    /// meshes), fully, so that no hover query grows them. A field is the
+    /// same whichever call settled it so far, so every loop stays the same.
+    /// Returns whether a field is still not fully settled.
     pub fn prepare_fields(&mut self, anchors: &[Anchor], budget: u64) -> bool {
-        if anchors.len() < 2 {
-            return false;
+        let mut left = budget;
+        let mut more = false;
+        if anchors.len() >= 2 {
+            (left, more) = self.prepare_anchor_fields(anchors, left);
         }
+        // Then the distances from ∂ (§5.7), read by every hover query and
+        // dual curve: settled fully here, a hover never grows them (the
+        // first hovers far from the boundary used to settle most of g′).
+        if self.has_boundary && left > 0 {
+            self.grow_boundary(f32::INFINITY, left);
+            more |= self
+                .boundary_field
+                .as_ref()
+                .is_none_or(|f| f.radius.is_finite());
+        }
+        more
+    }
+
+    /// The anchors' part of [`Self::prepare_fields`]: returns the budget
+    /// left and whether a field is still not fully settled.
+    fn prepare_anchor_fields(&mut self, anchors: &[Anchor], budget: u64) -> (u64, bool) {
         let mut verts: Vec<usize> = Vec::new();
         for a in anchors.iter().filter(|a| a.direction == DVec3::ZERO) {
             if let Some(v) = self.nearest_vertex(a.position) {
@@ -1028,7 +1049,7 @@ impl LoopEngine {
             more |= f.radius.is_finite();
             self.cache_field(v, f);
         }
-        more
+        (left, more)
     }
 
     /// Puts the fields of [`Self::take_anchor_fields`] back into the cache
@@ -2251,8 +2272,16 @@ impl LoopEngine {
     /// Settles the distances from ∂ of every node closer than `bound`
     /// (resuming the cached Dijkstra; all of them for an infinite bound).
     fn settle_boundary(&mut self, bound: f32) {
-        if !self.has_boundary {
-            return;
+        self.grow_boundary(bound, u64::MAX);
+    }
+
+    /// [`Self::settle_boundary`] stopped after `budget` settled nodes (the
+    /// idle-time slices of [`Self::prepare_fields`]); returns how many it
+    /// settled. Whichever slices settled it, the field below its radius is
+    /// the same Dijkstra's.
+    fn grow_boundary(&mut self, bound: f32, budget: u64) -> u64 {
+        if !self.has_boundary || budget == 0 {
+            return 0;
         }
         let g = &self.graph.g;
         let nodes = self.graph.node_count();
@@ -2289,10 +2318,11 @@ impl LoopEngine {
             radius,
         } = field;
         if bound <= *radius {
-            return;
+            return 0;
         }
         let mut cap = bound;
-        settle(heap, &mut cap, true, |x, heap, _| {
+        let mut left = budget;
+        let effort = settle(heap, &mut cap, true, |x, heap, cap| {
             let x = x as usize;
             if settled[x] {
                 return false;
@@ -2310,13 +2340,28 @@ impl LoopEngine {
                     heap.push(nd.to_bits(), y as u32);
                 }
             });
+            left -= 1;
+            if left == 0 {
+                // Out of budget: stop at the next entry (put back).
+                *cap = f32::NEG_INFINITY;
+            }
             true
         });
-        *radius = if heap.is_empty() {
-            f32::INFINITY
-        } else {
-            bound
-        };
+        // Every entry below the next key has been popped, so every node
+        // closer than it (and, unless the budget ran out, than `bound`) is
+        // settled.
+        match heap.pop() {
+            Some((k, x)) => {
+                heap.push(k, x);
+                let reached = if left > 0 { bound } else { f32::from_bits(k) };
+                *radius = radius.max(reached);
+            }
+            None => {
+                *heap = RadixHeap::default();
+                *radius = f32::INFINITY;
+            }
+        }
+        effort
     }
 
     /// Seed … `node` along the boundary field's parents.
@@ -3155,6 +3200,53 @@ mod tests {
         }
         assert!(slices > 10);
         assert!((0..nodes).all(|x| sliced.value(x) == full.value(x)));
+    }
+
+    #[test]
+    fn a_boundary_field_prepared_by_slices_is_the_eager_one_below_its_radius() {
+        // Independent check, as for the anchors' fields: after every idle
+        // slice (no anchors: only the distances from ∂), each settled node
+        // is at the distance of a field settled in one go and every
+        // unsettled one at least the radius away; the slices end with the
+        // whole field, and the hover answers equal the eager engine's.
+        for (mesh, slice) in [
+            (cylinder(1.0, 3.0, 24, 12), 1u64),
+            (cylinder(1.0, 3.0, 24, 12), 997),
+            (flat_grid(1.0, 12), 4_000),
+        ] {
+            let mut eager = LoopEngine::new(&mesh, &ElasticaParams::default());
+            eager.settle_boundary(f32::INFINITY);
+            let mut idle = LoopEngine::new(&mesh, &ElasticaParams::default());
+            let nodes = idle.graph.node_count();
+            let full = eager.boundary_field.as_ref().expect("an eager field");
+            let mut slices = 0;
+            while idle.prepare_fields(&[], slice) {
+                slices += 1;
+                let f = idle.boundary_field.as_ref().expect("a field");
+                for x in 0..nodes {
+                    if f.settled[x] {
+                        assert_eq!(f.dist[x], full.dist[x], "node {x}, slice {slices}");
+                    } else {
+                        assert!(full.dist[x] >= f.radius, "node {x} below the radius");
+                    }
+                }
+                assert!(slices <= nodes, "slices never end");
+            }
+            assert!(slice > 1 || slices > 100, "{slices} slices of one node");
+            let f = idle.boundary_field.as_ref().expect("a field");
+            assert_eq!(f.radius, f32::INFINITY);
+            assert!((0..nodes).all(|x| f.dist[x] == full.dist[x]));
+            let n = mesh.vertex_count();
+            for v in (0..n).step_by(n / 10) {
+                let p = idle.vertex_position(v);
+                let (a, b) = (idle.best_loop(p), eager.best_loop(p));
+                assert_eq!(
+                    a.map(|l| (l.cost, l.closed)),
+                    b.map(|l| (l.cost, l.closed)),
+                    "vertex {v}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -175,7 +175,7 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, restarts, actions: {} };
+  const result = { sample, ...info, restarts, actions: {}, hoverRaw: { latency: runs.hover, worker: worker.hover } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
 }
