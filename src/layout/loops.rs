@@ -196,6 +196,20 @@ struct Slot {
     state_b: u32,
 }
 
+/// What the labelled search of the hover query knows of `reverse(x)`,
+/// stored at `x`: a loop closes where a relaxed node `y` meets its reverse,
+/// and the successors `y` of a node lie side by side in g′ (the out-edges
+/// of one vertex) while their reverses do not. Reading the meeting at `y`
+/// instead of at `reverse(y)` turns the one scattered read per relaxed arc
+/// into one scattered write per node reached.
+#[derive(Debug, Clone, Copy, Default)]
+struct Mirror {
+    dist: f32,
+    label: u32,
+    /// The generation's `reached` stamp of `reverse(x)`, or older.
+    state: u32,
+}
+
 impl Slot {
     /// Distance and state of the bidirectional search's colour A or B.
     #[inline]
@@ -225,6 +239,9 @@ impl Slot {
 #[derive(Debug, Clone, Default)]
 struct Workspace {
     slot: Vec<Slot>,
+    /// The labelled search's state of each node's *reverse*, written when
+    /// the reverse is reached ([`LoopEngine::best_direction`]).
+    mirror: Vec<Mirror>,
     generation: u32,
     /// The queue of the test-only reference searches (A* keys).
     #[cfg(test)]
@@ -258,6 +275,9 @@ impl Workspace {
             for s in &mut self.slot {
                 s.state = 0;
                 s.state_b = 0;
+            }
+            for m in &mut self.mirror {
+                m.state = 0;
             }
             self.generation = 1;
         }
@@ -714,6 +734,7 @@ impl LoopEngine {
             has_boundary,
             ws: Workspace {
                 slot: vec![Slot::default(); nodes],
+                mirror: vec![Mirror::default(); nodes],
                 ..Workspace::default()
             },
             layered: LayeredWorkspace::default(),
@@ -725,7 +746,7 @@ impl LoopEngine {
     pub fn memory_bytes(&self) -> usize {
         let n = self.graph.node_count();
         self.graph.memory_bytes()
-            + n * (std::mem::size_of::<Slot>() + 1)
+            + n * (std::mem::size_of::<Slot>() + std::mem::size_of::<Mirror>() + 1)
             + self.boundary_field.as_ref().map_or(0, |f| f.dist.len() * 9)
             + self
                 .pair
@@ -2072,6 +2093,14 @@ impl LoopEngine {
             ws.slot[s].parent = NONE;
             ws.slot[s].label = s as u32;
             ws.slot[s].state = ws.slot[s].state.max(reached);
+            let r = g.reverse[s];
+            if r != NONE {
+                ws.mirror[r as usize] = Mirror {
+                    dist: 0.0,
+                    label: s as u32,
+                    state: reached,
+                };
+            }
             ws.radix.push(0.0f32.to_bits(), s as u32);
         }
         let (start, len) = (row.start, row.len());
@@ -2088,8 +2117,9 @@ impl LoopEngine {
         }
         let mut best = bound;
         let mut found = None;
-        let (slot, heap, effort, close, label_best) = (
+        let (slot, mirror, heap, effort, close, label_best) = (
             &mut ws.slot,
+            &mut ws.mirror,
             &mut ws.radix,
             &mut ws.effort,
             &ws.close,
@@ -2116,10 +2146,10 @@ impl LoopEngine {
                 if nd >= best {
                     return;
                 }
-                let ry = g.reverse[y];
-                if ry != NONE && slot[ry as usize].state >= reached {
-                    // The closing arc reverse(label(ry)) → lx.
-                    let r = &slot[ry as usize];
+                let r = mirror[y];
+                if r.state >= reached {
+                    // reverse(y) is reached: the closing arc
+                    // reverse(label(reverse(y))) → lx.
                     let c = nd + r.dist + close_col[(r.label as usize - start) * len];
                     let lb = &mut label_best[lx as usize - start];
                     *lb = lb.min(c);
@@ -2135,6 +2165,14 @@ impl LoopEngine {
                     slot[y].dist = nd;
                     slot[y].parent = x as u32;
                     slot[y].label = lx;
+                    let ry = g.reverse[y];
+                    if ry != NONE {
+                        mirror[ry as usize] = Mirror {
+                            dist: nd,
+                            label: lx,
+                            state: reached,
+                        };
+                    }
                     heap.push(nd.to_bits(), y as u32);
                 }
             });
@@ -3200,6 +3238,57 @@ mod tests {
         }
         assert!(slices > 10);
         assert!((0..nodes).all(|x| sliced.value(x) == full.value(x)));
+    }
+
+    /// §6.2 where strips overlap: a vertex covered by two strips keeps
+    /// both directions' constraints, not only the first strip's. Checked on
+    /// a plane against the g-edges' chord directions (independent of the
+    /// engine's angle tables).
+    #[test]
+    fn overlapping_strips_keep_every_strips_direction_constraint() {
+        let mesh = flat_grid(1.0, 12);
+        let n = mesh.vertex_count();
+        let dir = |deg: f64| DVec3::new(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+        let (a, b) = (dir(10.0), dir(70.0));
+        let disabled_with = |covered: &[DVec3]| {
+            let mut e = LoopEngine::new(&mesh, &ElasticaParams::default());
+            e.set_covered(&vec![covered.to_vec(); n]);
+            e
+        };
+        let both = disabled_with(&[a, b]);
+        let (only_a, only_b) = (disabled_with(&[a]), disabled_with(&[b]));
+        let g = &both.graph.g;
+        let cos45 = std::f64::consts::FRAC_1_SQRT_2;
+        let (mut checked, mut by_a, mut by_b) = (0, 0, 0);
+        for e in 0..g.edge_count() {
+            let (v, w) = (g.source[e] as usize, g.target[e] as usize);
+            let chord = (g.mesh.positions[w] - g.mesh.positions[v]).normalize();
+            let (ca, cb) = (chord.dot(a).abs(), chord.dot(b).abs());
+            // Chords within half a degree of 45° from a direction are
+            // left out (rounding decides them).
+            let tie = |c: f64| (c.acos().to_degrees() - 45.0).abs() < 0.5;
+            if tie(ca) || tie(cb) {
+                continue;
+            }
+            checked += 1;
+            let expected = ca >= cos45 || cb >= cos45;
+            assert_eq!(both.disabled[e], expected, "g-edge {e}: chord {chord}");
+            assert_eq!(
+                only_a.disabled[e],
+                ca >= cos45,
+                "g-edge {e}, first strip alone"
+            );
+            by_a += usize::from(ca >= cos45 && cb < cos45);
+            by_b += usize::from(cb >= cos45 && ca < cos45);
+        }
+        assert!(
+            checked > g.edge_count() * 9 / 10,
+            "{checked} of {} checked",
+            g.edge_count()
+        );
+        // Each strip disables nodes the other does not.
+        assert!(by_a > 100 && by_b > 100, "{by_a} / {by_b}");
+        assert!(both.disabled_count() > only_a.disabled_count().max(only_b.disabled_count()));
     }
 
     #[test]
