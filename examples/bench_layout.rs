@@ -54,11 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             engine.graph.memory_bytes() as f64 / 1e6,
             engine.memory_bytes() as f64 / 1e6
         );
-        let repeats: usize = std::env::var("BENCH_REPEATS")
-            .ok()
-            .and_then(|r| r.parse().ok())
-            .unwrap_or(3)
-            .max(1);
+        let repeats = env_count("BENCH_REPEATS", 3);
         if std::env::var_os("BENCH_IDLE").is_some() {
             let t = Instant::now();
             engine.prepare_fields(&[], u64::MAX);
@@ -67,11 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 t.elapsed().as_secs_f64()
             );
         }
-        let queries: usize = std::env::var("BENCH_QUERIES")
-            .ok()
-            .and_then(|r| r.parse().ok())
-            .unwrap_or(200)
-            .max(1);
+        let queries = env_count("BENCH_QUERIES", 200);
         let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
         let mut times = Vec::new();
         let mut costs = Vec::new();
@@ -177,6 +169,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The positive count in environment variable `name`, else `default`.
+fn env_count(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(default)
+        .max(1)
 }
 
 /// Imports `path`, decimated to about `target` faces when given; returns
