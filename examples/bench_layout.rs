@@ -11,7 +11,10 @@
 //! shared; the query is deterministic). `BENCH_REPEATS=1` times each query
 //! once instead, as the design tool meets them: a new vertex each time,
 //! after the previous one's query. `BENCH_VERBOSE=1` lists the slowest
-//! queries with their cost and settled-node count.
+//! queries with their cost and settled-node count. `BENCH_IDLE=1` settles
+//! first, untimed, what the design tool settles in idle time before the
+//! first hover (`LoopEngine::prepare_fields`: the distances from ∂);
+//! `BENCH_QUERIES=n` queries n vertices instead of 200.
 
 use std::time::Instant;
 
@@ -51,11 +54,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             engine.graph.memory_bytes() as f64 / 1e6,
             engine.memory_bytes() as f64 / 1e6
         );
-        let repeats: usize = std::env::var("BENCH_REPEATS")
-            .ok()
-            .and_then(|r| r.parse().ok())
-            .unwrap_or(3)
-            .max(1);
+        let repeats = env_count("BENCH_REPEATS", 3);
+        if std::env::var_os("BENCH_IDLE").is_some() {
+            let t = Instant::now();
+            engine.prepare_fields(&[], u64::MAX);
+            println!(
+                "{name}: idle-time fields {:.2} s (untimed in the queries)",
+                t.elapsed().as_secs_f64()
+            );
+        }
+        let queries = env_count("BENCH_QUERIES", 200);
         let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
         let mut times = Vec::new();
         let mut costs = Vec::new();
@@ -63,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut settled_all = Vec::new();
         let mut anchors = Vec::new();
         let mut results = Vec::new();
-        for _ in 0..200 {
+        for _ in 0..queries {
             let v = (rng.next_u32() as usize) % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
             let mut ms = f64::INFINITY;
@@ -127,7 +135,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         times.sort_by(f64::total_cmp);
         let pct = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
         println!(
-            "  hover best loop, 200 anchors: median {:.2} ms, p95 {:.2} ms, max {:.2} ms; {} found ({} closed loops, the rest dual curves)",
+            "  hover best loop, {} anchors: median {:.2} ms, p95 {:.2} ms, max {:.2} ms; {} found ({} closed loops, the rest dual curves)",
+            queries,
             pct(0.5),
             pct(0.95),
             pct(1.0),
@@ -160,6 +169,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The positive count in environment variable `name`, else `default`.
+fn env_count(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(default)
+        .max(1)
 }
 
 /// Imports `path`, decimated to about `target` faces when given; returns

@@ -124,10 +124,12 @@ function queueAnalysis() {
   analyzer.postMessage({ type: 'analyze', serial, input }, transferables(input));
 }
 
-// Idle time: after an action the distance fields that the loop through the
-// anchors reads (LayoutDesigner.prepareFields) are settled a slice at a
-// time, each slice a task of its own, so that a message waits for one slice
-// at most (a few milliseconds) and the next grab, drag update or click finds
+// Idle time: after the engine is built and after each action the distance
+// fields that the next queries read (LayoutDesigner.prepareFields: those of
+// the loop through the anchors, then the distances from the boundary node ∂
+// that every hover and dual curve reads) are settled a slice at a time, each
+// slice a task of its own, so that a message waits for one slice at most (a
+// few milliseconds) and the next hover, grab, drag update or click finds
 // them settled. The answers do not change, only how soon they come.
 const PREPARE_SLICE = 10000; // g′ nodes per slice
 const idle = new MessageChannel();
@@ -171,6 +173,8 @@ self.onmessage = async (event) => {
         type: 'ready', faces: designer.faceCount(), inputFaces: designer.inputFaceCount(), proxy: designer.usesProxy(),
         buildMs: performance.now() - started, wasmMs, surface,
       }, transferables(surface));
+      // The distances from ∂ (open meshes) in idle time, before the hovers need them.
+      prepareSoon();
     } else if (m.type === 'crash-for-testing') {
       panicForTesting();
     } else if (m.type === 'hold-analysis-for-testing') {

@@ -315,9 +315,10 @@ impl LayoutDesign {
     }
 
     /// Idle time: settles up to `budget` g′ nodes of the distance fields
-    /// the next query through the current anchors reads
-    /// ([`LoopEngine::prepare_fields`]; nothing it answers changes, only
-    /// how soon). Returns whether more remains.
+    /// the next query through the current anchors reads, then of the
+    /// distances from ∂ that hovering reads ([`LoopEngine::prepare_fields`];
+    /// nothing it answers changes, only how soon). Returns whether more
+    /// remains.
     pub fn prepare_fields(&mut self, budget: u64) -> bool {
         self.engine.prepare_fields(&self.state.anchors, budget)
     }

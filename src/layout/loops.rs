@@ -26,7 +26,8 @@
 //!   boundary g-edges per mesh (cached until the covered strips change)
 //!   serves every dual-curve query; it is settled lazily, only as far as
 //!   the queries' cost bounds need (the hover query doubles a radius until
-//!   a dual curve or a loop below it exists).
+//!   a dual curve or a loop below it exists), and fully in the design
+//!   tool's idle time (`prepare_fields`), so that no hover grows it.
 //! - §5.7 connects ∂ to "all g-edges incident to a boundary vertex" (E∂).
 //!   Taken literally, every g-edge within k rings of the boundary is at
 //!   distance 0 from ∂ in both directions, so an anchor near the boundary
@@ -195,6 +196,20 @@ struct Slot {
     state_b: u32,
 }
 
+/// What the labelled search of the hover query knows of `reverse(x)`,
+/// stored at `x`: a loop closes where a relaxed node `y` meets its reverse,
+/// and the successors `y` of a node lie side by side in g′ (the out-edges
+/// of one vertex) while their reverses do not. Reading the meeting at `y`
+/// instead of at `reverse(y)` turns the one scattered read per relaxed arc
+/// into one scattered write per node reached.
+#[derive(Debug, Clone, Copy, Default)]
+struct Mirror {
+    dist: f32,
+    label: u32,
+    /// The generation's `reached` stamp of `reverse(x)`, or older.
+    state: u32,
+}
+
 impl Slot {
     /// Distance and state of the bidirectional search's colour A or B.
     #[inline]
@@ -224,6 +239,9 @@ impl Slot {
 #[derive(Debug, Clone, Default)]
 struct Workspace {
     slot: Vec<Slot>,
+    /// The labelled search's state of each node's *reverse*, written when
+    /// the reverse is reached ([`LoopEngine::best_direction`]).
+    mirror: Vec<Mirror>,
     generation: u32,
     /// The queue of the test-only reference searches (A* keys).
     #[cfg(test)]
@@ -258,6 +276,9 @@ impl Workspace {
                 s.state = 0;
                 s.state_b = 0;
             }
+            for m in &mut self.mirror {
+                m.state = 0;
+            }
             self.generation = 1;
         }
         self.generation
@@ -281,7 +302,8 @@ impl ElasticaGraph {
 
 /// The distances from ∂ (§5.7) of the g′-nodes, by one Dijkstra from all
 /// boundary g-edges that is resumed only as far as the queries need
-/// (`LoopEngine::settle_boundary`); dropped when the covered strips change.
+/// (`LoopEngine::settle_boundary`) or, in idle time, by slices to the end
+/// (`LoopEngine::prepare_fields`); dropped when the covered strips change.
 #[derive(Debug, Clone, Default)]
 struct BoundaryField {
     dist: Vec<f32>,
@@ -712,6 +734,7 @@ impl LoopEngine {
             has_boundary,
             ws: Workspace {
                 slot: vec![Slot::default(); nodes],
+                mirror: vec![Mirror::default(); nodes],
                 ..Workspace::default()
             },
             layered: LayeredWorkspace::default(),
@@ -723,7 +746,7 @@ impl LoopEngine {
     pub fn memory_bytes(&self) -> usize {
         let n = self.graph.node_count();
         self.graph.memory_bytes()
-            + n * (std::mem::size_of::<Slot>() + 1)
+            + n * (std::mem::size_of::<Slot>() + std::mem::size_of::<Mirror>() + 1)
             + self.boundary_field.as_ref().map_or(0, |f| f.dist.len() * 9)
             + self
                 .pair
@@ -995,13 +1018,32 @@ impl LoopEngine {
     /// more anchors, the field of each positional anchor, the last
     /// [`FIELD_CACHE`]), into the cache of recent anchors' fields, so that
     /// the next query (a grab, a drag update, a further click) resumes them
-    /// instead of settling them then. A field is the same whichever call
-    /// settled it so far, so every loop stays the same. Returns whether a
-    /// field is still not fully settled.
+    /// instead of settling them then; then the distances from ∂ (open
+    /// meshes), fully, so that no hover query grows them. A field is the
+    /// same whichever call settled it so far, so every loop stays the same.
+    /// Returns whether a field is still not fully settled.
     pub fn prepare_fields(&mut self, anchors: &[Anchor], budget: u64) -> bool {
-        if anchors.len() < 2 {
-            return false;
+        let mut left = budget;
+        let mut more = false;
+        if anchors.len() >= 2 {
+            (left, more) = self.prepare_anchor_fields(anchors, left);
         }
+        // Then the distances from ∂ (§5.7), read by every hover query and
+        // dual curve: settled fully here, a hover never grows them (the
+        // first hovers far from the boundary used to settle most of g′).
+        if self.has_boundary && left > 0 {
+            self.grow_boundary(f32::INFINITY, left);
+            more |= self
+                .boundary_field
+                .as_ref()
+                .is_none_or(|f| f.radius.is_finite());
+        }
+        more
+    }
+
+    /// The anchors' part of [`Self::prepare_fields`]: returns the budget
+    /// left and whether a field is still not fully settled.
+    fn prepare_anchor_fields(&mut self, anchors: &[Anchor], budget: u64) -> (u64, bool) {
         let mut verts: Vec<usize> = Vec::new();
         for a in anchors.iter().filter(|a| a.direction == DVec3::ZERO) {
             if let Some(v) = self.nearest_vertex(a.position) {
@@ -1028,7 +1070,7 @@ impl LoopEngine {
             more |= f.radius.is_finite();
             self.cache_field(v, f);
         }
-        more
+        (left, more)
     }
 
     /// Puts the fields of [`Self::take_anchor_fields`] back into the cache
@@ -2051,6 +2093,14 @@ impl LoopEngine {
             ws.slot[s].parent = NONE;
             ws.slot[s].label = s as u32;
             ws.slot[s].state = ws.slot[s].state.max(reached);
+            let r = g.reverse[s];
+            if r != NONE {
+                ws.mirror[r as usize] = Mirror {
+                    dist: 0.0,
+                    label: s as u32,
+                    state: reached,
+                };
+            }
             ws.radix.push(0.0f32.to_bits(), s as u32);
         }
         let (start, len) = (row.start, row.len());
@@ -2067,8 +2117,9 @@ impl LoopEngine {
         }
         let mut best = bound;
         let mut found = None;
-        let (slot, heap, effort, close, label_best) = (
+        let (slot, mirror, heap, effort, close, label_best) = (
             &mut ws.slot,
+            &mut ws.mirror,
             &mut ws.radix,
             &mut ws.effort,
             &ws.close,
@@ -2095,10 +2146,10 @@ impl LoopEngine {
                 if nd >= best {
                     return;
                 }
-                let ry = g.reverse[y];
-                if ry != NONE && slot[ry as usize].state >= reached {
-                    // The closing arc reverse(label(ry)) → lx.
-                    let r = &slot[ry as usize];
+                let r = mirror[y];
+                if r.state >= reached {
+                    // reverse(y) is reached: the closing arc
+                    // reverse(label(reverse(y))) → lx.
                     let c = nd + r.dist + close_col[(r.label as usize - start) * len];
                     let lb = &mut label_best[lx as usize - start];
                     *lb = lb.min(c);
@@ -2114,6 +2165,14 @@ impl LoopEngine {
                     slot[y].dist = nd;
                     slot[y].parent = x as u32;
                     slot[y].label = lx;
+                    let ry = g.reverse[y];
+                    if ry != NONE {
+                        mirror[ry as usize] = Mirror {
+                            dist: nd,
+                            label: lx,
+                            state: reached,
+                        };
+                    }
                     heap.push(nd.to_bits(), y as u32);
                 }
             });
@@ -2251,8 +2310,16 @@ impl LoopEngine {
     /// Settles the distances from ∂ of every node closer than `bound`
     /// (resuming the cached Dijkstra; all of them for an infinite bound).
     fn settle_boundary(&mut self, bound: f32) {
-        if !self.has_boundary {
-            return;
+        self.grow_boundary(bound, u64::MAX);
+    }
+
+    /// [`Self::settle_boundary`] stopped after `budget` settled nodes (the
+    /// idle-time slices of [`Self::prepare_fields`]); returns how many it
+    /// settled. Whichever slices settled it, the field below its radius is
+    /// the same Dijkstra's.
+    fn grow_boundary(&mut self, bound: f32, budget: u64) -> u64 {
+        if !self.has_boundary || budget == 0 {
+            return 0;
         }
         let g = &self.graph.g;
         let nodes = self.graph.node_count();
@@ -2289,10 +2356,11 @@ impl LoopEngine {
             radius,
         } = field;
         if bound <= *radius {
-            return;
+            return 0;
         }
         let mut cap = bound;
-        settle(heap, &mut cap, true, |x, heap, _| {
+        let mut left = budget;
+        let effort = settle(heap, &mut cap, true, |x, heap, cap| {
             let x = x as usize;
             if settled[x] {
                 return false;
@@ -2310,13 +2378,28 @@ impl LoopEngine {
                     heap.push(nd.to_bits(), y as u32);
                 }
             });
+            left -= 1;
+            if left == 0 {
+                // Out of budget: stop at the next entry (put back).
+                *cap = f32::NEG_INFINITY;
+            }
             true
         });
-        *radius = if heap.is_empty() {
-            f32::INFINITY
-        } else {
-            bound
-        };
+        // Every entry below the next key has been popped, so every node
+        // closer than it (and, unless the budget ran out, than `bound`) is
+        // settled.
+        match heap.pop() {
+            Some((k, x)) => {
+                heap.push(k, x);
+                let reached = if left > 0 { bound } else { f32::from_bits(k) };
+                *radius = radius.max(reached);
+            }
+            None => {
+                *heap = RadixHeap::default();
+                *radius = f32::INFINITY;
+            }
+        }
+        effort
     }
 
     /// Seed … `node` along the boundary field's parents.
@@ -3155,6 +3238,104 @@ mod tests {
         }
         assert!(slices > 10);
         assert!((0..nodes).all(|x| sliced.value(x) == full.value(x)));
+    }
+
+    /// §6.2 where strips overlap: a vertex covered by two strips keeps
+    /// both directions' constraints, not only the first strip's. Checked on
+    /// a plane against the g-edges' chord directions (independent of the
+    /// engine's angle tables).
+    #[test]
+    fn overlapping_strips_keep_every_strips_direction_constraint() {
+        let mesh = flat_grid(1.0, 12);
+        let n = mesh.vertex_count();
+        let dir = |deg: f64| DVec3::new(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+        let (a, b) = (dir(10.0), dir(70.0));
+        let disabled_with = |covered: &[DVec3]| {
+            let mut e = LoopEngine::new(&mesh, &ElasticaParams::default());
+            e.set_covered(&vec![covered.to_vec(); n]);
+            e
+        };
+        let both = disabled_with(&[a, b]);
+        let (only_a, only_b) = (disabled_with(&[a]), disabled_with(&[b]));
+        let g = &both.graph.g;
+        let cos45 = std::f64::consts::FRAC_1_SQRT_2;
+        let (mut checked, mut by_a, mut by_b) = (0, 0, 0);
+        for e in 0..g.edge_count() {
+            let (v, w) = (g.source[e] as usize, g.target[e] as usize);
+            let chord = (g.mesh.positions[w] - g.mesh.positions[v]).normalize();
+            let (ca, cb) = (chord.dot(a).abs(), chord.dot(b).abs());
+            // Chords within half a degree of 45° from a direction are
+            // left out (rounding decides them).
+            let tie = |c: f64| (c.acos().to_degrees() - 45.0).abs() < 0.5;
+            if tie(ca) || tie(cb) {
+                continue;
+            }
+            checked += 1;
+            let expected = ca >= cos45 || cb >= cos45;
+            assert_eq!(both.disabled[e], expected, "g-edge {e}: chord {chord}");
+            assert_eq!(
+                only_a.disabled[e],
+                ca >= cos45,
+                "g-edge {e}, first strip alone"
+            );
+            by_a += usize::from(ca >= cos45 && cb < cos45);
+            by_b += usize::from(cb >= cos45 && ca < cos45);
+        }
+        assert!(
+            checked > g.edge_count() * 9 / 10,
+            "{checked} of {} checked",
+            g.edge_count()
+        );
+        // Each strip disables nodes the other does not.
+        assert!(by_a > 100 && by_b > 100, "{by_a} / {by_b}");
+        assert!(both.disabled_count() > only_a.disabled_count().max(only_b.disabled_count()));
+    }
+
+    #[test]
+    fn a_boundary_field_prepared_by_slices_is_the_eager_one_below_its_radius() {
+        // Independent check, as for the anchors' fields: after every idle
+        // slice (no anchors: only the distances from ∂), each settled node
+        // is at the distance of a field settled in one go and every
+        // unsettled one at least the radius away; the slices end with the
+        // whole field, and the hover answers equal the eager engine's.
+        for (mesh, slice) in [
+            (cylinder(1.0, 3.0, 24, 12), 1u64),
+            (cylinder(1.0, 3.0, 24, 12), 997),
+            (flat_grid(1.0, 12), 4_000),
+        ] {
+            let mut eager = LoopEngine::new(&mesh, &ElasticaParams::default());
+            eager.settle_boundary(f32::INFINITY);
+            let mut idle = LoopEngine::new(&mesh, &ElasticaParams::default());
+            let nodes = idle.graph.node_count();
+            let full = eager.boundary_field.as_ref().expect("an eager field");
+            let mut slices = 0;
+            while idle.prepare_fields(&[], slice) {
+                slices += 1;
+                let f = idle.boundary_field.as_ref().expect("a field");
+                for x in 0..nodes {
+                    if f.settled[x] {
+                        assert_eq!(f.dist[x], full.dist[x], "node {x}, slice {slices}");
+                    } else {
+                        assert!(full.dist[x] >= f.radius, "node {x} below the radius");
+                    }
+                }
+                assert!(slices <= nodes, "slices never end");
+            }
+            assert!(slice > 1 || slices > 100, "{slices} slices of one node");
+            let f = idle.boundary_field.as_ref().expect("a field");
+            assert_eq!(f.radius, f32::INFINITY);
+            assert!((0..nodes).all(|x| f.dist[x] == full.dist[x]));
+            let n = mesh.vertex_count();
+            for v in (0..n).step_by(n / 10) {
+                let p = idle.vertex_position(v);
+                let (a, b) = (idle.best_loop(p), eager.best_loop(p));
+                assert_eq!(
+                    a.map(|l| (l.cost, l.closed)),
+                    b.map(|l| (l.cost, l.closed)),
+                    "vertex {v}"
+                );
+            }
+        }
     }
 
     #[test]

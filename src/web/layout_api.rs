@@ -271,8 +271,9 @@ impl LayoutDesigner {
     }
 
     /// Idle time (between messages): settles a slice of `budget` g′ nodes
-    /// of the distance fields the next grab, drag update or click reads;
-    /// returns whether more remains. Changes no answer, only its time.
+    /// of the distance fields the next grab, drag update or click reads,
+    /// then of the distances from ∂ every hover reads; returns whether more
+    /// remains. Changes no answer, only its time.
     #[wasm_bindgen(js_name = prepareFields)]
     pub fn prepare_fields(&mut self, budget: u32) -> bool {
         self.design.prepare_fields(budget as u64)

@@ -19,7 +19,7 @@
 //   BENCH_BACKEND=webgl2|webgpu (default webgl2)
 //   BENCH_ACTION_TIMEOUT=s  an action still unanswered after s seconds (default 30) counts as a
 //   timeout (∞ in the percentiles); the layout worker is then restarted and the next trial begins.
-// Writes target/bench/design.json.
+// Writes target/bench/design.json (with each hover's latency and worker time: hoverRaw).
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import {
@@ -175,7 +175,7 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, restarts, actions: {} };
+  const result = { sample, ...info, restarts, actions: {}, hoverRaw: { latency: runs.hover, worker: worker.hover } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
 }

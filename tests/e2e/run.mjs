@@ -575,6 +575,66 @@ test('design mode: hovering draws the best loop fast; wheel, click, drag and gra
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+// §8.1: four anchors on the torus clicked in bow-tie order (the loop through
+// them must cross itself): the crossing is reported, drawn and named in the
+// status line. Checked independently: at each reported point two
+// non-neighbouring segments of the drawn proposal pass, and it lies on the
+// torus (major radius 2, minor 0.7 in the file; the page's coordinates are
+// centred with the largest axis, 5.4, scaled to 1).
+test('design mode: a self-crossing loop through anchors is detected and shown', async (env) => {
+  const { page, errors } = await open(env, 'sample=torus');
+  await waitForRun(page, 'torus.obj');
+  await enterDesign(page);
+  const hits = await surfaceGrid(page, 6);
+  const k = 1 / 5.4;
+  const at = (a, b) => { const ring = 2 + 0.7 * Math.cos(b); return [k * ring * Math.cos(a), k * ring * Math.sin(a), k * 0.7 * Math.sin(b)]; };
+  const d2 = (p, q) => (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
+  const nearest = (q) => hits.reduce((best, h) => (d2(h.p, q) < d2(best.p, q) ? h : best), hits[0]);
+  // The bow tie around an angle of the torus that the view shows.
+  let clicks = null;
+  for (const b0 of [0, Math.PI / 2, -Math.PI / 2]) {
+    for (let a0 = 0; a0 < 2 * Math.PI && !clicks; a0 += Math.PI / 4) {
+      const targets = [[-0.2, 0.4], [0.2, -0.4], [0.2, 0.4], [-0.2, -0.4]].map(([da, db]) => at(a0 + da, b0 + db));
+      const found = targets.map(nearest);
+      if (found.every((h, i) => d2(h.p, targets[i]) < (0.08 * k) ** 2)) clicks = found;
+    }
+  }
+  assert(clicks, 'the view shows a bow tie of anchors on the torus');
+  for (const [i, c] of clicks.entries()) {
+    await page.mouse.click(c.x, c.y);
+    await page.waitForFunction((n) => window.quadrille.design.state.anchors.length === 3 * n, i + 1, DESIGN_WAIT);
+  }
+  await page.waitForFunction(() => window.quadrille.design.actionsSent === window.quadrille.design.actionsAnswered, null, DESIGN_WAIT);
+  const s = await page.evaluate(() => ({ crossings: [...window.quadrille.design.state.selfCrossings],
+    angles: [...window.quadrille.design.state.selfCrossingAngles], proposal: [...window.quadrille.design.proposal],
+    status: document.getElementById('status').textContent }));
+  const n = s.crossings.length / 3;
+  console.log(`      [${env.backend}] torus bow tie: ${n} self-crossing(s), angles ${s.angles.map((a) => a.toFixed(1)).join(', ')}°`);
+  assert(n >= 1, 'the bow-tie loop crosses itself');
+  assert(/crosses itself/.test(s.status), `the status asks to adjust: ${s.status}`);
+  const seg = (i) => [s.proposal.slice(3 * i, 3 * i + 3), s.proposal.slice(3 * i + 3, 3 * i + 6)];
+  const segDist2 = ([a, b], p) => {
+    const ab = [0, 1, 2].map((k) => b[k] - a[k]);
+    const len2 = ab.reduce((t, x) => t + x * x, 0);
+    const t = len2 > 0 ? Math.max(0, Math.min(1, [0, 1, 2].reduce((u, k) => u + (p[k] - a[k]) * ab[k], 0) / len2)) : 0;
+    return d2(p, [0, 1, 2].map((k) => a[k] + ab[k] * t));
+  };
+  const segments = s.proposal.length / 3 - 1;
+  for (let c = 0; c < n; c++) {
+    const p = s.crossings.slice(3 * c, 3 * c + 3);
+    const onTorus = Math.hypot(Math.hypot(p[0], p[1]) / k - 2, p[2] / k) - 0.7;
+    assert(Math.abs(onTorus) < 0.05, `crossing ${c} lies on the torus (off by ${onTorus})`);
+    const close = [];
+    for (let i = 0; i < segments; i++) if (segDist2(seg(i), p) < (0.03 * k) ** 2) close.push(i);
+    const apart = close.some((i) => close.some((j) => Math.min(Math.abs(i - j), segments - Math.abs(i - j)) > 3));
+    assert(apart, `two separate passes of the loop meet at crossing ${c} (segments ${close})`);
+  }
+  // Escape drops the anchors, and with them the crossings.
+  await page.keyboard.press('Escape');
+  await page.waitForFunction(() => window.quadrille.design.state.anchors.length === 0 && window.quadrille.design.state.selfCrossings.length === 0, null, DESIGN_WAIT);
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('design mode: three loops on the torus give strips and a valid layout; undo restores; a vertex drags; the export parses', async (env) => {
   const { page, errors } = await open(env, 'sample=torus');
   await waitForRun(page, 'torus.obj');
