@@ -174,6 +174,10 @@ pub struct RemeshParams {
     /// and unchanged on the other four; the mean distance output → input
     /// 4–17 % lower on seven, the cow's 12 % higher.
     pub least_squares_placement: bool,
+    /// The global mode's boundary-loop separation
+    /// ([`crate::param::Params::loop_separation`]): target edges across
+    /// the narrowest strip between two boundary loops; 0 turns it off.
+    pub loop_separation: f64,
 }
 
 impl Default for RemeshParams {
@@ -186,6 +190,7 @@ impl Default for RemeshParams {
             conformal_scale: map.conformal_scale,
             count_correction: true,
             least_squares_placement: false,
+            loop_separation: map.loop_separation,
         }
     }
 }

@@ -265,6 +265,14 @@ pub struct Params {
     /// flipped triangles 76 → 79; fandisk, rocker-arm and spot are
     /// unchanged (their translations follow from the cones).
     pub batch_fraction: f64,
+    /// Target edges across the narrowest strip between two boundary
+    /// loops: the map's target edge is capped at the strip's width over
+    /// this, graded like the thin-part cap
+    /// ([`crate::analysis::thickness::loop_gap_cap`]), so the loops'
+    /// isolines round to different integers and the strip between them
+    /// keeps its quads. 0 turns it off. Default 2 (each isoline moves by
+    /// at most half a unit in the rounding).
+    pub loop_separation: f64,
 }
 
 impl Default for Params {
@@ -288,6 +296,7 @@ impl Default for Params {
             cyclic_constraints: true,
             round: true,
             batch_fraction: 0.5,
+            loop_separation: 2.0,
         }
     }
 }
@@ -322,6 +331,7 @@ impl Params {
             feature_curve_degrees: p.remesh.feature_curve_degrees,
             stiffening: p.remesh.stiffening,
             conformal_scale: p.remesh.conformal_scale,
+            loop_separation: p.remesh.loop_separation,
             ..Params::default()
         }
     }
@@ -409,6 +419,10 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         }
         None => face_sigma_from_sizing(mesh, &analysis.sizing.edge_length, 1.0),
     };
+    // The boundary's tangents at the scale of the field itself (a strip's
+    // cap below is about the distance between loops, not their shape).
+    let boundary_sizing = face_sizing.clone();
+    let face_sizing = cap_loop_gaps(mesh, &analysis, face_sizing, params.loop_separation);
     let filtering = clock();
     let normals = if params.filtered_normals {
         let sigma: Vec<f64> = face_sizing
@@ -436,7 +450,7 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         .collect();
     let filtered_ms = clock() - filtering;
     let topology = EdgeTopology::new(mesh);
-    let boundary_tangents = boundary::boundary_tangents(mesh, &topology, &face_sizing);
+    let boundary_tangents = boundary::boundary_tangents(mesh, &topology, &boundary_sizing);
     let fans = vertex_fans(mesh, &topology);
     let regions = matches!(params.alignment, Alignment::SmoothRegions | Alignment::Both)
         .then(|| smooth_regions(mesh, &analysis.curvature, &params.smooth_regions));
@@ -460,6 +474,33 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         boundary_tangents,
     };
     (prepared, filtered_ms)
+}
+
+/// S(f) capped where two boundary loops are close
+/// ([`Params::loop_separation`]): the mean of the face's corners' caps.
+fn cap_loop_gaps(
+    mesh: &TriMesh,
+    analysis: &SurfaceAnalysis,
+    mut face_sizing: Vec<f64>,
+    separation: f64,
+) -> Vec<f64> {
+    let cap = analysis::thickness::loop_gap_cap(
+        mesh,
+        &analysis.adjacency,
+        &analysis.sizing.edge_length,
+        separation,
+        analysis::thickness::FLOOR,
+        SizingParams::default().thin_part_gradation,
+    );
+    if let Some(cap) = cap {
+        for (s, t) in face_sizing.iter_mut().zip(&mesh.triangles) {
+            let c = t.iter().map(|&v| cap[v as usize]).sum::<f64>() / 3.0;
+            if c.is_finite() && c > 0.0 {
+                *s = s.min(c);
+            }
+        }
+    }
+    face_sizing
 }
 
 /// The feature-curve edges: interior edges whose faces' normals differ by
