@@ -127,8 +127,7 @@ ROWS = {
     "global - conformal scale": ("default", {"remesh": {"mode": "global", "conformal_scale": 0}}),
     "global - loop separation": ("default", {"remesh": {"mode": "global", "loop_separation": 0}}),
     "global loop separation 3": ("default", {"remesh": {"mode": "global", "loop_separation": 3}}),
-    "global loop separation 4": ("default", {"remesh": {"mode": "global", "loop_separation": 4}}),
-    "global loop separation 5": ("default", {"remesh": {"mode": "global", "loop_separation": 5}}),
+    "global loop separation 2": ("default", {"remesh": {"mode": "global", "loop_separation": 2}}),
     # The global mode with the thin-part cap (issue 19: the cow's legs).
     "global + thin parts (3 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 3}}),
     "global + thin parts (5 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 5}}),
@@ -245,7 +244,7 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept", "default - least-squares placement",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
-              "global loop separation 4")
+              "global loop separation 2")
 
 
 def reordered_copy(src, dst, seed):

@@ -44,6 +44,11 @@ use crate::spatial::SurfaceIndex;
 /// rest of the surface. 0.35 allows about 8× the surrounding density.
 pub const FLOOR: f64 = 0.35;
 
+/// Boundary loops shorter than this many target edges get no loop-gap
+/// cap ([`loop_gap_cap`]): a quad's perimeter, the shortest hole a quad
+/// mesh keeps.
+pub const MIN_LOOP_EDGES: f64 = 4.0;
+
 /// Rays per vertex: the inward normal and a ring around it.
 const RING: usize = 6;
 /// The ring's angle from the inward normal (Shapira et al. use a 120° cone;
@@ -204,9 +209,6 @@ pub fn boundary_loop_gap(
             heap.push((Reverse(OrdF64(0.0)), v, l));
         }
     }
-    if arcs.length.len() < 2 {
-        return vec![f64::INFINITY; n];
-    }
     while let Some((Reverse(OrdF64(d)), v, l)) = heap.pop() {
         if !best[v].contains(&(d, l)) {
             continue;
@@ -223,8 +225,9 @@ pub fn boundary_loop_gap(
 }
 
 /// The boundary-loop cap: `max(gap / separation, floor · edge_length)`
-/// where that is below `edge_length` ([`boundary_loop_gap`]), graded as
-/// [`thin_part_cap`]. `None` when no vertex is capped.
+/// where that is below `edge_length` ([`boundary_loop_gap`] between the
+/// loops at least [`MIN_LOOP_EDGES`] long), graded as [`thin_part_cap`].
+/// `None` when no vertex is capped.
 pub fn loop_gap_cap(
     mesh: &TriMesh,
     adjacency: &VertexAdjacency,
@@ -236,7 +239,28 @@ pub fn loop_gap_cap(
     if !(separation.is_finite() && separation > 0.0) {
         return None;
     }
-    let arcs = BoundaryArcs::new(mesh);
+    // Only loops at least one quad's perimeter long (4 target edges, by
+    // the field's mean length on them): a shorter one is below the
+    // target scale, and the map closes it as it drops any detail there.
+    let mut arcs = BoundaryArcs::new(mesh);
+    let mut sum = vec![(0.0, 0usize); arcs.length.len()];
+    for (v, &l) in arcs.loop_of.iter().enumerate() {
+        if let (Some(acc), Some(&s)) = (sum.get_mut(l as usize), edge_length.get(v)) {
+            acc.0 += s;
+            acc.1 += 1;
+        }
+    }
+    let short: Vec<bool> = arcs
+        .length
+        .iter()
+        .zip(&sum)
+        .map(|(&len, &(s, k))| k == 0 || len * k as f64 / s < MIN_LOOP_EDGES)
+        .collect();
+    for l in &mut arcs.loop_of {
+        if short.get(*l as usize).copied().unwrap_or(false) {
+            *l = u32::MAX;
+        }
+    }
     let gap = boundary_loop_gap(mesh, adjacency, &arcs);
     let seeds: Vec<f64> = gap
         .iter()
@@ -366,6 +390,10 @@ mod tests {
         let cap = loop_gap_cap(&mesh, &adjacency, &s, 2.0, 0.0, 0.5).expect("capped");
         assert!((cap[10 * 21 + 9] - 1.0).abs() < 1e-12);
         assert!(cap[2 * 21 + 2] >= 1.5 || cap[2 * 21 + 2].is_infinite());
+        // Holes shorter than a quad's perimeter (14 units at a field of
+        // 5: 2.8 edges) are no sources: only the outer loop is left.
+        let coarse = vec![5.0; mesh.positions.len()];
+        assert!(loop_gap_cap(&mesh, &adjacency, &coarse, 2.0, 0.0, 0.5).is_none());
         // One loop: no gap anywhere.
         let sheet = crate::mesh::generate::grid_cells(6, |_, _| true);
         let adjacency = VertexAdjacency::new(&sheet);
