@@ -244,7 +244,7 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept", "default - least-squares placement",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
-              "global loop separation 2")
+              "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
 
 
 def reordered_copy(src, dst, seed):

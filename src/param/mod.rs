@@ -528,7 +528,8 @@ fn cap_loop_gaps(
         .filter(|&v| cap[v] < s[v])
         .map(|v| density(v, cap[v]) - density(v, s[v]))
         .sum();
-    if !(extra <= crate::pipeline::COUNT_TOLERANCE * count) {
+    let within = extra <= crate::pipeline::COUNT_TOLERANCE * count;
+    if !within {
         return face_sizing;
     }
     for (x, t) in face_sizing.iter_mut().zip(&mesh.triangles) {
