@@ -25,9 +25,11 @@
 //! their isolines less than a unit apart, the rounding gives them one
 //! integer, and the strip collapses: the holes merge (the bunny's two
 //! bottom holes, perimeters 13 and 14 target edges, 1.04 edges apart). The
-//! cap makes the strip at least `separation` target edges wide in the
+//! cap asks for the strip to be `separation` target edges wide in the
 //! map; each of its two isolines moves by at most half a unit in the
-//! rounding, so with 2 they stay at least a unit apart. The same graded
+//! rounding, so 2 would keep them a unit apart if the map followed the
+//! cap exactly (it follows it only in part: the default is 4,
+//! `param::Params::loop_separation` has the figures). The same graded
 //! Dijkstra ([`graded_cap`]) spreads it.
 
 use std::cmp::Reverse;
@@ -241,7 +243,8 @@ pub fn loop_gap_cap(
     }
     // Only loops at least one quad's perimeter long (4 target edges, by
     // the field's mean length on them): a shorter one is below the
-    // target scale, and the map closes it as it drops any detail there.
+    // target scale, and refining around it would spend the budget on
+    // detail the quads cannot keep.
     let mut arcs = BoundaryArcs::new(mesh);
     let mut sum = vec![(0.0, 0usize); arcs.length.len()];
     for (v, &l) in arcs.loop_of.iter().enumerate() {
