@@ -123,7 +123,7 @@ pub struct SizingParams {
     /// 10.4 → 23.9 / 29.3 % (27.2 %), spot 17.6 → 20.1 / 22.1 % (29.4 %).
     /// (At the default target the cow's legs are about 1.1 target edges
     /// round; the cap's floor, [`crate::analysis::thickness::FLOOR`],
-    /// allows 4 edges round them at 8.)
+    /// allows about 3 round them.)
     pub thin_part_edges: f64,
     /// Growth of the thin-part cap per unit of surface distance away from
     /// the thin part (a Lipschitz bound on the cap). Default 0.5.
