@@ -125,6 +125,13 @@ ROWS = {
     "global x4 - feature curves": ("default", {"remesh": {"mode": "global", "feature_curve_degrees": 0}}, 4),
     "global - stiffening": ("default", {"remesh": {"mode": "global", "stiffening": 0}}),
     "global - conformal scale": ("default", {"remesh": {"mode": "global", "conformal_scale": 0}}),
+    "global - loop separation": ("default", {"remesh": {"mode": "global", "loop_separation": 0}}),
+    "global loop separation 3": ("default", {"remesh": {"mode": "global", "loop_separation": 3}}),
+    "global loop separation 2": ("default", {"remesh": {"mode": "global", "loop_separation": 2}}),
+    # The global mode with the thin-part cap (issue 19: the cow's legs).
+    "global + thin parts (3 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 3}}),
+    "global + thin parts (5 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 5}}),
+    "global + thin parts (8 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 8}}),
     "global + least-squares placement": ("default", {"remesh": {"mode": "global",
                                                                 "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
@@ -236,7 +243,8 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
               "default - cap vertices kept", "default - least-squares placement",
-              "global + least-squares placement")
+              "global + least-squares placement", "global - loop separation", "global loop separation 3",
+              "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
 
 
 def reordered_copy(src, dst, seed):

@@ -111,6 +111,19 @@ pub struct SizingParams {
     /// 0.168 → 0.144, but beetle 0.093 → 0.138 and fandisk 0.025 → 0.038;
     /// EV % teapot 44.5 → 52.9, cow 28.0 → 49.5, spot 31.2 → 44.0; corner
     /// deviation cow 15.7 → 23.9°, spot 14.8 → 17.8°.
+    ///
+    /// In the global mode (the map's S(f) follows the capped field) it
+    /// also stays off: it brings the cow's legs and spot's horns back but
+    /// costs the quads' shape beyond Instant Meshes'. Medians over 5
+    /// vertex orders at the default target (`scripts/quality.py`, rows
+    /// global → global + thin parts (5 edges) / (8 edges); Instant Meshes
+    /// in brackets): Hausdorff cow 0.195 → 0.191 / 0.109 (0.115), spot
+    /// 0.125 → 0.095 / 0.090 (0.110); but corner deviation cow 7.5° →
+    /// 13.9° / 17.2° (11.6°), spot 9.4° → 11.5° / 11.5° (9.8°), EV cow
+    /// 10.4 → 23.9 / 29.3 % (27.2 %), spot 17.6 → 20.1 / 22.1 % (29.4 %).
+    /// (At the default target the cow's legs are about 1.1 target edges
+    /// round; the cap's floor, [`crate::analysis::thickness::FLOOR`],
+    /// allows about 3 round them.)
     pub thin_part_edges: f64,
     /// Growth of the thin-part cap per unit of surface distance away from
     /// the thin part (a Lipschitz bound on the cap). Default 0.5.

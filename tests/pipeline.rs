@@ -249,6 +249,10 @@ fn each_mode_re_runs_only_what_depends_on_the_changed_parameter() {
         Some(Stage::Parametrization)
     );
     assert_eq!(
+        changed(&|p| p.remesh.loop_separation = 0.0),
+        Some(Stage::Parametrization)
+    );
+    assert_eq!(
         changed(&|p| p.sizing.target_vertex_count = Some(100)),
         Some(Stage::Analysis)
     );

@@ -7,7 +7,7 @@ mod common;
 
 use glam::DVec3;
 use quadrille::extract::qex::{self, Quadrangulation};
-use quadrille::mesh::generate::{cylinder, flat_grid, icosphere, torus};
+use quadrille::mesh::generate::{cylinder, flat_grid, grid_cells, icosphere, torus};
 use quadrille::mesh::{PolyMesh, TriMesh};
 use quadrille::param::{self, Params};
 use quadrille::sizing::EdgeLengthMethod;
@@ -384,4 +384,52 @@ fn a_small_handle_is_dropped_at_a_coarse_target_and_kept_at_a_fine_one() {
             "at {vertices} vertices"
         );
     }
+}
+
+/// Two holes in a sheet, their strip narrower than a target edge (as the
+/// bunny's two bottom holes, 1.04 edges apart): both stay holes of their
+/// own. The strip's boundary isolines would round onto one integer and the
+/// strip collapse (`Params::loop_separation` off: the holes merge, checked
+/// below so that the case is a real one); the loop-gap cap widens the
+/// strip in the map.
+#[test]
+fn two_close_holes_stay_two_loops() {
+    // Holes of radius 5 cells, 2 cells apart; a target edge of about 3
+    // cells (the strip is 0.7 edges wide, the holes' perimeters 10 edges).
+    let (n, r) = (72usize, 5.0f64);
+    let centres = [(30.0f64, 36.0f64), (42.0, 36.0)];
+    let mesh = grid_cells(n, |i, j| {
+        let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
+        centres.iter().all(|&(cx, cy)| (x - cx).hypot(y - cy) > r)
+    });
+    let loops = |params: &Params| {
+        let (_, q) = quads(&mesh, params);
+        assert_pure_quads(&q.mesh);
+        // Output loops by where they are: the outer square's and each hole's.
+        let m = &q.mesh;
+        let mut around = [0usize; 3];
+        for l in m.boundary_loops() {
+            let pts: Vec<DVec3> = m
+                .loop_from(l)
+                .map(|h| m.positions[m.origin(h) as usize])
+                .collect();
+            let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+            println!("loop of {} vertices around {c:?}", pts.len());
+            if pts.iter().any(|p| p.x < 2.0 || p.x > n as f64 - 2.0) {
+                around[0] += 1;
+            } else if c.x < 33.0 {
+                around[1] += 1;
+            } else if c.x > 39.0 {
+                around[2] += 1;
+            }
+        }
+        (m.boundary_loops().len(), around)
+    };
+    let mut params = uniform(560);
+    let kept = loops(&params);
+    params.loop_separation = 0.0;
+    let merged = loops(&params);
+    println!("with the cap {kept:?}, without {merged:?}");
+    assert_eq!(kept, (3, [1, 1, 1]), "outer square and two holes");
+    assert!(merged.0 < 3, "without the cap the holes merge: {merged:?}");
 }
