@@ -31,8 +31,15 @@ fn keep(mesh: &TriMesh, keep: impl Fn(DVec3) -> bool) -> TriMesh {
 /// Runs the default pipeline; returns the input (local frame), the output
 /// and the global edge length.
 fn remesh(input: Imported) -> (TriMesh, PolyMesh, f64) {
+    let (mesh, out, s, _) = remesh_with(input, Params::default());
+    (mesh, out, s)
+}
+
+/// [`remesh`] with `params`, also returning how many input holes the
+/// post-processing opened again.
+fn remesh_with(input: Imported, params: Params) -> (TriMesh, PolyMesh, f64, usize) {
     let mesh = input.mesh.clone();
-    let mut p = Pipeline::new(input, Params::default());
+    let mut p = Pipeline::new(input, params);
     p.run(&mut |_, _, _| true, &mut |_, _| {}, &|| 0.0).unwrap();
     let s = p
         .analysis
@@ -42,7 +49,13 @@ fn remesh(input: Imported) -> (TriMesh, PolyMesh, f64) {
         .sizing
         .context
         .global_edge_length;
-    (mesh, p.postprocess.as_ref().unwrap().mesh().clone(), s)
+    let post = p.postprocess.as_ref().unwrap();
+    (
+        mesh,
+        post.mesh().clone(),
+        s,
+        post.result.report.input_holes_reopened,
+    )
 }
 
 /// Distance from `p` to the segment `a`–`b`.
@@ -225,24 +238,9 @@ fn holes_narrower_than_a_face_are_opened() {
         })
     });
     let run = |reopen: bool| {
-        let mut p = Pipeline::new(imported(&holed), Params::default());
-        p.params.extraction.post.reopen_input_holes = reopen;
-        p.run(&mut |_, _, _| true, &mut |_, _| {}, &|| 0.0).unwrap();
-        let s = p
-            .analysis
-            .as_ref()
-            .unwrap()
-            .surface
-            .sizing
-            .context
-            .global_edge_length;
-        let post = p.postprocess.as_ref().unwrap();
-        (
-            p.input.mesh.clone(),
-            post.mesh().clone(),
-            s,
-            post.result.report.input_holes_reopened,
-        )
+        let mut params = Params::default();
+        params.extraction.post.reopen_input_holes = reopen;
+        remesh_with(imported(&holed), params)
     };
     let (input, closed, _, _) = run(false);
     let before = quadrille::metrics::preservation_metrics(&closed, &input);
