@@ -2,7 +2,9 @@
 //! strips, regions and primal layout of Campen & Kobbelt 2014 (*Dual Strip
 //! Weaving*, §4.2, §6, §7; [`layout_glue::analyze_loops`]) of the committed
 //! loops, in a worker of its own so that the layout worker's hover, clicks
-//! and Enter never wait for it. The layout worker hands it the committed
+//! and Enter never wait for it. The layout worker hands it the design mesh
+//! once ([`super::layout_api::LayoutDesigner::take_analysis_meshes`]: no
+//! second import or decimation), then the committed
 //! loops ([`super::layout_api::LayoutDesigner::take_analysis_input`]) and
 //! applies the covered directions (§6.2) it returns when they are still
 //! current.

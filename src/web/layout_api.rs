@@ -436,8 +436,6 @@ impl LayoutDesigner {
             && self.design.apply_covered(revision as u64, &covered)
     }
 
-    /// The design mesh as flat arrays (positions xyz, triangles), for the
-    /// page to draw per-face colourings of the proxy.
     /// What the analysis worker needs, made here once so that it neither
     /// imports nor decimates the file again: `{ positions: Float64Array,
     /// triangles: Uint32Array }` of the design mesh (xyz, vertex triples),
@@ -481,6 +479,8 @@ impl LayoutDesigner {
         Ok(out)
     }
 
+    /// The design mesh as flat arrays (positions xyz, triangles), for the
+    /// page to draw per-face colourings of the proxy.
     pub fn surface(&self) -> Result<Object, JsError> {
         let out = Object::new();
         let positions: Vec<f32> = self
