@@ -1,7 +1,7 @@
 //! The viewer's pick (the surface point under the pointer, on every hover in
 //! the design mode) goes through a BVH; it must answer what testing every
 //! triangle answers, on real meshes: the bunny (curved, fine) and fandisk
-//! (large flat faces, some in axis-aligned planes, whose boxes are flat).
+//! (large flat faces).
 
 mod common;
 
