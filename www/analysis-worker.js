@@ -3,9 +3,10 @@
 // of the committed loops, away from the layout worker so that hover, clicks
 // and Enter never wait for it. Started by the layout worker.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name, latest: SharedArrayBuffer | null,
-//                  hold: SharedArrayBuffer | null }   hold (tests): while 1, a running analysis waits
-//                  at its first step (after posting 'held')
+// Messages in:   { type: 'init', meshes, latest: SharedArrayBuffer | null, hold: SharedArrayBuffer | null }
+//                  meshes: LayoutDesigner.takeAnalysisMeshes() (the design mesh, made once in the
+//                  layout worker, the input when that is a proxy, the file's frame); hold (tests):
+//                  while 1, a running analysis waits at its first step (after posting 'held')
 //                { type: 'analyze', serial, input }   input: LayoutDesigner.takeAnalysisInput()
 //                { type: 'export' | 'grid' | 'fit', id, serial, format?, counts? }
 //                                                     the page's requests (see layout-worker.js), for
@@ -113,7 +114,8 @@ self.onmessage = async (event) => {
     latest = m.latest ? new Int32Array(m.latest) : null;
     hold = m.hold ? new Int32Array(m.hold) : null;
     try {
-      analyzer = new LayoutAnalyzer(new Uint8Array(m.bytes), m.name);
+      const g = m.meshes;
+      analyzer = new LayoutAnalyzer(g.positions, g.triangles, g.originalPositions, g.originalTriangles, g.frame);
     } catch (error) {
       self.postMessage({ type: 'error', serial: null, message: String((error && error.message) || error), fatal: false });
     }

@@ -108,7 +108,8 @@ function startAnalyzer() {
   analyzer.onerror = (e) => {
     self.postMessage({ type: 'error', message: `analysis worker: ${e.message || e}`, fatal: false });
   };
-  if (analyzerInit) analyzer.postMessage({ type: 'init', bytes: analyzerInit.bytes.slice(0), name: analyzerInit.name, latest: latest && latest.buffer, hold: hold && hold.buffer });
+  // The design meshes are copied (not transferred): a restarted analysis worker gets them again.
+  if (analyzerInit) analyzer.postMessage({ type: 'init', meshes: analyzerInit, latest: latest && latest.buffer, hold: hold && hold.buffer });
 }
 
 function queueAnalysis() {
@@ -165,7 +166,10 @@ self.onmessage = async (event) => {
       self.postMessage({ type: 'progress', text: `building the loop engine for ${m.name}…` });
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
-      analyzerInit = { bytes: m.bytes.slice(0), name: m.name };
+      // The analysis worker gets the design mesh (the proxy, for a large
+      // input) made here, and the input: it neither imports nor decimates
+      // the file again while the first hovers run.
+      analyzerInit = designer.takeAnalysisMeshes();
       startAnalyzer();
       designer.warmUp();
       const surface = designer.surface();

@@ -2,7 +2,9 @@
 //! strips, regions and primal layout of Campen & Kobbelt 2014 (*Dual Strip
 //! Weaving*, §4.2, §6, §7; [`layout_glue::analyze_loops`]) of the committed
 //! loops, in a worker of its own so that the layout worker's hover, clicks
-//! and Enter never wait for it. The layout worker hands it the committed
+//! and Enter never wait for it. The layout worker hands it the design mesh
+//! once ([`super::layout_api::LayoutDesigner::take_analysis_meshes`]: no
+//! second import or decimation), then the committed
 //! loops ([`super::layout_api::LayoutDesigner::take_analysis_input`]) and
 //! applies the covered directions (§6.2) it returns when they are still
 //! current.
@@ -15,7 +17,7 @@ use glam::DVec3;
 use js_sys::{Float32Array, Object};
 use wasm_bindgen::prelude::*;
 
-use super::layout_api::{analysis_to_js, design_meshes, now_ms, set, to_js};
+use super::layout_api::{analysis_to_js, mesh_from_flat, now_ms, set, to_js};
 use super::layout_glue::{self, Analysis};
 use crate::layout::grid::LayoutGrid;
 use crate::layout::primal::LayoutExport;
@@ -47,9 +49,41 @@ pub struct LayoutAnalyzer {
 
 #[wasm_bindgen]
 impl LayoutAnalyzer {
+    /// From the layout worker's design meshes
+    /// ([`super::layout_api::LayoutDesigner::take_analysis_meshes`]): the
+    /// design mesh, the input when the design runs on a proxy (empty
+    /// arrays otherwise) and the file's frame (centre xyz, scale).
     #[wasm_bindgen(constructor)]
-    pub fn new(bytes: &[u8], name: &str) -> Result<LayoutAnalyzer, JsError> {
-        let (mesh, original, frame, _) = design_meshes(bytes, name)?;
+    pub fn new(
+        positions: &[f64],
+        triangles: &[u32],
+        original_positions: &[f64],
+        original_triangles: &[u32],
+        frame: &[f64],
+    ) -> Result<LayoutAnalyzer, JsError> {
+        let mesh = mesh_from_flat("the design mesh", positions, triangles)?;
+        let original = if original_positions.is_empty() && original_triangles.is_empty() {
+            None
+        } else {
+            Some(mesh_from_flat(
+                "the input mesh",
+                original_positions,
+                original_triangles,
+            )?)
+        };
+        let frame = match *frame {
+            [x, y, z, scale] if [x, y, z, scale].iter().all(|v| v.is_finite()) && scale > 0.0 => {
+                Frame {
+                    center: DVec3::new(x, y, z),
+                    scale,
+                }
+            }
+            _ => {
+                return Err(JsError::new(
+                    "a frame is a finite centre xyz and a positive scale",
+                ));
+            }
+        };
         Ok(LayoutAnalyzer {
             mesh,
             original,

@@ -128,13 +128,17 @@ pub struct LayoutDesigner {
     last_error: Option<String>,
     /// The anchor inserted by the last grab, moved by the drag that follows.
     grabbed: Option<usize>,
+    /// The input (when the design runs on a proxy) and the file's frame,
+    /// until [`Self::take_analysis_meshes`] hands them over.
+    handover: Option<(Option<TriMesh>, Frame)>,
 }
 
 /// The mesh the design runs on (the input, or its proxy above
 /// [`proxy::PROXY_ABOVE_FACES`] faces), the input when it is a proxy, the
-/// file's frame and the input's face count: the same in the layout and the
-/// analysis worker (the decimation is deterministic).
-pub(super) fn design_meshes(
+/// file's frame and the input's face count. Made once, in the layout
+/// worker, which hands the analysis worker its copy
+/// ([`LayoutDesigner::take_analysis_meshes`]).
+fn design_meshes(
     bytes: &[u8],
     name: &str,
 ) -> Result<(TriMesh, Option<TriMesh>, Frame, usize), JsError> {
@@ -180,7 +184,7 @@ impl LayoutDesigner {
     /// proxy of about [`proxy::PROXY_FACES`] faces for large meshes).
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<LayoutDesigner, JsError> {
-        let (mesh, _, _, input_faces) = design_meshes(bytes, name)?;
+        let (mesh, original, frame, input_faces) = design_meshes(bytes, name)?;
         let engine = LoopEngine::new(&mesh, &ElasticaParams::default());
         Ok(LayoutDesigner {
             mesh,
@@ -189,6 +193,7 @@ impl LayoutDesigner {
             posted: None,
             last_error: None,
             grabbed: None,
+            handover: Some((original, frame)),
         })
     }
 
@@ -431,6 +436,49 @@ impl LayoutDesigner {
             && self.design.apply_covered(revision as u64, &covered)
     }
 
+    /// What the analysis worker needs, made here once so that it neither
+    /// imports nor decimates the file again: `{ positions: Float64Array,
+    /// triangles: Uint32Array }` of the design mesh (xyz, vertex triples),
+    /// `originalPositions`, `originalTriangles` of the input when the
+    /// design runs on a proxy (empty otherwise), and `frame: Float64Array`
+    /// (the file frame's centre xyz and scale). The input and frame are
+    /// moved out: a second call is an error.
+    #[wasm_bindgen(js_name = takeAnalysisMeshes)]
+    pub fn take_analysis_meshes(&mut self) -> Result<Object, JsError> {
+        let (original, frame) = self
+            .handover
+            .take()
+            .ok_or_else(|| JsError::new("the analysis meshes were handed over already"))?;
+        let flat = |m: Option<&TriMesh>| {
+            let positions: Vec<f64> = m
+                .iter()
+                .flat_map(|m| m.positions.iter().flat_map(|p| p.to_array()))
+                .collect();
+            let triangles: Vec<u32> = m
+                .iter()
+                .flat_map(|m| m.triangles.iter().flatten().copied())
+                .collect();
+            (
+                js_sys::Float64Array::from(&positions[..]),
+                js_sys::Uint32Array::from(&triangles[..]),
+            )
+        };
+        let out = Object::new();
+        let (positions, triangles) = flat(Some(&self.mesh));
+        set(&out, "positions", positions)?;
+        set(&out, "triangles", triangles)?;
+        let (positions, triangles) = flat(original.as_ref());
+        set(&out, "originalPositions", positions)?;
+        set(&out, "originalTriangles", triangles)?;
+        let c = frame.center;
+        set(
+            &out,
+            "frame",
+            js_sys::Float64Array::from(&[c.x, c.y, c.z, frame.scale][..]),
+        )?;
+        Ok(out)
+    }
+
     /// The design mesh as flat arrays (positions xyz, triangles), for the
     /// page to draw per-face colourings of the proxy.
     pub fn surface(&self) -> Result<Object, JsError> {
@@ -446,6 +494,32 @@ impl LayoutDesigner {
         set(&out, "triangles", js_sys::Uint32Array::from(&triangles[..]))?;
         Ok(out)
     }
+}
+
+/// A mesh from flat arrays (xyz per vertex, vertex triples), validated.
+pub(super) fn mesh_from_flat(
+    what: &str,
+    positions: &[f64],
+    triangles: &[u32],
+) -> Result<TriMesh, JsError> {
+    if positions.len() % 3 != 0 || triangles.len() % 3 != 0 {
+        return Err(JsError::new(&format!(
+            "{what}: {} coordinates and {} indices are not xyz and vertex triples",
+            positions.len(),
+            triangles.len()
+        )));
+    }
+    TriMesh::new(
+        positions
+            .chunks_exact(3)
+            .map(|p| DVec3::new(p[0], p[1], p[2]))
+            .collect(),
+        triangles
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect(),
+    )
+    .map_err(|e| JsError::new(&format!("{what}: {e}")))
 }
 
 /// What the analysis and the layout depend on: the committed loops'

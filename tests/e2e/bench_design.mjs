@@ -2,7 +2,8 @@
 // Chromium, wasm in the workers, driven the way a user drives it — pointer
 // moves, clicks, drags and key presses through playwright. Times, from the
 // input event on the page to the frame that shows its effect:
-//   hover   pointer move → the best loop through the point drawn
+//   hover   pointer move (its handler, before the pick of the surface point) → the best loop
+//           through the point drawn
 //   click   a click on the surface → the anchor and its loop drawn (first
 //           and second anchor apart)
 //   drag    a drag from the surface: each update of the directional anchor
@@ -19,7 +20,7 @@
 //   BENCH_BACKEND=webgl2|webgpu (default webgl2)
 //   BENCH_ACTION_TIMEOUT=s  an action still unanswered after s seconds (default 30) counts as a
 //   timeout (∞ in the percentiles); the layout worker is then restarted and the next trial begins.
-// Writes target/bench/design.json (with each hover's latency and worker time: hoverRaw).
+// Writes target/bench/design.json (with each hover's latency, worker time and pick time: hoverRaw).
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import {
@@ -113,9 +114,11 @@ async function benchSample(env, sample) {
   await idle(page);
   const h0 = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
   const w0 = await page.evaluate(() => window.quadrille.design.hoverWorkerMs.length);
+  const p0 = await page.evaluate(() => window.quadrille.design.hoverPickMs.length);
   for (let i = 0; i < hovers; i++) await hoverAt(page, at((i * 0.618034) % 1));
   runs.hover = await page.evaluate((n) => window.quadrille.design.hoverLatencies.slice(n), h0);
   worker.hover = await page.evaluate((n) => window.quadrille.design.hoverWorkerMs.slice(n), w0);
+  const pick = await page.evaluate((n) => window.quadrille.design.hoverPickMs.slice(n), p0);
   for (let k = 0; k < trials; k++) {
     const u = (0.37 * k + 0.11) % 1;
     const [a, b, c] = [at(u), at((u + 0.5) % 1), at((u + 0.25) % 1)];
@@ -175,7 +178,7 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, restarts, actions: {}, hoverRaw: { latency: runs.hover, worker: worker.hover } };
+  const result = { sample, ...info, restarts, actions: {}, hoverRaw: { latency: runs.hover, worker: worker.hover, pick } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
 }
@@ -193,6 +196,8 @@ try {
       console.log('| action | n (timeouts) | median ms | p95 ms | max ms | worker median ms |');
       console.log('|---|---|---|---|---|---|');
       for (const [name, a] of Object.entries(r.actions)) console.log(`| ${name} | ${a.n} (${a.timeouts}) | ${f(a.median)} | ${f(a.p95)} | ${f(a.max)} | ${f(a.workerMedian)} |`);
+      const p = summary(r.hoverRaw.pick);
+      console.log(`hover's pick on the page (part of its latency): n ${p.n}, median ${f(p.median)}, p95 ${f(p.p95)}, max ${f(p.max)} ms`);
     }
   } finally {
     await context.close();

@@ -6,6 +6,9 @@
 //! indices and finiteness and returns a [`SceneError`] instead of panicking.
 
 use glam::Vec3;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d_f64::query::Ray;
 
 use super::colormap::{Colormap, finite_range};
 
@@ -40,12 +43,14 @@ pub enum SceneError {
 /// Default surface colour when no scalar is shown (sRGB).
 pub const PLAIN: [u8; 4] = [0xc8, 0xcd, 0xd8, 0xff];
 
-/// A triangle mesh to draw: positions, per-vertex normals, triangles.
+/// A triangle mesh to draw: positions, per-vertex normals, triangles, and
+/// a BVH over the triangles for [`Surface::pick`], built with the surface.
 #[derive(Debug, Clone, Default)]
 pub struct Surface {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
+    bvh: Bvh,
 }
 
 fn vec3s(what: &'static str, flat: &[f32]) -> Result<Vec<Vec3>, SceneError> {
@@ -90,14 +95,16 @@ impl Surface {
             });
         }
         check_indices("triangle indices", indices, positions.len())?;
-        let triangles = indices
+        let triangles: Vec<[u32; 3]> = indices
             .chunks_exact(3)
             .map(|t| [t[0], t[1], t[2]])
             .collect();
+        let bvh = triangle_bvh(&positions, &triangles);
         Ok(Surface {
             positions,
             normals,
             triangles,
+            bvh,
         })
     }
 
@@ -119,26 +126,81 @@ impl Surface {
         Some((center, radius.max(1e-6)))
     }
 
-    /// The nearest intersection of a ray with the triangles (both sides count).
+    /// The nearest intersection of a ray with the triangles (both sides
+    /// count), through the BVH: only the triangles whose boxes the ray
+    /// meets before the nearest hit so far are tested.
     pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        for (t_index, tri) in self.triangles.iter().enumerate() {
-            let [a, b, c] = tri.map(|i| self.positions[i as usize]);
-            if let Some((t, u, v)) = ray_triangle(origin, dir, a, b, c) {
-                if best.is_none_or(|h| t < h.distance) {
-                    let weights = [1.0 - u - v, u, v];
-                    let corner = (0..3).fold(0, |m, k| if weights[k] > weights[m] { k } else { m });
-                    best = Some(Hit {
-                        point: origin + dir * t,
-                        distance: t,
-                        triangle: t_index as u32,
-                        vertex: tri[corner],
-                    });
+        if !origin.is_finite() || !dir.is_finite() {
+            return None;
+        }
+        let ray = Ray::new(origin.as_dvec3(), dir.as_dvec3());
+        let (triangle, _) = self.bvh.cast_ray(&ray, f64::MAX, |t, _| {
+            self.ray_hits(origin, dir, t).map(|(t, _, _)| f64::from(t))
+        })?;
+        self.hit(origin, dir, triangle)
+    }
+
+    /// [`Surface::pick`] by testing every triangle in turn: the reference
+    /// the BVH's answers are tested against.
+    pub fn pick_exhaustive(&self, origin: Vec3, dir: Vec3) -> Option<Hit> {
+        let mut best: Option<(u32, f32)> = None;
+        for t in 0..self.triangles.len() as u32 {
+            if let Some((distance, _, _)) = self.ray_hits(origin, dir, t) {
+                if best.is_none_or(|(_, d)| distance < d) {
+                    best = Some((t, distance));
                 }
             }
         }
-        best
+        self.hit(origin, dir, best?.0)
     }
+
+    /// Where the ray meets triangle `t`: Möller–Trumbore's (t, u, v).
+    fn ray_hits(&self, origin: Vec3, dir: Vec3, t: u32) -> Option<(f32, f32, f32)> {
+        let [a, b, c] = self
+            .triangles
+            .get(t as usize)?
+            .map(|i| self.positions[i as usize]);
+        ray_triangle(origin, dir, a, b, c)
+    }
+
+    /// The hit of the ray on triangle `triangle`, with its nearest corner.
+    fn hit(&self, origin: Vec3, dir: Vec3, triangle: u32) -> Option<Hit> {
+        let (t, u, v) = self.ray_hits(origin, dir, triangle)?;
+        let weights = [1.0 - u - v, u, v];
+        let corner = (0..3).fold(0, |m, k| if weights[k] > weights[m] { k } else { m });
+        Some(Hit {
+            point: origin + dir * t,
+            distance: t,
+            triangle,
+            vertex: self.triangles[triangle as usize][corner],
+        })
+    }
+}
+
+/// A BVH whose leaf `t` is triangle `t`'s bounding box, widened by a
+/// little (1e-5 of the largest extent): a safety margin so that rounding
+/// in the boxes' f64 ray test cannot drop a triangle that the f32 leaf
+/// test hits (flat boxes of triangles in axis-aligned planes, rays
+/// grazing a box). Widening only costs leaf tests, never an answer.
+fn triangle_bvh(positions: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
+    let (lo, hi) = positions
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let margin = if lo.is_finite() && hi.is_finite() {
+        1e-5 * f64::from((hi - lo).max_element()) + 1e-12
+    } else {
+        0.0
+    };
+    let boxes: Vec<Aabb> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+            Aabb::new(a.min(b).min(c), a.max(b).max(c)).loosened(margin)
+        })
+        .collect();
+    Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes)
 }
 
 /// Dihedral angle (degrees) above which smooth shading keeps an edge sharp:
