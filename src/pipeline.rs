@@ -1278,6 +1278,18 @@ impl Pipeline {
         {
             result.mesh = mesh;
             result.report.input_holes_reopened = opened;
+            if let ExtractedMesh::Local(_) = extracted
+                && let Some((mesh, [moved, dissolved, split])) = extract::fix_wide_corners_of(
+                    &result.mesh,
+                    Some(surface),
+                    &self.params.extraction.post,
+                )
+            {
+                result.mesh = mesh;
+                result.report.wide_corner_vertices_moved += moved;
+                result.report.wide_corner_rim_vertices_dissolved += dissolved;
+                result.report.wide_corner_quads_split += split;
+            }
         }
         let steps = match self.params.remesh.mode {
             RemeshMode::Local => self.params.extraction.post.least_squares_iterations,

@@ -467,19 +467,19 @@ pub fn post_process(
     if p.fix_wide_corners && p.wide_corner_degrees > 0.0 {
         let list = mesh.to_face_list();
         let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
-        let (moved, dissolved, split) = postprocess::fix_wide_corners(
+        let (moved, dissolved, splits) = postprocess::fix_wide_corners(
             &mut faces,
-            &mut mesh_graph,
+            &mut mesh_graph.pos,
+            &mesh_graph.boundary,
             p.wide_corner_degrees,
-            p.wide_corner_split_budget_percent,
             surface,
         );
         report.wide_corner_vertices_moved += moved;
         report.wide_corner_rim_vertices_dissolved += dissolved;
-        report.wide_corner_quads_split += split;
         // The triangles left may pair with other odd faces into quads whose
-        // corners stay below the bar.
-        if dissolved + split > 0 && p.pair_non_quads_degrees > 0.0 {
+        // corners stay below the bar; the splits whose triangles did not
+        // are taken back while the odd faces exceed the budget.
+        if dissolved + splits.len() > 0 && p.pair_non_quads_degrees > 0.0 {
             let narrow = postprocess::PostProcessParams {
                 pair_max_corner_deviation: p
                     .pair_max_corner_deviation
@@ -489,7 +489,10 @@ pub fn post_process(
             report.non_quad_pairs_merged +=
                 postprocess::pair_non_quads(&mut faces, &mesh_graph, &narrow, surface);
         }
-        if moved + dissolved + split > 0 {
+        let undone =
+            postprocess::undo_splits(&mut faces, &splits, p.wide_corner_split_budget_percent);
+        report.wide_corner_quads_split += splits.len() - undone;
+        if moved + dissolved + splits.len() > 0 {
             let (again, map2) = repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
             mesh = again;
             mesh_graph = mesh_graph.select(&map2);
@@ -506,6 +509,50 @@ pub fn post_process(
         report,
         repair: repair_report,
     })
+}
+
+/// The wide-corner fix ([`postprocess::fix_wide_corners`]) once more, on a
+/// mesh whose input holes [`reopen`] opened after the post-processing:
+/// the faces it removed and the corners it moved onto the rims can leave
+/// quads with a corner above `p.wide_corner_degrees`. The mesh's boundary
+/// vertices (the rims) stay, and the splits the odd-face budget cannot hold
+/// are taken back ([`postprocess::undo_splits`]; no pairing, which needs
+/// the extraction's graph). Returns the mesh and the report's counts
+/// (moved, dissolved, split), or `None` when nothing changed or the result
+/// would not be a valid mesh.
+pub fn fix_wide_corners_of(
+    mesh: &PolyMesh,
+    surface: Option<&SurfaceIndex>,
+    p: &PostProcessParams,
+) -> Option<(PolyMesh, [usize; 3])> {
+    if !p.fix_wide_corners || p.wide_corner_degrees <= 0.0 {
+        return None;
+    }
+    let list = mesh.to_face_list();
+    let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
+    let mut pos = mesh.positions.clone();
+    let boundary: Vec<bool> = (0..mesh.vertex_count() as u32)
+        .map(|v| mesh.is_boundary_vertex(v))
+        .collect();
+    let (moved, dissolved, splits) = postprocess::fix_wide_corners(
+        &mut faces,
+        &mut pos,
+        &boundary,
+        p.wide_corner_degrees,
+        surface,
+    );
+    let undone = postprocess::undo_splits(&mut faces, &splits, p.wide_corner_split_budget_percent);
+    let split = splits.len() - undone;
+    if moved + dissolved + split == 0 {
+        return None;
+    }
+    let mut list = crate::mesh::FaceList::new();
+    for f in &faces {
+        list.push(f);
+    }
+    let (positions, list) = crate::mesh::drop_unused(pos, &list);
+    let fixed = PolyMesh::from_faces(positions, &list).ok()?;
+    Some((fixed, [moved, dissolved, split]))
 }
 
 /// The split mesh's new points (edge midpoints, face centroids) relaxed by
@@ -540,4 +587,48 @@ fn split_and_smooth(
     postprocess::smooth(&faces, &mut graph, p, surface);
     split.positions = graph.pos;
     split
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::FaceList;
+
+    /// A quad on a rim with a vertex of that quad alone 8° off the chord
+    /// of its neighbours (a 188° corner): the quad becomes a triangle on
+    /// the chord and the vertex leaves the mesh. A mesh whose only wide
+    /// corner is in a pentagon, or one without, is left as it is.
+    #[test]
+    fn wide_corners_left_after_reopening_are_fixed_on_the_mesh() {
+        let bend = 8f64.to_radians();
+        let positions = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(1.5, 0.5 * (0.5 * bend).tan(), 0.0),
+        ];
+        let p = PostProcessParams::default();
+        let mut faces = FaceList::new();
+        faces.push(&[0, 1, 4, 5]);
+        faces.push(&[1, 6, 2, 3, 4]);
+        let pentagon = PolyMesh::from_faces(positions.clone(), &faces).unwrap();
+        assert!(fix_wide_corners_of(&pentagon, None, &p).is_none());
+
+        let mut faces = FaceList::new();
+        faces.push(&[0, 1, 4, 5]);
+        faces.push(&[1, 6, 2, 3]);
+        faces.push(&[1, 3, 4]);
+        let mesh = PolyMesh::from_faces(positions, &faces).unwrap();
+        let (fixed, counts) = fix_wide_corners_of(&mesh, None, &p).expect("a wide corner");
+        assert_eq!(counts, [0, 1, 0]);
+        assert_eq!(fixed.vertex_count(), 6);
+        let degrees: Vec<usize> = (0..fixed.face_count() as u32)
+            .map(|f| fixed.face_vertices(f).count())
+            .collect();
+        assert_eq!(degrees, vec![4, 3, 3]);
+        assert!(fix_wide_corners_of(&fixed, None, &p).is_none());
+    }
 }

@@ -131,11 +131,10 @@ pub struct PostProcessParams {
     /// 24.43°, the rest within 0.2°; odd faces and distances unchanged but
     /// suzanne's limit 5.52e-3 / 5.75e-3.
     pub fix_wide_corners: bool,
-    /// The untangling's splits stop before the odd faces exceed this share
-    /// (percent; the quality issue allows 5 %). Default 5; 100 splits every
-    /// wide quad, which leaves none above 170° (teapot 168°, suzanne 148°,
-    /// beetle 142°) but 8.0 % odd faces on the teapot and 7.4 % on suzanne
-    /// (row "default with every wide quad split").
+    /// The untangling's splits are taken back (those whose triangles found
+    /// no other odd face to pair with, the least wide first) while more
+    /// than this share of the faces is odd (percent; the quality issue
+    /// allows 5 %). Default 5; 100 keeps every split.
     pub wide_corner_split_budget_percent: f64,
     /// Diagonal collapses of quads between two valence-3 corners
     /// ([`collapse_diagonals`]) after the edge rotations, with the quads at
@@ -758,27 +757,29 @@ fn split_at_widest_corner(
 /// corner of its faces, turns none of them over and keeps their centroids
 /// as close to the input as before (plus a tenth of the longest distance
 /// from the vertex to a corner of its faces: a vertex moved across a crease
-/// would cut it); boundary vertices stay. Then the quads still wide are
-/// split, widest first, into two triangles through the wide corner (the
-/// diagonal that halves it; skipped when that diagonal is already an edge)
-/// while at most `split_budget_percent` of the faces are odd; before that,
-/// a wide corner at a boundary vertex of one quad is dissolved instead
-/// ([`dissolve_rim_vertices`]). Returns (vertices moved, boundary vertices
-/// dissolved, quads split).
+/// would cut it); boundary vertices stay. Then a wide corner at a boundary
+/// vertex of one quad is dissolved ([`dissolve_rim_vertices`]), and every
+/// quad still wide is split into two triangles through the wide corner
+/// (the diagonal that halves it; skipped when that diagonal is already an
+/// edge). The caller pairs the triangles with other odd faces where it can
+/// and then takes back the splits the odd-face budget cannot hold
+/// ([`undo_splits`]). Returns (vertices moved, boundary vertices
+/// dissolved, the quads split, widest first, each rotated to start at its
+/// wide corner).
 pub fn fix_wide_corners(
     faces: &mut Vec<Vec<u32>>,
-    g: &mut Graph,
+    pos: &mut [DVec3],
+    boundary: &[bool],
     max_degrees: f64,
-    split_budget_percent: f64,
     surface: Option<&SurfaceIndex>,
-) -> (usize, usize, usize) {
+) -> (usize, usize, Vec<[u32; 4]>) {
     let limit = max_degrees.to_radians();
-    let n = g.len();
+    let n = pos.len();
     let vf = vertex_faces(n, faces);
     let mut moved = vec![false; n];
     for _ in 0..3 {
         let wide: Vec<usize> = (0..faces.len())
-            .filter(|&f| widest_quad_corner(&g.pos, &faces[f]) > limit)
+            .filter(|&f| widest_quad_corner(pos, &faces[f]) > limit)
             .collect();
         if wide.is_empty() {
             break;
@@ -787,13 +788,11 @@ pub fn fix_wide_corners(
         for f in wide {
             for &v in &faces[f].clone() {
                 let v = v as usize;
-                if g.boundary[v] || vf[v].is_empty() {
+                if boundary[v] || vf[v].is_empty() {
                     continue;
                 }
-                let normals: Vec<DVec3> = vf[v]
-                    .iter()
-                    .map(|&h| face_normal(&g.pos, &faces[h]))
-                    .collect();
+                let normals: Vec<DVec3> =
+                    vf[v].iter().map(|&h| face_normal(pos, &faces[h])).collect();
                 // The widest corner of v's faces, or None when one of them
                 // turns over against its normal before the move, or when,
                 // with an input, their centroids stray further from it than
@@ -817,13 +816,13 @@ pub fn fix_wide_corners(
                 let edge = vf[v]
                     .iter()
                     .flat_map(|&h| faces[h].iter())
-                    .map(|&x| g.pos[x as usize].distance(g.pos[v]))
+                    .map(|&x| pos[x as usize].distance(pos[v]))
                     .fold(0.0, f64::max);
-                let allowed = deviation(&g.pos) + 0.1 * edge;
+                let allowed = deviation(pos) + 0.1 * edge;
                 // How far the old position (on the input) is from the
                 // moved faces: a vertex at a tip pulled towards its
                 // neighbours would cut the tip off.
-                let old = g.pos[v];
+                let old = pos[v];
                 let retraction = |pos: &[DVec3]| -> f64 {
                     let mut d = f64::INFINITY;
                     for &h in &vf[v] {
@@ -846,7 +845,7 @@ pub fn fix_wide_corners(
                     }
                     (deviation(pos) <= allowed && retraction(pos) <= 0.1 * edge).then_some(w)
                 };
-                let Some(now) = score(&g.pos) else { continue };
+                let Some(now) = score(pos) else { continue };
                 let mut ring: Vec<u32> = Vec::new();
                 let mut corners = DVec3::ZERO;
                 let mut count = 0usize;
@@ -857,7 +856,7 @@ pub fn fix_wide_corners(
                         if x as usize == v {
                             continue;
                         }
-                        corners += g.pos[x as usize];
+                        corners += pos[x as usize];
                         count += 1;
                         let adjacent = j == (k + 1) % fh.len() || (j + 1) % fh.len() == k;
                         if adjacent && !ring.contains(&x) {
@@ -869,7 +868,7 @@ pub fn fix_wide_corners(
                     continue;
                 }
                 let umbrella =
-                    ring.iter().map(|&x| g.pos[x as usize]).sum::<DVec3>() / ring.len() as f64;
+                    ring.iter().map(|&x| pos[x as usize]).sum::<DVec3>() / ring.len() as f64;
                 let centre = corners / count as f64;
                 let mut best: Option<(f64, DVec3)> = None;
                 for target in [
@@ -879,15 +878,15 @@ pub fn fix_wide_corners(
                     0.5 * (old + centre),
                 ] {
                     let q = surface.map_or(target, |s| s.closest(target).point);
-                    g.pos[v] = q;
-                    if let Some(w) = score(&g.pos)
+                    pos[v] = q;
+                    if let Some(w) = score(pos)
                         && w < now - 1e-9
                         && best.is_none_or(|(b, _)| w < b)
                     {
                         best = Some((w, q));
                     }
                 }
-                g.pos[v] = best.map_or(old, |(_, q)| q);
+                pos[v] = best.map_or(old, |(_, q)| q);
                 if best.is_some() {
                     moved[v] = true;
                     any = true;
@@ -898,8 +897,8 @@ pub fn fix_wide_corners(
             break;
         }
     }
-    let dissolved = dissolve_rim_vertices(faces, g, limit);
-    let splits = split_wide_quads(faces, g, limit, split_budget_percent);
+    let dissolved = dissolve_rim_vertices(faces, pos, boundary, limit);
+    let splits = split_wide_quads(faces, pos, limit);
     (moved.iter().filter(|&&m| m).count(), dissolved, splits)
 }
 
@@ -914,17 +913,22 @@ const RIM_DISSOLVE_DEGREES: f64 = 200.0;
 /// becomes a triangle whose new edge is the chord of the rim, when the
 /// corner is at most [`RIM_DISSOLVE_DEGREES`] and the chord is no edge yet.
 /// Returns the number of vertices dissolved (they keep their ids, unused).
-fn dissolve_rim_vertices(faces: &mut [Vec<u32>], g: &Graph, limit: f64) -> usize {
-    let vf = vertex_faces(g.len(), faces);
+fn dissolve_rim_vertices(
+    faces: &mut [Vec<u32>],
+    pos: &[DVec3],
+    boundary: &[bool],
+    limit: f64,
+) -> usize {
+    let vf = vertex_faces(pos.len(), faces);
     let mut edges = edge_set(faces);
     let mut dissolved = 0;
     for (v, incident) in vf.iter().enumerate() {
         let &[f] = incident.as_slice() else { continue };
-        if !g.boundary[v] || faces[f].len() != 4 {
+        if !boundary[v] || faces[f].len() != 4 {
             continue;
         }
         let q = rotate_to(&faces[f], v as u32);
-        let p: [DVec3; 4] = std::array::from_fn(|i| g.pos[q[i] as usize]);
+        let p: [DVec3; 4] = std::array::from_fn(|i| pos[q[i] as usize]);
         let corner = crate::metrics::quad_corner_angles(&p)[0];
         if corner <= limit || corner > RIM_DISSOLVE_DEGREES.to_radians() {
             continue;
@@ -950,37 +954,64 @@ pub(crate) fn widest_quad_corner(pos: &[DVec3], f: &[u32]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The splits of [`fix_wide_corners`]: quads with a corner above `limit`
-/// (radians), widest first, into two triangles through that corner while
-/// at most `budget_percent` of the faces are odd. Returns the number split.
-fn split_wide_quads(
-    faces: &mut Vec<Vec<u32>>,
-    g: &Graph,
-    limit: f64,
-    budget_percent: f64,
-) -> usize {
-    // The widest first, while the odd faces stay within the budget.
+/// The splits of [`fix_wide_corners`]: every quad with a corner above
+/// `limit` (radians), widest first, into two triangles through that corner.
+/// Returns the quads split, each rotated to start at its wide corner (its
+/// triangles are `[q0, q1, q2]` and `[q0, q2, q3]`).
+fn split_wide_quads(faces: &mut Vec<Vec<u32>>, pos: &[DVec3], limit: f64) -> Vec<[u32; 4]> {
     let mut wide: Vec<(f64, usize)> = (0..faces.len())
-        .map(|f| (widest_quad_corner(&g.pos, &faces[f]), f))
+        .map(|f| (widest_quad_corner(pos, &faces[f]), f))
         .filter(|&(w, _)| w > limit)
         .collect();
     wide.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut edges = edge_set(faces);
-    let mut odd = faces.iter().filter(|f| f.len() != 4).count();
-    let mut splits = 0;
+    let mut splits = Vec::new();
     for (_, fi) in wide {
-        let total = faces.len() + 1;
-        if 100.0 * (odd + 2) as f64 > budget_percent * total as f64 {
-            break;
-        }
-        if let Some([t1, t2]) = split_at_widest_corner(&faces[fi], &g.pos, limit, &mut edges) {
+        if let Some([t1, t2]) = split_at_widest_corner(&faces[fi], pos, limit, &mut edges) {
+            splits.push([t1[0], t1[1], t1[2], t2[2]]);
             faces[fi] = t1;
             faces.push(t2);
-            odd += 2;
-            splits += 1;
         }
     }
     splits
+}
+
+/// Takes back the splits of [`fix_wide_corners`] (widest first in
+/// `splits`) whose two triangles are both still faces, the least wide
+/// first, while more than `budget_percent` of the faces are odd: those
+/// triangles found no other odd face to pair with. Returns the number
+/// taken back.
+pub fn undo_splits(faces: &mut Vec<Vec<u32>>, splits: &[[u32; 4]], budget_percent: f64) -> usize {
+    let mut odd = faces.iter().filter(|f| f.len() != 4).count();
+    let mut triangles: HashMap<[u32; 3], usize> = HashMap::new();
+    for (i, f) in faces.iter().enumerate() {
+        if let &[a, b, c] = f.as_slice() {
+            let mut t = [a, b, c];
+            t.sort_unstable();
+            triangles.insert(t, i);
+        }
+    }
+    let find = |t: [u32; 3]| {
+        let mut t = t;
+        t.sort_unstable();
+        triangles.get(&t).copied()
+    };
+    let mut dead = vec![false; faces.len()];
+    let mut undone = 0;
+    for q in splits.iter().rev() {
+        if 100.0 * odd as f64 <= budget_percent * (faces.len() - undone) as f64 {
+            break;
+        }
+        let (Some(a), Some(b)) = (find([q[0], q[1], q[2]]), find([q[0], q[2], q[3]])) else {
+            continue;
+        };
+        faces[a] = q.to_vec();
+        dead[b] = true;
+        odd -= 2;
+        undone += 1;
+    }
+    drop_dead(faces, &dead);
+    undone
 }
 
 /// Deviation (not in the thesis): odd faces (triangles, pentagons) are
@@ -1780,8 +1811,8 @@ mod tests {
     /// A 2 × 2 grid of unit squares whose centre is pushed towards a corner
     /// has a 174° corner at a boundary vertex; the centre moves back (the
     /// boundary stays) and no split is needed. A lone dart whose corners
-    /// are all on the boundary cannot move: it is split within the budget
-    /// and kept beyond it.
+    /// are all on the boundary cannot move: it is split, and the split is
+    /// taken back when the odd faces exceed the budget.
     #[test]
     fn wide_corners_are_untangled_by_moving_then_split_within_the_budget() {
         let mut pos: Vec<DVec3> = (0..9)
@@ -1800,8 +1831,9 @@ mod tests {
         ];
         let before = widest_corner(&g, &faces);
         assert!(before > 170.0, "{before}");
-        let (moved, dissolved, split) = fix_wide_corners(&mut faces, &mut g, 170.0, 5.0, None);
-        assert_eq!((moved, dissolved, split), (1, 0, 0));
+        let (moved, dissolved, splits) =
+            fix_wide_corners(&mut faces, &mut g.pos, &g.boundary, 170.0, None);
+        assert_eq!((moved, dissolved, splits.len()), (1, 0, 0));
         let after = widest_corner(&g, &faces);
         assert!(after < 170.0, "{after}");
         for v in 0..9 {
@@ -1819,17 +1851,51 @@ mod tests {
         let mut g = plane_graph(dart);
         g.boundary = vec![true; 4];
         let mut kept = vec![vec![0, 1, 2, 3]];
+        let (moved, dissolved, splits) =
+            fix_wide_corners(&mut kept, &mut g.pos, &g.boundary, 170.0, None);
         assert_eq!(
-            fix_wide_corners(&mut kept, &mut g, 170.0, 5.0, None),
-            (0, 0, 0)
+            (moved, dissolved, splits.clone()),
+            (0, 0, vec![[2, 3, 0, 1]])
         );
-        assert_eq!(kept, vec![vec![0, 1, 2, 3]]);
+        assert_eq!(kept, vec![vec![2, 3, 0], vec![2, 0, 1]]);
+        assert_eq!(undo_splits(&mut kept, &splits, 5.0), 1);
+        assert_eq!(kept, vec![vec![2, 3, 0, 1]]);
         let mut faces = vec![vec![0, 1, 2, 3]];
-        assert_eq!(
-            fix_wide_corners(&mut faces, &mut g, 170.0, 100.0, None),
-            (0, 0, 1)
-        );
+        let (_, _, splits) = fix_wide_corners(&mut faces, &mut g.pos, &g.boundary, 170.0, None);
+        assert_eq!(undo_splits(&mut faces, &splits, 100.0), 0);
         assert_eq!(faces, vec![vec![2, 3, 0], vec![2, 0, 1]]);
+    }
+
+    /// The splits are taken back last first while the odd faces exceed the
+    /// budget, and only those whose two triangles are both still faces (a
+    /// triangle paired with another odd face stays).
+    #[test]
+    fn splits_whose_triangles_found_no_pair_are_taken_back_least_wide_first() {
+        let splits = [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9, 10, 11]];
+        let mut faces = vec![
+            vec![0, 1, 2],
+            vec![0, 2, 3],
+            vec![6, 4, 5],
+            vec![4, 6, 7],
+            vec![8, 9, 10],
+            vec![8, 10, 11, 12],
+        ];
+        for k in 0..10 {
+            faces.push(vec![20 + k, 21 + k, 31 + k, 30 + k]);
+        }
+        // 5 odd faces of 16; at most 20 %: one split back is enough.
+        assert_eq!(undo_splits(&mut faces, &splits, 20.0), 1);
+        assert_eq!(faces.len(), 15);
+        assert_eq!(faces[2], vec![4, 5, 6, 7]);
+        assert!(faces.contains(&vec![0, 1, 2]) && faces.contains(&vec![0, 2, 3]));
+        assert!(faces.contains(&vec![8, 9, 10]));
+        // Within budget: nothing to take back.
+        let mut kept = faces.clone();
+        assert_eq!(undo_splits(&mut kept, &splits, 25.0), 0);
+        assert_eq!(kept, faces);
+        // No budget: the first split goes back too, the third cannot.
+        assert_eq!(undo_splits(&mut faces, &splits, 0.0), 1);
+        assert_eq!(faces.iter().filter(|f| f.len() != 4).count(), 1);
     }
 
     /// A quad along a rim that bends away from it by 6° (a 186° corner at
@@ -1849,7 +1915,7 @@ mod tests {
             let mut faces = vec![vec![0, 1, 2, 3]];
             let widest = widest_corner(&g, &faces);
             (
-                dissolve_rim_vertices(&mut faces, &g, 170f64.to_radians()),
+                dissolve_rim_vertices(&mut faces, &g.pos, &g.boundary, 170f64.to_radians()),
                 faces,
                 widest,
             )

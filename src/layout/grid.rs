@@ -583,7 +583,7 @@ fn cut_holes(
         kept_ranges.push(kept.len() as u32);
     }
     relax_near_rims(capped, &rings, &kept, &mut positions);
-    let (positions, kept) = drop_unused(positions, &kept);
+    let (positions, kept) = crate::mesh::drop_unused(positions, &kept);
     Ok((positions, kept, kept_ranges))
 }
 
@@ -790,28 +790,6 @@ fn relax_near_rims(capped: &Capped, rings: &[Vec<u32>], faces: &FaceList, positi
             }
         }
     }
-}
-
-/// The positions `faces` use, in their order, and the faces renumbered.
-fn drop_unused(positions: Vec<DVec3>, faces: &FaceList) -> (Vec<DVec3>, FaceList) {
-    let mut used = vec![false; positions.len()];
-    for &v in &faces.indices {
-        used[v as usize] = true;
-    }
-    let mut new_id = vec![u32::MAX; positions.len()];
-    let mut kept = Vec::new();
-    for (v, p) in positions.into_iter().enumerate() {
-        if used[v] {
-            new_id[v] = kept.len() as u32;
-            kept.push(p);
-        }
-    }
-    let mut out = FaceList::new();
-    for face in faces.iter() {
-        let renumbered: Vec<u32> = face.iter().map(|&v| new_id[v as usize]).collect();
-        out.push(&renumbered);
-    }
-    (kept, out)
 }
 
 /// The boundary of the union of faces `cut` as one loop with the other

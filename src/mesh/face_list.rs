@@ -187,6 +187,28 @@ fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     angle(a, b, c).min(angle(b, c, a)).min(angle(c, a, b))
 }
 
+/// The positions `faces` use, in their order, and the faces renumbered.
+pub fn drop_unused(positions: Vec<DVec3>, faces: &FaceList) -> (Vec<DVec3>, FaceList) {
+    let mut used = vec![false; positions.len()];
+    for &v in &faces.indices {
+        used[v as usize] = true;
+    }
+    let mut new_id = vec![u32::MAX; positions.len()];
+    let mut kept = Vec::new();
+    for (v, p) in positions.into_iter().enumerate() {
+        if used[v] {
+            new_id[v] = kept.len() as u32;
+            kept.push(p);
+        }
+    }
+    let mut out = FaceList::new();
+    for face in faces.iter() {
+        let renumbered: Vec<u32> = face.iter().map(|&v| new_id[v as usize]).collect();
+        out.push(&renumbered);
+    }
+    (kept, out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

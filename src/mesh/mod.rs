@@ -21,7 +21,7 @@ pub use adjacency::{
     BoundaryArcs, Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces,
     boundary_vertices,
 };
-pub use face_list::{EAR_CLIPPING_LIMIT, FaceList};
+pub use face_list::{EAR_CLIPPING_LIMIT, FaceList, drop_unused};
 pub use frame::{Aabb, Frame};
 pub use poly::{NONE, PolyMesh};
 pub(crate) use polygon::{edge_faces, edge_key, face_newell_normal, newell_normal};
