@@ -752,12 +752,15 @@ fn split_at_widest_corner(
 /// left by the extraction at a valence-3 vertex, by a pairing or by the
 /// smoothing's projection. First, up to three rounds: each interior vertex
 /// of such a quad may move to the mean of its edge neighbours or of its
-/// faces' other corners (or half-way to either), projected onto the input
+/// faces' other corners (or half-way to either), or to a point on rings
+/// around its first position ([`RING_RADII`]), projected onto the input
 /// when there is one, taking the candidate that most lowers the widest
-/// corner of its faces, turns none of them over and keeps their centroids
-/// as close to the input as before (plus a tenth of the longest distance
-/// from the vertex to a corner of its faces: a vertex moved across a crease
-/// would cut it); boundary vertices stay. Then a wide corner at a boundary
+/// corner of its faces, turns none of them over, keeps their centroids as
+/// close to the input as before the first round (plus a tenth of the
+/// longest distance from the vertex to a corner of its faces: a vertex
+/// moved across a crease would cut it) and keeps its first position that
+/// close to them (a tip pulled in would be cut off); boundary vertices
+/// stay. Then a wide corner at a boundary
 /// vertex of one quad is dissolved ([`dissolve_rim_vertices`]), and every
 /// quad still wide is split into two triangles through the wide corner
 /// (the diagonal that halves it; skipped when that diagonal is already an
@@ -777,6 +780,9 @@ pub fn fix_wide_corners(
     let n = pos.len();
     let vf = vertex_faces(n, faces);
     let mut moved = vec![false; n];
+    // The positions before any move: the allowances below hold against
+    // them, so that three rounds of moves cannot add up to a cut.
+    let start = pos.to_vec();
     for _ in 0..3 {
         let wide: Vec<usize> = (0..faces.len())
             .filter(|&f| widest_quad_corner(pos, &faces[f]) > limit)
@@ -818,11 +824,12 @@ pub fn fix_wide_corners(
                     .flat_map(|&h| faces[h].iter())
                     .map(|&x| pos[x as usize].distance(pos[v]))
                     .fold(0.0, f64::max);
-                let allowed = deviation(pos) + 0.1 * edge;
-                // How far the old position (on the input) is from the
+                let allowed = deviation(&start) + 0.1 * edge;
+                // How far the first position (on the input) is from the
                 // moved faces: a vertex at a tip pulled towards its
                 // neighbours would cut the tip off.
                 let old = pos[v];
+                let origin = start[v];
                 let retraction = |pos: &[DVec3]| -> f64 {
                     let mut d = f64::INFINITY;
                     for &h in &vf[v] {
@@ -830,7 +837,7 @@ pub fn fix_wide_corners(
                         for k in 1..f.len() - 1 {
                             let t =
                                 Triangle::new(pos[v], pos[f[k] as usize], pos[f[k + 1] as usize]);
-                            d = d.min(t.distance_to_local_point(old, true));
+                            d = d.min(t.distance_to_local_point(origin, true));
                         }
                     }
                     d
@@ -871,12 +878,24 @@ pub fn fix_wide_corners(
                     ring.iter().map(|&x| pos[x as usize]).sum::<DVec3>() / ring.len() as f64;
                 let centre = corners / count as f64;
                 let mut best: Option<(f64, DVec3)> = None;
-                for target in [
+                let mut targets = vec![
                     umbrella,
                     centre,
                     0.5 * (old + umbrella),
                     0.5 * (old + centre),
-                ] {
+                ];
+                // Rings around the first position, in the plane of the
+                // faces' mean normal.
+                let n = normals.iter().copied().sum::<DVec3>().normalize_or_zero();
+                let t1 = n.any_orthonormal_vector();
+                let t2 = n.cross(t1);
+                for r in RING_RADII {
+                    for k in 0..RING_DIRECTIONS {
+                        let a = k as f64 * std::f64::consts::TAU / RING_DIRECTIONS as f64;
+                        targets.push(origin + r * edge * (a.cos() * t1 + a.sin() * t2));
+                    }
+                }
+                for target in targets {
                     let q = surface.map_or(target, |s| s.closest(target).point);
                     pos[v] = q;
                     if let Some(w) = score(pos)
@@ -901,6 +920,18 @@ pub fn fix_wide_corners(
     let splits = split_wide_quads(faces, pos, limit);
     (moved.iter().filter(|&&m| m).count(), dissolved, splits)
 }
+
+/// The rings of candidate positions [`fix_wide_corners`] tries around a
+/// vertex, as shares of the longest distance from it to a corner of its
+/// faces, in [`RING_DIRECTIONS`] directions each. Measured (5 vertex
+/// orders of spot, cow, teapot, beetle and suzanne at the default target,
+/// largest corner of each run; without → with the rings): 10 of the 25
+/// runs kept a quad corner above 170° (up to 331°) within the split budget,
+/// none has with them; median Hausdorff distance unchanged on spot, cow
+/// and suzanne, teapot 0.055 → 0.049, beetle 0.117 → 0.108; with rings
+/// out to 0.5 a horn tip of spot was pulled in (Hausdorff 0.057 → 0.090).
+const RING_RADII: [f64; 3] = [0.1, 0.2, 0.3];
+const RING_DIRECTIONS: usize = 12;
 
 /// The widest rim corner [`fix_wide_corners`] dissolves: a boundary vertex
 /// this far from straight (20°) lies within a sixth of an edge of the chord
