@@ -135,6 +135,8 @@ ROWS = {
     "global + least-squares placement": ("default", {"remesh": {"mode": "global",
                                                                 "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
+    # The pairing's second round within 90° for odd faces above the budget.
+    "default - pairing fallback": ("default", {"extraction": {"post": {"pair_fallback_degrees": 0}}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -242,7 +244,7 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "global - feature curves", "global x4 - feature curves", "global - conformal scale",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
-              "default - cap vertices kept", "default - least-squares placement",
+              "default - cap vertices kept", "default - least-squares placement", "default - pairing fallback",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
               "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
 

@@ -388,11 +388,13 @@ pub fn post_process(
             postprocess::merge_flat_triangles(&mut faces, &g, p.flat_triangle_degrees);
     }
     if p.pair_non_quads_degrees > 0.0 {
-        for _ in 0..4 {
-            let m = postprocess::pair_non_quads(&mut faces, &g, p, surface);
-            report.non_quad_pairs_merged += m;
-            if m == 0 {
-                break;
+        for round in [Some(*p), p.pairing_fallback()].into_iter().flatten() {
+            for _ in 0..4 {
+                let m = postprocess::pair_non_quads(&mut faces, &g, &round, surface);
+                report.non_quad_pairs_merged += m;
+                if m == 0 {
+                    break;
+                }
             }
         }
     }
@@ -431,7 +433,11 @@ pub fn post_process(
         };
         report.reflex_quads_split += splits;
         if faces.iter().any(|f| f.len() != 4) {
-            let m = postprocess::pair_non_quads(&mut faces, &mesh_graph, p, surface);
+            let m = [Some(*p), p.pairing_fallback()]
+                .into_iter()
+                .flatten()
+                .map(|round| postprocess::pair_non_quads(&mut faces, &mesh_graph, &round, surface))
+                .sum::<usize>();
             let (rotated, collapsed) = if p.rotate_edges_degrees > 0.0 {
                 let r = postprocess::rotate_edges(
                     &mut faces,
