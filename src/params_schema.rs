@@ -174,7 +174,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("extraction.post.rotate_edges_degrees", 0.0, 90.0, "Valence-improving edge rotations between quads, making only quads with corners within 90° ± this; 0 = off."),
         num("extraction.post.wide_corner_degrees", 0.0, 180.0, "Edge rotations also open quad corners wider than this (0 = off)."),
         flag("extraction.post.fix_wide_corners", "Last step: quads still wider than the wide-corner angle are untangled (vertices moved) or split into triangles."),
-        num("extraction.post.wide_corner_split_budget_percent", 0.0, 100.0, "The wide-corner splits stop before the odd faces exceed this percentage."),
+        num("extraction.post.wide_corner_split_budget_percent", 0.0, 100.0, "Wide-corner splits whose triangles found no other odd face to pair with are taken back while the odd faces exceed this percentage."),
         flag("extraction.post.collapse_diagonals", "Collapse quads between two valence-3 corners when that evens out the valences."),
         int("extraction.post.smoothing_iterations", 0.0, 100.0, "Tangential smoothing iterations."),
         num("extraction.post.smoothing_feature_degrees", 0.0, 180.0, "Smoothing keeps vertices whose dihedral angle exceeds this (features)."),
