@@ -21,7 +21,7 @@ fn uniform(vertices: usize) -> Params {
 
 fn quads(mesh: &TriMesh, params: &Params) -> (param::GridMap, Quadrangulation) {
     let run = param::run(mesh, params, &|| 0.0).expect("a map");
-    let q = quadrille::progress::silently("qex", |p| qex::extract(mesh, &run.map, p))
+    let q = quadrille::progress::silently("qex", |p| qex::extract(run.map_mesh(mesh), &run.map, p))
         .expect("a quad mesh");
     (run.map, q)
 }
@@ -157,7 +157,7 @@ fn messy_shared_meshes_give_a_valid_mesh_or_a_clear_error() {
         let mut params = Params::default();
         params.sizing.target_vertex_count = Some(mesh.positions.len() / 16);
         let run = param::run(&mesh, &params, &|| 0.0).expect("a map");
-        match quadrille::progress::silently("qex", |p| qex::extract(&mesh, &run.map, p)) {
+        match quadrille::progress::silently("qex", |p| qex::extract(run.map_mesh(&mesh), &run.map, p)) {
             Ok(q) => {
                 q.mesh.validate().expect("valid");
                 assert!((0..q.mesh.face_count() as u32).all(|f| q.mesh.degree(f) == 4));

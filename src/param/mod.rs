@@ -27,6 +27,7 @@ pub mod cut;
 pub mod export;
 pub mod measures;
 pub mod seamless;
+pub mod small_holes;
 pub mod solve;
 pub mod topology;
 
@@ -292,6 +293,11 @@ pub struct Params {
     /// beetle's Hausdorff distance went 0.200 → 0.306–0.360); the closed
     /// meshes have no loops.
     pub loop_separation: f64,
+    /// Close the boundary loops shorter than a quad's perimeter (4 target
+    /// edges of the calibrated sizing) before the map
+    /// ([`small_holes`]): the map runs on the closed mesh
+    /// ([`Run::mesh`]). Default true. FIGURES
+    pub close_small_holes: bool,
 }
 
 impl Default for Params {
@@ -316,6 +322,7 @@ impl Default for Params {
             round: true,
             batch_fraction: 0.5,
             loop_separation: 4.0,
+            close_small_holes: true,
         }
     }
 }
@@ -351,6 +358,7 @@ impl Params {
             stiffening: p.remesh.stiffening,
             conformal_scale: p.remesh.conformal_scale,
             loop_separation: p.remesh.loop_separation,
+            close_small_holes: p.remesh.close_small_holes,
             ..Params::default()
         }
     }
@@ -1097,11 +1105,23 @@ pub struct Timings {
 
 /// Everything [`run`] computes.
 pub struct Run {
+    /// The input with its holes below the target scale closed
+    /// ([`Params::close_small_holes`]), when it had any: the mesh the map
+    /// is on (its first vertices are the input's). `None`: the input.
+    pub mesh: Option<TriMesh>,
     pub prepared: Prepared,
     pub field: CrossField,
     pub map: GridMap,
     pub measures: measures::Measures,
     pub timings: Timings,
+}
+
+impl Run {
+    /// The mesh the map is on: [`Run::mesh`], or `input` (the mesh the
+    /// map was computed for).
+    pub fn map_mesh<'a>(&'a self, input: &'a TriMesh) -> &'a TriMesh {
+        self.mesh.as_ref().unwrap_or(input)
+    }
 }
 
 /// The whole map: analysis, cross field, seamless map with rounding and
@@ -1124,7 +1144,17 @@ pub fn run_with_progress(
 ) -> Result<Run, ParamError> {
     let t0 = clock();
     progress.report(0.0, "analysis")?;
-    let (prepared, filtered_normals_ms) = prepare_timed(mesh, params, clock);
+    let (mut prepared, mut filtered_normals_ms) = prepare_timed(mesh, params, clock);
+    let closed = params
+        .close_small_holes
+        .then(|| {
+            small_holes::close_holes_below_a_quad(mesh, &prepared.analysis.sizing.edge_length)
+        })
+        .flatten();
+    if let Some(c) = &closed {
+        (prepared, filtered_normals_ms) = prepare_timed(c, params, clock);
+    }
+    let mesh = closed.as_ref().unwrap_or(mesh);
     let t1 = clock();
     progress.report(0.15, "cross field")?;
     let field = cross_field_of(mesh, &prepared, params)?;
@@ -1144,6 +1174,7 @@ pub fn run_with_progress(
     let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
     let t4 = clock();
     Ok(Run {
+        mesh: closed,
         prepared,
         field,
         map,
