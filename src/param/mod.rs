@@ -25,6 +25,7 @@ pub mod constraints;
 pub mod cross_field;
 pub mod cut;
 pub mod export;
+pub mod manifold;
 pub mod measures;
 pub mod seamless;
 pub mod small_holes;
@@ -293,10 +294,13 @@ pub struct Params {
     /// beetle's Hausdorff distance went 0.200 → 0.306–0.360); the closed
     /// meshes have no loops.
     pub loop_separation: f64,
-    /// Close the boundary loops shorter than a quad's perimeter (4 target
-    /// edges of the calibrated sizing) before the map
-    /// ([`small_holes`]): the map runs on the closed mesh
-    /// ([`Run::mesh`]). Default true. FIGURES
+    /// The map's mesh is made manifold and closed where the input's holes
+    /// are below the target scale before the map: non-manifold vertices
+    /// split, one per fan ([`manifold`]), and boundary loops shorter than
+    /// the loops the output is to keep
+    /// ([`crate::metrics::KEPT_LOOP_EDGES`] target edges of the
+    /// calibrated sizing) closed ([`small_holes`]); the map runs on that
+    /// mesh ([`Run::mesh`]). Default true. FIGURES
     pub close_small_holes: bool,
 }
 
@@ -1144,11 +1148,18 @@ pub fn run_with_progress(
 ) -> Result<Run, ParamError> {
     let t0 = clock();
     progress.report(0.0, "analysis")?;
+    // The map's mesh: manifold ([`manifold`]), and without the holes
+    // below the target scale ([`small_holes`]).
+    let split = params
+        .close_small_holes
+        .then(|| manifold::split_nonmanifold_vertices(mesh))
+        .flatten();
+    let mesh = split.as_ref().unwrap_or(mesh);
     let (mut prepared, mut filtered_normals_ms) = prepare_timed(mesh, params, clock);
     let closed = params
         .close_small_holes
         .then(|| {
-            small_holes::close_holes_below_a_quad(mesh, &prepared.analysis.sizing.edge_length)
+            small_holes::close_holes_too_small_to_keep(mesh, &prepared.analysis.sizing.edge_length)
         })
         .flatten();
     if let Some(c) = &closed {
@@ -1174,7 +1185,7 @@ pub fn run_with_progress(
     let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
     let t4 = clock();
     Ok(Run {
-        mesh: closed,
+        mesh: closed.or(split),
         prepared,
         field,
         map,
