@@ -20,8 +20,8 @@
 //! vertices, where |T| is largest — or, where the run turns by n ≥ 2
 //! quarter turns at the target scale (a slot narrower than a target edge
 //! turns by a half turn at its end), n corners where its turning reaches
-//! the middles of the quarters, if the sides between them are at least
-//! half a target edge long. Between corners a side, and each edge's tangent is the chord
+//! the middles of the quarters, if the run is at least half a target
+//! edge across and the loop at least a quad's perimeter long. Between corners a side, and each edge's tangent is the chord
 //! of the side from half a target edge before the edge's midpoint to half
 //! a target edge after it (clipped at the side's corners). A loop without
 //! corners is one side that wraps round.
@@ -136,6 +136,11 @@ fn loop_tangents(mesh: &TriMesh, edges: &[(usize, usize)], face_sizing: &[f64]) 
         .iter()
         .map(|t| t.abs() >= std::f64::consts::FRAC_PI_4)
         .collect();
+    // Only a loop at least a quad's perimeter long has room for the sides
+    // of a run's extra corners (below: the teapot's spout opening, 2 target
+    // edges round, took four corners and folded).
+    let mean_size = (0..m).map(size).sum::<f64>() / m.max(1) as f64;
+    let room = total >= crate::analysis::thickness::MIN_LOOP_EDGES * mean_size;
     let mut corner = vec![false; m];
     if candidate.iter().any(|c| !c) {
         // Runs of candidates, starting after a non-candidate.
@@ -164,12 +169,12 @@ fn loop_tangents(mesh: &TriMesh, edges: &[(usize, usize)], face_sizing: &[f64]) 
             // narrower than a target edge turns by two) gets n corners,
             // where its own turning reaches the middles of the n quarters:
             // one corner turning by a half turn is no corner a quad mesh
-            // has, and the map folds round it. Not when a side between
-            // them would be shorter than half a target edge (it would
-            // round to nothing: the end of the teapot's flattened handle,
-            // a fifth of an edge across).
+            // has, and the map folds round it. Not when the run is
+            // narrower than half a target edge across (the side between
+            // the corners would round to nothing: the end of the teapot's
+            // flattened handle, a fifth of an edge across).
             let mut several = Vec::new();
-            if quarters >= 2 {
+            if room && quarters >= 2 {
                 let turn = |j: usize| {
                     let (a, b) = (dir[(j + m - 1) % m], dir[j]);
                     let (f, g) = (edges[(j + m - 1) % m].0, edges[j].0);
@@ -190,12 +195,16 @@ fn loop_tangents(mesh: &TriMesh, edges: &[(usize, usize)], face_sizing: &[f64]) 
                         next += 1;
                     }
                 }
-                let side = |a: usize, b: usize| (arc[b] - arc[a]).rem_euclid(total);
-                let long_enough = several.len() >= 2
-                    && several
-                        .windows(2)
-                        .all(|w| side(w[0], w[1]) >= 0.5 * size(w[0]).min(size(w[1])));
-                if !long_enough {
+                // The run's width: between the points half a target edge
+                // before it and after it (across a slot, its width).
+                let (first, last) = (run[0], run[run.len() - 1]);
+                let mut end = arc[last];
+                if end < arc[first] {
+                    end += total;
+                }
+                let r = 0.5 * size(first).min(size(last));
+                let width = (point(end + r) - point(arc[first] - r)).length();
+                if several.len() < 2 || width < r {
                     several.clear();
                 }
             }
