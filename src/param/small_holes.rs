@@ -111,7 +111,7 @@ pub fn close_small_holes(mesh: &TriMesh, edge_length: &[f64], min_edges: f64) ->
             triangles.push([ring[(k + 1) % n], ring[k], c]);
         }
     }
-    (closed > 0).then(|| TriMesh {
+    (closed > 0).then_some(TriMesh {
         positions,
         triangles,
     })
