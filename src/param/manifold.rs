@@ -8,16 +8,26 @@
 //! and every isoline that reaches it ends there. An old hand-made model
 //! is made of panels that touch at such vertices (the beetle: 27 of the 77
 //! isolines its extraction lost at its default target ended at one).
-//! Here each such vertex becomes one vertex per fan, at the same position:
-//! the sheets meet along their boundaries as they do in the input, and
-//! each is a manifold surface with boundary. The first vertices are the
+//! Here each such vertex where an open fan (a sheet's boundary) meets
+//! another fan becomes one vertex per fan, at the same position: the
+//! sheets meet along their boundaries as they do in the input, and each
+//! is a manifold surface with boundary. The first vertices are the
 //! input's; a vertex's first fan keeps its index.
+//!
+//! A pinch of closed fans stays as it is: that is a closed part touching
+//! another at one point, and split off it is a part of its own, mapped on
+//! its own. The cow's tail hangs from its back by one such vertex; split,
+//! the thin tail (about one target edge round) came out as a second
+//! component of distorted quads: over 5 vertex orders at the default
+//! target the cow's mean corner deviation went 7.52° → 16.12° (Instant
+//! Meshes 11.55°) and its Hausdorff distance 0.195 → 0.187 (its legs
+//! stay the farthest part).
 
-use super::topology::{EdgeTopology, ccw_next};
+use super::topology::{EdgeTopology, ccw_next, cw_next};
 use crate::mesh::TriMesh;
 
-/// The mesh with its non-manifold vertices split into one vertex per fan;
-/// `None` when every vertex has a single fan.
+/// The mesh with its non-manifold vertices that have an open fan split
+/// into one vertex per fan; `None` when there is none.
 pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
     let topology = EdgeTopology::new(mesh);
     let nf = mesh.triangles.len();
@@ -44,6 +54,31 @@ pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
             }
         }
     }
+    // Open fans (a corner without a neighbour on either side), by root.
+    let mut open = vec![false; 3 * nf];
+    for f in 0..nf {
+        for i in 0..3 {
+            if ccw_next(&topology, f, i).is_none() || cw_next(&topology, f, i).is_none() {
+                let r = find(&mut parent, 3 * f + i);
+                open[r] = true;
+            }
+        }
+    }
+    // Vertices with more than one fan, one of them open.
+    let mut roots: Vec<Vec<usize>> = vec![Vec::new(); mesh.positions.len()];
+    for f in 0..nf {
+        for i in 0..3 {
+            let r = find(&mut parent, 3 * f + i);
+            let v = mesh.triangles[f][i] as usize;
+            if !roots[v].contains(&r) {
+                roots[v].push(r);
+            }
+        }
+    }
+    let split: Vec<bool> = roots
+        .iter()
+        .map(|rs| rs.len() > 1 && rs.iter().any(|&r| open[r]))
+        .collect();
     // Per vertex, the index of each fan (by its root corner).
     let mut index_of_root: std::collections::HashMap<usize, u32> = Default::default();
     let mut first_root: Vec<Option<usize>> = vec![None; mesh.positions.len()];
@@ -56,7 +91,7 @@ pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
             let id = match index_of_root.get(&root) {
                 Some(&id) => id,
                 None => {
-                    let id = if first_root[v].is_none() {
+                    let id = if first_root[v].is_none() || !split[v] {
                         first_root[v] = Some(root);
                         v as u32
                     } else {
@@ -104,6 +139,30 @@ mod tests {
         assert_eq!(split.positions[5], DVec3::ZERO);
         let fans = vertex_fans(&split, &EdgeTopology::new(&split));
         assert!(fans.iter().all(Option::is_some), "every vertex has one fan");
+    }
+
+    #[test]
+    fn two_closed_surfaces_touching_at_a_vertex_stay_as_they_are() {
+        // Two tetrahedra sharing one vertex: two closed fans round it.
+        let a = crate::mesh::generate::tetrahedron();
+        let n = a.positions.len() as u32;
+        let mut positions = a.positions.clone();
+        positions.extend(
+            a.positions
+                .iter()
+                .skip(1)
+                .map(|p| -*p + 2.0 * a.positions[0]),
+        );
+        let mut triangles = a.triangles.clone();
+        let map = |v: u32| if v == 0 { 0 } else { v + n - 1 };
+        triangles.extend(
+            a.triangles
+                .iter()
+                .map(|t| [map(t[0]), map(t[2]), map(t[1])]),
+        );
+        let mesh = TriMesh::new(positions, triangles).unwrap();
+        assert!(vertex_fans(&mesh, &EdgeTopology::new(&mesh))[0].is_none());
+        assert!(split_nonmanifold_vertices(&mesh).is_none());
     }
 
     #[test]
