@@ -420,6 +420,12 @@ pub fn preservation_metrics(mesh: &PolyMesh, input: &TriMesh) -> PreservationMet
     preservation(mesh, input, input_to_output(mesh, input).as_deref())
 }
 
+/// Input boundary loops at least this many target edges (the output's
+/// mean edge) long are to be boundary loops of the output (issue 19's
+/// "every input boundary loop whose length exceeds about two target
+/// edges"); shorter ones are too small to keep.
+pub const KEPT_LOOP_EDGES: f64 = 2.0;
+
 /// What the output does with one input boundary loop (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LoopFate {
@@ -503,7 +509,7 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
     let mut near = vec![false; arcs.length.len()];
     let mut open = vec![(0usize, 0usize); arcs.length.len()];
     for (v, &l) in arcs.loop_of.iter().enumerate() {
-        if l == u32::MAX || arcs.length[l as usize] < 2.0 * s {
+        if l == u32::MAX || arcs.length[l as usize] < KEPT_LOOP_EDGES * s {
             continue;
         }
         let q = input.positions[v];
@@ -526,7 +532,7 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
         .iter()
         .enumerate()
         .map(|(l, &length)| {
-            if length < 2.0 * s {
+            if length < KEPT_LOOP_EDGES * s {
                 LoopFate::TooSmall
             } else if !far[l] {
                 LoopFate::Kept

@@ -103,6 +103,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("remesh.conformal_scale", 0.0, 10.0, "Global mode: the map's target edge follows the conformal scale of the flat metric whose only curvature is the cross field's cones (square quads away from them), within this factor of the sizing; 0 turns it off."),
         flag("remesh.least_squares_placement", "Global mode: the quads also get the least-squares vertex placement (extraction.post.least_squares_iterations); off by default (it costs the regular quads more shape than it gains in distance)."),
         num("remesh.loop_separation", 0.0, 10.0, "Global mode: target edges across the narrowest strip between two boundary loops (the map's edge is capped there so the loops stay apart); 0 turns it off."),
+        flag("remesh.close_small_holes", "Global mode: before the map, split the input's non-manifold vertices (one per fan) and close its boundary loops shorter than two target edges (too small to keep), round which the map would fold (Ebke et al. 2014 §6: what is below the target scale leaves no trace)."),
         flag("remesh.count_correction", "Global mode: when the quads' vertex count is more than 10 % off the target, compute the map again (up to four times) for a target from the power law through the last two counts and keep the closest result."),
         // analysis
         choice("analysis.normal_weighting", &["angle", "area"], "How incident faces are weighted in a vertex normal."),

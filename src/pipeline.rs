@@ -181,6 +181,11 @@ pub struct RemeshParams {
     /// (three of them merged into one in most vertex orders before), its
     /// Hausdorff distance 0.0577 → 0.0441 (medians over 5 vertex orders).
     pub loop_separation: f64,
+    /// The global mode closes the input's boundary loops shorter than a
+    /// quad's perimeter before the map
+    /// ([`crate::param::Params::close_small_holes`], which has the
+    /// figures). Default on.
+    pub close_small_holes: bool,
 }
 
 impl Default for RemeshParams {
@@ -194,6 +199,7 @@ impl Default for RemeshParams {
             count_correction: true,
             least_squares_placement: false,
             loop_separation: map.loop_separation,
+            close_small_holes: map.close_small_holes,
         }
     }
 }
@@ -975,8 +981,14 @@ impl Pipeline {
     /// Meshes' need) only adds slivers to the map, which fold — at the
     /// default target spot's extraction met 29 flipped triangles on the
     /// split mesh (6,332 faces) against 6 on the input (5,856).
+    ///
+    /// With its holes below the target scale closed once the map has
+    /// closed them ([`crate::param::Run::mesh`]).
     pub fn map_mesh(&self) -> &TriMesh {
-        &self.input.mesh
+        match &self.parametrization {
+            Some(p) => p.run.map_mesh(&self.input.mesh),
+            None => &self.input.mesh,
+        }
     }
 
     pub fn surface(&mut self) -> Option<std::sync::Arc<SurfaceIndex>> {
@@ -1127,7 +1139,7 @@ impl Pipeline {
         if params.sizing.edge_length.is_none() {
             params.sizing.target_vertex_count = target;
         }
-        let run = crate::param::run_with_progress(self.map_mesh(), &params, clock, progress)
+        let run = crate::param::run_with_progress(&self.input.mesh, &params, clock, progress)
             .map_err(|e| match e {
                 crate::param::ParamError::Cancelled => PipelineError::Cancelled,
                 e => PipelineError::Failed {

@@ -21,7 +21,7 @@ fn uniform(vertices: usize) -> Params {
 
 fn quads(mesh: &TriMesh, params: &Params) -> (param::GridMap, Quadrangulation) {
     let run = param::run(mesh, params, &|| 0.0).expect("a map");
-    let q = quadrille::progress::silently("qex", |p| qex::extract(mesh, &run.map, p))
+    let q = quadrille::progress::silently("qex", |p| qex::extract(run.map_mesh(mesh), &run.map, p))
         .expect("a quad mesh");
     (run.map, q)
 }
@@ -157,7 +157,9 @@ fn messy_shared_meshes_give_a_valid_mesh_or_a_clear_error() {
         let mut params = Params::default();
         params.sizing.target_vertex_count = Some(mesh.positions.len() / 16);
         let run = param::run(&mesh, &params, &|| 0.0).expect("a map");
-        match quadrille::progress::silently("qex", |p| qex::extract(&mesh, &run.map, p)) {
+        match quadrille::progress::silently("qex", |p| {
+            qex::extract(run.map_mesh(&mesh), &run.map, p)
+        }) {
             Ok(q) => {
                 q.mesh.validate().expect("valid");
                 assert!((0..q.mesh.face_count() as u32).all(|f| q.mesh.degree(f) == 4));
@@ -432,4 +434,74 @@ fn two_close_holes_stay_two_loops() {
     println!("with the cap {kept:?}, without {merged:?}");
     assert_eq!(kept, (3, [1, 1, 1]), "outer square and two holes");
     assert!(merged.0 < 3, "without the cap the holes merge: {merged:?}");
+}
+
+/// The area of a quad mesh's faces (each split along a diagonal).
+fn quad_area(m: &PolyMesh) -> f64 {
+    (0..m.face_count() as u32)
+        .map(|f| {
+            let p: Vec<DVec3> = m
+                .face_vertices(f)
+                .map(|v| m.positions[v as usize])
+                .collect();
+            0.5 * ((p[1] - p[0]).cross(p[2] - p[0]).length()
+                + (p[2] - p[0]).cross(p[3] - p[0]).length())
+        })
+        .sum()
+}
+
+/// Two squares of 12 × 12 cells touching at one corner vertex (two fans
+/// round it: non-manifold): the map's mesh splits it
+/// (`param::manifold`), and the quads cover both squares, 288 cells, each
+/// with its own boundary loop. Without the split the isolines that reach
+/// the shared vertex end there.
+#[test]
+fn squares_touching_at_a_vertex_are_both_covered() {
+    let mesh = grid_cells(24, |i, j| (i < 12) == (j < 12));
+    let run = |close: bool| {
+        let mut params = uniform(120);
+        params.close_small_holes = close;
+        let (_, q) = quads(&mesh, &params);
+        assert_pure_quads(&q.mesh);
+        (quad_area(&q.mesh), q.mesh.boundary_loops().len(), q.report)
+    };
+    let (area, loops, report) = run(true);
+    let (area_without, _, report_without) = run(false);
+    println!("split: area {area} loops {loops} {report:?}");
+    println!("not split: area {area_without} {report_without:?}");
+    assert!((area - 288.0).abs() < 1e-6, "both squares covered: {area}");
+    assert_eq!(loops, 2);
+    // Without the split four isolines end at the shared vertex, and two
+    // quads next to it are missing (283.5).
+    assert!(area_without < 287.0, "the split is what covers them");
+}
+
+/// Pinholes (single missing cells, 4 cells round) in a 40 × 40 sheet at a
+/// target edge of about 4 cells: below the loops the output keeps
+/// (`metrics::KEPT_LOOP_EDGES`), closed before the map
+/// (`param::small_holes`); the quads cover the whole sheet and its outer
+/// boundary is the only loop.
+#[test]
+fn pinholes_below_the_target_scale_are_passed_over() {
+    let holes = [(9usize, 9usize), (25, 14), (14, 27), (30, 30)];
+    let mesh = grid_cells(40, |i, j| !holes.contains(&(i, j)));
+    let run = |close: bool| {
+        let mut params = uniform(110);
+        params.close_small_holes = close;
+        let (_, q) = quads(&mesh, &params);
+        assert_pure_quads(&q.mesh);
+        (quad_area(&q.mesh), q.mesh.boundary_loops().len(), q.report)
+    };
+    let (area, loops, report) = run(true);
+    let (area_without, loops_without, report_without) = run(false);
+    println!("closed: area {area} loops {loops} {report:?}");
+    println!("open: area {area_without} loops {loops_without} {report_without:?}");
+    assert!((area - 1600.0).abs() < 1e-6, "the sheet covered: {area}");
+    assert_eq!(loops, 1);
+    // Left open, each pinhole is a boundary on isolines: the map folds
+    // round it (12 flipped triangles) and quads go (1,500 of 1,600).
+    assert!(
+        area_without < 1590.0 && loops_without > 1,
+        "the closing is what covers it"
+    );
 }

@@ -609,8 +609,11 @@ fn param(args: ParamArgs) -> Result<(), String> {
     let mesh = &imported.mesh;
     let result =
         run(mesh, &params, &clock).map_err(|e| format!("{}: {e}", args.input.display()))?;
-    let world: Vec<_> = imported.frame.points_to_world(&mesh.positions);
-    let text = quadrille::param::export::obj_with_uv(&world, &mesh.triangles, &result.map);
+    // The map's mesh: the input, with its holes below the target scale
+    // closed (`Params::close_small_holes`).
+    let map_mesh = result.map_mesh(mesh);
+    let world: Vec<_> = imported.frame.points_to_world(&map_mesh.positions);
+    let text = quadrille::param::export::obj_with_uv(&world, &map_mesh.triangles, &result.map);
     std::fs::write(&args.output, text).map_err(|e| format!("{name}: {e}"))?;
     if let Some(path) = &args.stats {
         let stats = serde_json::json!({

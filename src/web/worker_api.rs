@@ -980,7 +980,7 @@ impl Session {
             };
         let ms = js_sys::Date::now() - started;
         let r = StageResult::new("parametrization", ms)?;
-        parametrization_layers(&r, mesh, &run, &params, ms)?;
+        parametrization_layers(&r, run.map_mesh(mesh), &run, &params, ms)?;
         emit.call1(&JsValue::NULL, &r.obj)
             .map_err(|_| js_err("could not send the parametrization"))?;
         Ok(true)
