@@ -136,7 +136,7 @@ ROWS = {
                                                                 "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
     # The pairing's second round within 90° for odd faces above the budget.
-    "default - pairing fallback": ("default", {"extraction": {"post": {"pair_fallback_degrees": 0}}}),
+    "default + pairing fallback (90°)": ("default", {"extraction": {"post": {"pair_fallback_degrees": 90}}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -244,7 +244,7 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "global - feature curves", "global x4 - feature curves", "global - conformal scale",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
-              "default - cap vertices kept", "default - least-squares placement", "default - pairing fallback",
+              "default - cap vertices kept", "default - least-squares placement", "default + pairing fallback (90°)",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
               "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
 

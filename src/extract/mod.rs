@@ -388,15 +388,8 @@ pub fn post_process(
             postprocess::merge_flat_triangles(&mut faces, &g, p.flat_triangle_degrees);
     }
     if p.pair_non_quads_degrees > 0.0 {
-        for round in [Some(*p), p.pairing_fallback()].into_iter().flatten() {
-            for _ in 0..4 {
-                let m = postprocess::pair_non_quads(&mut faces, &g, &round, surface);
-                report.non_quad_pairs_merged += m;
-                if m == 0 {
-                    break;
-                }
-            }
-        }
+        report.non_quad_pairs_merged +=
+            postprocess::pair_with_fallback(&mut faces, &g, p, surface, 4);
     }
     if p.rotate_edges_degrees > 0.0 {
         progress.report(0.55, "edge rotations")?;
@@ -433,11 +426,7 @@ pub fn post_process(
         };
         report.reflex_quads_split += splits;
         if faces.iter().any(|f| f.len() != 4) {
-            let m = [Some(*p), p.pairing_fallback()]
-                .into_iter()
-                .flatten()
-                .map(|round| postprocess::pair_non_quads(&mut faces, &mesh_graph, &round, surface))
-                .sum::<usize>();
+            let m = postprocess::pair_with_fallback(&mut faces, &mesh_graph, p, surface, 1);
             let (rotated, collapsed) = if p.rotate_edges_degrees > 0.0 {
                 let r = postprocess::rotate_edges(
                     &mut faces,
