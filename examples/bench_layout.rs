@@ -15,11 +15,17 @@
 //! first, untimed, what the design tool settles in idle time before the
 //! first hover (`LoopEngine::prepare_fields`: the distances from ∂);
 //! `BENCH_QUERIES=n` queries n vertices instead of 200.
+//! `BENCH_PROGRESSIVE=n` answers each hover progressively, as the design
+//! tool does (`LoopEngine::hover_begin` and `hover_resume` by slices of n
+//! settled g′ nodes), and reports the time to the first answer (the
+//! provisional loop, or the exact one when the first slice finished) and
+//! how often and by how much the provisional one is worse; the costs
+//! (`BENCH_COSTS`) are the exact answers.
 
 use std::time::Instant;
 
 use quadrille::layout::proxy::decimate;
-use quadrille::layout::{ElasticaParams, LoopEngine};
+use quadrille::layout::{ElasticaParams, HoverStep, LoopEngine};
 use rand_core::{RngCore, SeedableRng};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -71,6 +77,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut settled_all = Vec::new();
         let mut anchors = Vec::new();
         let mut results = Vec::new();
+        let progressive = std::env::var("BENCH_PROGRESSIVE")
+            .ok()
+            .and_then(|s| s.parse::<u64>().ok());
+        // Per query: time to the first answer and whether it was exact;
+        // provisional / exact cost of the others.
+        let mut first: Vec<(f64, bool)> = Vec::new();
+        let mut provisional: Vec<f64> = Vec::new();
         for _ in 0..queries {
             let v = (rng.next_u32() as usize) % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
@@ -80,7 +93,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for _ in 0..repeats {
                 let before = engine.settled_nodes();
                 let t = Instant::now();
-                l = engine.best_loop(p);
+                if let Some(slice) = progressive {
+                    match engine.hover_begin(p, slice) {
+                        HoverStep::Exact(exact) => {
+                            first.push((t.elapsed().as_secs_f64() * 1e3, true));
+                            l = exact;
+                        }
+                        HoverStep::Provisional(shown) => {
+                            first.push((t.elapsed().as_secs_f64() * 1e3, false));
+                            l = loop {
+                                if let Some(exact) = engine.hover_resume(slice) {
+                                    break exact;
+                                }
+                            };
+                            let c = |x: &Option<quadrille::layout::DualLoop>| {
+                                x.as_ref().map_or(f64::INFINITY, |x| x.cost)
+                            };
+                            provisional.push(c(&shown) / c(&l));
+                        }
+                    }
+                } else {
+                    l = engine.best_loop(p);
+                }
                 ms = ms.min(t.elapsed().as_secs_f64() * 1e3);
                 settled = engine.settled_nodes() - before;
             }
@@ -154,6 +188,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "  without the {zero_cost} zero-cost results: median {:.2} ms, p95 {:.2} ms",
                 q(0.5),
                 q(0.95)
+            );
+        }
+        if progressive.is_some() && !first.is_empty() {
+            let mut t: Vec<f64> = first.iter().map(|f| f.0).collect();
+            t.sort_by(f64::total_cmp);
+            let q = |p: f64| t[((t.len() - 1) as f64 * p).round() as usize];
+            provisional.sort_by(f64::total_cmp);
+            let worse = provisional.iter().filter(|&&r| r > 1.0 + 1e-6).count();
+            println!(
+                "  progressive: first answer median {:.2} ms, p95 {:.2} ms, max {:.2} ms; exact at once {} of {}; provisional {} (none shown {}, worse than exact {}, ratio median {:.3}, p95 {:.3})",
+                q(0.5),
+                q(0.95),
+                q(1.0),
+                first.iter().filter(|f| f.1).count(),
+                first.len(),
+                provisional.len(),
+                provisional.iter().filter(|r| r.is_infinite()).count(),
+                worse,
+                provisional
+                    .get(provisional.len() / 2)
+                    .copied()
+                    .unwrap_or(f64::NAN),
+                provisional
+                    .get((provisional.len().max(1) - 1) * 95 / 100)
+                    .copied()
+                    .unwrap_or(f64::NAN),
             );
         }
         if !costs.is_empty() {

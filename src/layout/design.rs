@@ -30,7 +30,7 @@
 
 use glam::DVec3;
 
-use super::loops::{Anchor, DualLoop, LoopEngine};
+use super::loops::{Anchor, DualLoop, HoverStep, LoopEngine};
 use super::symmetry::{MirrorPlane, is_self_symmetric};
 
 /// At most this many wheel alternatives are computed per hover point.
@@ -85,6 +85,12 @@ struct Hover {
     proposals: Vec<DualLoop>,
     all: bool,
     index: usize,
+    /// Whether `proposals` holds the exact best loop; else the one shown
+    /// is provisional and the engine's search is unfinished
+    /// ([`LayoutDesign::hover_begin`]).
+    exact: bool,
+    /// Exact, and not yet given out by [`LayoutDesign::hover_resume`].
+    unreported: bool,
 }
 
 /// Why an action did nothing.
@@ -201,6 +207,17 @@ impl LayoutDesign {
     /// placed, the proposal is the loop through them and hovering changes
     /// nothing.
     pub fn hover(&mut self, position: DVec3) -> Option<&DualLoop> {
+        self.hover_begin(position, u64::MAX).0
+    }
+
+    /// Hovering answered progressively: at most `budget` settled g′ nodes
+    /// of search now ([`LoopEngine::hover_begin`]); returns the proposal and
+    /// whether it is the exact best loop. A provisional proposal is
+    /// replaced by the exact one through [`Self::hover_resume`] (or, before
+    /// Enter, the wheel or new covered strips, by finishing the search:
+    /// what is committed or browsed is always the exact loop's).
+    pub fn hover_begin(&mut self, position: DVec3, budget: u64) -> (Option<&DualLoop>, bool) {
+        let mut exact = true;
         if self.state.anchors.is_empty() {
             // The pointer still over the same vertex: the same loops, nothing
             // searched again (a move shows the best one again, as a new
@@ -213,23 +230,81 @@ impl LayoutDesign {
             {
                 h.position = position;
                 h.index = 0;
-                return self.proposal();
+                exact = h.exact;
+                return (self.proposal(), exact);
             }
-            let proposals: Vec<DualLoop> = self.engine.best_loop(position).into_iter().collect();
+            let (proposals, done) = match self.engine.hover_begin(position, budget) {
+                HoverStep::Exact(l) => (l.into_iter().collect(), true),
+                HoverStep::Provisional(l) => (l.into_iter().collect(), false),
+            };
+            exact = done;
             self.hover = Some(Hover {
                 position,
                 vertex,
                 proposals,
                 all: false,
                 index: 0,
+                exact,
+                unreported: false,
             });
         }
-        self.proposal()
+        (self.proposal(), exact)
+    }
+
+    /// Resumes an unfinished hover for at most `budget` settled g′ nodes.
+    /// Returns the exact proposal once, when it has become exact (here or
+    /// by an action that finished it since); `None` otherwise.
+    pub fn hover_resume(&mut self, budget: u64) -> Option<Option<&DualLoop>> {
+        let h = self.hover.as_mut()?;
+        if !h.exact {
+            // The engine forgot it (another query since): begin again.
+            let step = if self.engine.hover_pending() {
+                self.engine.hover_resume(budget)
+            } else {
+                match self.engine.hover_begin(h.position, budget) {
+                    HoverStep::Exact(l) => Some(l),
+                    HoverStep::Provisional(_) => None,
+                }
+            };
+            let l = step?;
+            h.proposals = l.into_iter().collect();
+            h.exact = true;
+            h.unreported = true;
+        }
+        if !std::mem::take(&mut h.unreported) {
+            return None;
+        }
+        Some(h.proposals.get(h.index))
+    }
+
+    /// Whether [`Self::hover_resume`] has something to do.
+    pub fn hover_pending(&self) -> bool {
+        self.hover
+            .as_ref()
+            .is_some_and(|h| !h.exact || h.unreported)
+    }
+
+    /// Finishes an unfinished hover search now; `report`: the exact
+    /// proposal is still to be given out by [`Self::hover_resume`] (it is
+    /// not when the action's own answer shows it).
+    fn finish_hover(&mut self, report: bool) {
+        if self.hover.as_ref().is_some_and(|h| !h.exact) {
+            while self.hover_resume(u64::MAX).is_none() {}
+            if let Some(h) = self.hover.as_mut() {
+                h.unreported = report;
+            }
+        }
+    }
+
+    /// Forgets the hover proposals and an unfinished search.
+    fn drop_hover(&mut self) {
+        self.hover = None;
+        self.engine.cancel_hover();
     }
 
     /// Forgets the hover proposals (e.g. after a warm-up query).
     pub fn clear_hover(&mut self) {
-        self.hover = None;
+        self.drop_hover();
     }
 
     /// The wheel: moves `delta` steps through the ranked alternatives at the
@@ -238,6 +313,8 @@ impl LayoutDesign {
         if !self.state.anchors.is_empty() {
             return self.proposal();
         }
+        // The alternatives are ranked after the exact best loop.
+        self.finish_hover(false);
         let engine = &mut self.engine;
         let h = self.hover.as_mut()?;
         if !h.all {
@@ -277,6 +354,9 @@ impl LayoutDesign {
                 }
             }
         }
+        if self.hover.as_ref().is_some_and(|h| !h.exact) {
+            self.drop_hover();
+        }
         self.push_undo();
         self.state.anchors.push(anchor);
         self.update_constrained();
@@ -298,6 +378,9 @@ impl LayoutDesign {
     /// loop it is appended. Returns the new anchor's index. Undoable.
     pub fn insert_anchor_on_loop(&mut self, grabbed: DVec3, position: DVec3) -> usize {
         let index = self.insertion_index(grabbed);
+        if self.hover.as_ref().is_some_and(|h| !h.exact) {
+            self.drop_hover();
+        }
         self.push_undo();
         self.state
             .anchors
@@ -337,6 +420,8 @@ impl LayoutDesign {
     /// mirror image unless the loop is self-symmetric. Returns how many loops
     /// were added. Undoable.
     pub fn commit(&mut self) -> Result<usize, DesignError> {
+        // Enter commits the exact best loop, never a provisional one.
+        self.finish_hover(false);
         let dual = self.proposal().cloned().ok_or(DesignError::NoLoop)?;
         let anchors = if self.state.anchors.is_empty() {
             let h = self.hover.as_ref().ok_or(DesignError::NoLoop)?;
@@ -370,7 +455,7 @@ impl LayoutDesign {
         self.state.committed.extend(added);
         self.state.anchors.clear();
         self.constrained = None;
-        self.hover = None;
+        self.drop_hover();
         self.revision += 1;
         Ok(count)
     }
@@ -431,6 +516,9 @@ impl LayoutDesign {
         if revision != self.revision {
             return false;
         }
+        // The hover shown becomes exact for the covered set it was hovered
+        // in (and is given out as such).
+        self.finish_hover(true);
         self.engine.set_covered(covered);
         // The proposal stays on screen; the next hover searches again.
         if let Some(h) = self.hover.as_mut() {
@@ -454,7 +542,7 @@ impl LayoutDesign {
             self.committed_changed();
         }
         self.update_constrained();
-        self.hover = None;
+        self.drop_hover();
     }
 
     /// Recomputes the stand-in covered set from the committed loops.
@@ -464,7 +552,7 @@ impl LayoutDesign {
         for c in &self.state.committed {
             self.engine.cover_loop(&c.dual, hw);
         }
-        self.hover = None;
+        self.drop_hover();
         self.revision += 1;
     }
 
