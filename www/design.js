@@ -77,6 +77,8 @@ export function createDesignMode(ctx) {
     // answer (hoverWorkerMs, summed over its slices) and to the first
     // (hoverFirstWorkerMs); hovers first drawn provisionally.
     hoverLatencies: [], hoverFirstLatencies: [], hoverWorkerMs: [], hoverFirstWorkerMs: [], hoverProvisional: 0,
+    // … of which the exact loop was the provisional one (not drawn again).
+    hoverUnchanged: 0,
     analyses: 0, lastDrawn: 0, exportCount: 0, actionMs: {},
     // Per action: event → its state drawn (ms, measured on the page).
     actionLatencies: {},
@@ -99,6 +101,7 @@ export function createDesignMode(ctx) {
   let hoverBusy = false;
   let hoverNext = null; // { point, t }
   let hoverSent = -Infinity; // t of the newest hover posted
+  let firstDrawn = { t: null, at: null }; // the newest hover's first draw: its t and the frame's time
   let actionBusy = false;
   let dragNext = null; // latest drag update: { name, args, t, serial }
   let actionSerial = 0; // serial of the newest action (posted or waiting in dragNext)
@@ -111,7 +114,16 @@ export function createDesignMode(ctx) {
   let gridSerial = null; // the analysis serial (strips and moves) the drawn grid belongs to
 
   function post(message, transfer) {
-    if (worker && !stats.crashed) worker.postMessage(message, transfer || []);
+    if (worker && !stats.crashed) toWorker(message, transfer);
+  }
+
+  // Every message after init is counted in `inbox` (shared with the layout
+  // worker when the page is cross-origin isolated), so that the worker's
+  // unfinished hover search stops for it at its next slice.
+  let inbox = null;
+  function toWorker(message, transfer = []) {
+    if (inbox) Atomics.add(inbox, 0, 1);
+    worker.postMessage(message, transfer);
   }
 
   function start() {
@@ -131,7 +143,8 @@ export function createDesignMode(ctx) {
     // `?hoverFirst=N`: g′ nodes the layout worker searches before a hover's
     // first answer (benchmarks; `all`: every hover answered exactly at once).
     const hoverFirst = new URLSearchParams(location.search).get('hoverFirst');
-    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst }, [bytes]);
+    inbox = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
+    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst, inbox: inbox && inbox.buffer }, [bytes]);
     $('design-note').textContent = `Building the loop engine for ${input.name}…`;
     return true;
   }
@@ -190,7 +203,14 @@ export function createDesignMode(ctx) {
         if (m.exact) stats.hoverWorkerMs.push(m.ms);
         // An exact loop for a hover since replaced by a newer one is not drawn.
         const current = !m.final || (m.t >= hoverSent && !hoverNext);
-        if (current && (!stats.state || stats.state.anchors.length === 0)) drawProposal(m.proposal, m.t, { first: !m.final, exact: m.exact });
+        const shown = current && (!stats.state || stats.state.anchors.length === 0);
+        if (shown && m.final && m.unchanged) {
+          // The provisional loop on screen is the exact one: it is not drawn
+          // again, and its exact draw is its first draw.
+          stats.hoverUnchanged++;
+          if (firstDrawn.t === m.t) stats.hoverLatencies.push(firstDrawn.at - m.t);
+          else ctx.afterNextFrame(() => stats.hoverLatencies.push((firstDrawn.t === m.t ? firstDrawn.at : performance.now()) - m.t));
+        } else if (shown) drawProposal(m.proposal, m.t, { first: !m.final, exact: m.exact });
         if (hoverNext) { const h = hoverNext; hoverNext = null; sendHover(h.point, h.t); }
         break;
       }
@@ -299,7 +319,10 @@ export function createDesignMode(ctx) {
     if (t !== undefined) {
       ctx.afterNextFrame(() => {
         const now = performance.now();
-        if (first) stats.hoverFirstLatencies.push(now - t);
+        if (first) {
+          stats.hoverFirstLatencies.push(now - t);
+          firstDrawn = { t, at: now };
+        }
         if (exact) {
           stats.lastDrawn = now;
           stats.hoverLatencies.push(now - t);
@@ -640,7 +663,7 @@ export function createDesignMode(ctx) {
       if (!worker || stats.crashed) { reject(new Error('the design mode is not running')); return; }
       const id = nextRequest++;
       pending.set(id, { resolve, reject });
-      worker.postMessage({ ...message, id });
+      toWorker({ ...message, id });
     });
   }
 

@@ -5,7 +5,9 @@
 // and so do the exports, the grid and the fit, which it makes from its
 // newest analysis.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name }
+// Messages in:   { type: 'init', bytes: ArrayBuffer, name, hoverFirst, inbox }  hoverFirst: null, a count of g′
+//                  nodes instead of HOVER_FIRST, or 'all' (every hover answered exactly at once); inbox: null
+//                  or a SharedArrayBuffer where the page counts the messages it posts after init
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
 //                { type: 'action', name, args: [...], t, serial } addAnchor, setLastAnchorDirection,
 //                  insertAnchorOnLoop, moveGrabbedAnchor, clearAnchors, commit, deleteStrip, undo, redo,
@@ -23,7 +25,8 @@
 //                { type: 'hover', proposal: Float32Array, ms, t, exact, final }
 //                  the answer to a hover, at once: the exact best loop (exact), or the cheapest loop found
 //                  within HOVER_FIRST settled g′ nodes (provisional); after a provisional one, the exact
-//                  loop for the same t (final, exact; ms: the worker's time over all its slices)
+//                  loop for the same t (final, exact; ms: the worker's time over all its slices;
+//                  unchanged: it is the provisional loop, node for node)
 //                { type: 'state', action, value, state, ms, t, serial }  right after each action
 //                { type: 'analysis', analysis, ms, serial }     afterwards, when the strips or moves changed
 //                { type: 'analysis-cancelled', revision, started, ms }  a stale analysis given up
@@ -140,8 +143,10 @@ function queueAnalysis() {
 // through the pointer, "constantly updated"): its first slice of search
 // (HOVER_FIRST g′ nodes, a few ms) answers at once, with the exact loop
 // when the search finished, else with the cheapest loop or dual curve found
-// so far; the search then goes on by slices (HOVER_SLICE) in the same idle
-// tasks, before the fields, and the exact loop follows. A newer hover
+// so far; the search then goes on by slices (HOVER_SLICE) in the same task
+// for as long as no message waits (the page counts its messages in the
+// shared `inbox`), then in idle tasks before the fields (one slice per task
+// without cross-origin isolation), and the exact loop follows. A newer hover
 // replaces the unfinished search; Enter, the wheel and new covered strips
 // finish it first (LayoutDesign::finish_hover), so what is committed or
 // browsed is the exact loop.
@@ -153,18 +158,30 @@ const idle = new MessageChannel();
 let scheduled = false;
 let prepareMore = false; // prepareFields has more to settle
 let hoverJob = null; // the unfinished hover: { t, ms }
+let inbox = null; // Int32Array: messages the page has posted since init
+let received = 0; // … and those this worker has received
+
+// Slices of the unfinished hover search: one, or (with `inbox`) as many as
+// run before a message waits; posts the exact loop once it is known.
+function hoverSlices() {
+  const started = performance.now();
+  let exact;
+  do {
+    exact = designer.hoverStep(HOVER_SLICE);
+  } while (exact === undefined && inbox && designer.hoverPending() && Atomics.load(inbox, 0) === received);
+  if (hoverJob) hoverJob.ms += performance.now() - started;
+  if (exact !== undefined) {
+    if (hoverJob) self.postMessage({ type: 'hover', proposal: exact, ms: hoverJob.ms, t: hoverJob.t, exact: true, final: true, unchanged: designer.hoverUnchanged() }, [exact.buffer]);
+    hoverJob = null;
+  }
+}
+
 idle.port1.onmessage = () => {
   scheduled = false;
   if (!designer) return;
   try {
     if (designer.hoverPending()) {
-      const started = performance.now();
-      const exact = designer.hoverStep(HOVER_SLICE);
-      if (hoverJob) hoverJob.ms += performance.now() - started;
-      if (exact !== undefined) {
-        if (hoverJob) self.postMessage({ type: 'hover', proposal: exact, ms: hoverJob.ms, t: hoverJob.t, exact: true, final: true }, [exact.buffer]);
-        hoverJob = null;
-      }
+      hoverSlices();
     } else if (prepareMore) {
       prepareMore = designer.prepareFields(PREPARE_SLICE);
     }
@@ -189,12 +206,15 @@ const ACTIONS = new Set(['addAnchor', 'setLastAnchorDirection', 'insertAnchorOnL
 
 self.onmessage = async (event) => {
   const m = event.data;
+  if (m.type !== 'init') received += 1;
   try {
     await ready;
     if (m.type === 'init') {
       if (designer) designer.free();
       designer = null;
       self.postMessage({ type: 'progress', text: `building the loop engine for ${m.name}…` });
+      inbox = m.inbox ? new Int32Array(m.inbox) : null;
+      received = 0;
       hoverFirst = m.hoverFirst === 'all' ? 0xffffffff : Number(m.hoverFirst) > 0 ? Number(m.hoverFirst) : HOVER_FIRST;
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
@@ -226,6 +246,7 @@ self.onmessage = async (event) => {
       const ms = performance.now() - started;
       self.postMessage({ type: 'hover', proposal, ms, t: m.t, exact, final: false }, [proposal.buffer]);
       hoverJob = exact ? null : { t: m.t, ms };
+      if (designer.hoverPending() && inbox) hoverSlices();
       if (designer.hoverPending()) idleSoon();
     } else if (m.type === 'action') {
       if (!ACTIONS.has(m.name)) throw new Error(`unknown design action ${m.name}`);

@@ -91,6 +91,9 @@ struct Hover {
     exact: bool,
     /// Exact, and not yet given out by [`LayoutDesign::hover_resume`].
     unreported: bool,
+    /// Whether the exact loop that replaced a provisional one is that same
+    /// loop (node for node): then it was on screen from the first answer.
+    unchanged: bool,
 }
 
 /// Why an action did nothing.
@@ -246,6 +249,7 @@ impl LayoutDesign {
                 index: 0,
                 exact,
                 unreported: false,
+                unchanged: false,
             });
         }
         (self.proposal(), exact)
@@ -267,6 +271,8 @@ impl LayoutDesign {
                 }
             };
             let l = step?;
+            let key = |l: Option<&DualLoop>| l.map(|l| (l.nodes.clone(), l.closed));
+            h.unchanged = key(h.proposals.first()) == key(l.as_ref());
             h.proposals = l.into_iter().collect();
             h.exact = true;
             h.unreported = true;
@@ -275,6 +281,12 @@ impl LayoutDesign {
             return None;
         }
         Some(h.proposals.get(h.index))
+    }
+
+    /// Whether the exact loop [`Self::hover_resume`] gave out last is the
+    /// provisional one shown before it, node for node.
+    pub fn hover_unchanged(&self) -> bool {
+        self.hover.as_ref().is_some_and(|h| h.unchanged)
     }
 
     /// Whether [`Self::hover_resume`] has something to do.
@@ -757,6 +769,72 @@ mod tests {
         assert!(
             d.engine.settled_nodes() > settled,
             "searched after the covered strips changed"
+        );
+    }
+
+    /// A hover answered progressively (one settled node before the first
+    /// answer: provisional) gives the exact loop once through
+    /// `hover_resume`; Enter before that commits the exact loop, not the
+    /// provisional one; the wheel ranks after the exact loop; new covered
+    /// strips arriving meanwhile finish it for the strips it was hovered
+    /// with and give it out. The exact loop is `hover`'s on a fresh design.
+    #[test]
+    fn a_provisional_hover_is_replaced_by_the_exact_loop_and_never_committed() {
+        let points = [on_torus(0.3, 0.0), on_torus(1.1, 2.0), on_torus(2.4, 0.9)];
+        let mut provisional_worse = 0;
+        for (i, &p) in points.iter().enumerate() {
+            let exact = torus_design().hover(p).cloned().expect("a loop");
+            // Resumed to the end, from first answers after 1 to 1 000 nodes.
+            for budget in [1, 100, 300, 1_000] {
+                let mut d = torus_design();
+                let (shown, done) = d.hover_begin(p, budget);
+                let shown = shown.cloned();
+                if done {
+                    assert_eq!(shown.as_ref(), Some(&exact), "point {i}: at once");
+                    continue;
+                }
+                assert!(d.hover_pending());
+                if let Some(l) = &shown {
+                    assert!(l.cost >= exact.cost, "point {i}");
+                    provisional_worse += usize::from(l.nodes != exact.nodes);
+                }
+                let got = loop {
+                    if let Some(l) = d.hover_resume(50) {
+                        break l.cloned();
+                    }
+                };
+                assert_eq!(got.as_ref(), Some(&exact), "point {i}: resumed");
+                assert_eq!(d.hover_unchanged(), shown.as_ref() == Some(&exact));
+                assert!(d.hover_resume(50).is_none(), "given out once");
+                assert!(!d.hover_pending());
+                assert_eq!(d.proposal(), Some(&exact));
+            }
+            // Enter while provisional.
+            let mut d = torus_design();
+            assert!(!d.hover_begin(p, 1).1);
+            assert_eq!(d.commit(), Ok(1));
+            assert_eq!(d.committed()[0].dual, exact, "point {i}: committed");
+            assert!(!d.hover_pending());
+            // The wheel while provisional: the exact loop first.
+            let mut d = torus_design();
+            d.hover_begin(p, 1);
+            d.browse(1);
+            d.browse(-1);
+            assert_eq!(d.proposal(), Some(&exact), "point {i}: browsed back");
+            // New covered strips while provisional.
+            let mut d = torus_design();
+            d.hover_begin(p, 1);
+            let n = d.engine.graph.g.vertex_count();
+            let covered = vec![vec![DVec3::X, DVec3::Y, DVec3::Z]; n];
+            assert!(d.apply_covered(d.revision(), &covered));
+            assert_eq!(
+                d.hover_resume(50).map(|l| l.cloned()),
+                Some(Some(exact.clone()))
+            );
+        }
+        assert!(
+            provisional_worse > 0,
+            "every provisional loop was already the exact one"
         );
     }
 

@@ -178,11 +178,11 @@ pub struct SelfCrossing {
     pub angle_degrees: f64,
 }
 
-/// Per-node search state, one 32-byte record so that a relaxation touches
-/// one cache line per node (the bidirectional search reads the other
-/// colour of `reverse(y)` right after writing `y`).
+/// Per-node search state of colour A (and the labelled search's label),
+/// one 16-byte record: the labelled search, which reads only this colour,
+/// touches four nodes per cache line (successors lie side by side).
 #[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(32))]
+#[repr(C, align(16))]
 struct Slot {
     dist: f32,
     parent: u32,
@@ -190,10 +190,15 @@ struct Slot {
     state: u32,
     /// Source of the path that reached the node (multi-source search).
     label: u32,
-    /// The second colour of the bidirectional loop search.
-    dist_b: f32,
-    parent_b: u32,
-    state_b: u32,
+}
+
+/// The second colour of the bidirectional loop search, in an array of its
+/// own.
+#[derive(Debug, Clone, Copy, Default)]
+struct SlotB {
+    dist: f32,
+    parent: u32,
+    state: u32,
 }
 
 /// What the labelled search of the hover query knows of `reverse(x)`,
@@ -210,35 +215,47 @@ struct Mirror {
     state: u32,
 }
 
-impl Slot {
-    /// Distance and state of the bidirectional search's colour A or B.
-    #[inline]
-    fn colour(&self, b: bool) -> (f32, u32) {
-        if b {
-            (self.dist_b, self.state_b)
-        } else {
-            (self.dist, self.state)
-        }
+/// Distance and state of node `x` in the bidirectional search's colour A
+/// or B.
+#[inline]
+fn colour(a: &[Slot], b: &[SlotB], x: usize, in_b: bool) -> (f32, u32) {
+    if in_b {
+        (b[x].dist, b[x].state)
+    } else {
+        (a[x].dist, a[x].state)
     }
+}
 
-    #[inline]
-    fn parent_of(&self, b: bool) -> u32 {
-        if b { self.parent_b } else { self.parent }
-    }
+#[inline]
+fn parent_of(a: &[Slot], b: &[SlotB], x: usize, in_b: bool) -> u32 {
+    if in_b { b[x].parent } else { a[x].parent }
+}
 
-    #[inline]
-    fn set_colour(&mut self, b: bool, dist: f32, parent: u32, state: u32) {
-        if b {
-            (self.dist_b, self.parent_b, self.state_b) = (dist, parent, state);
-        } else {
-            (self.dist, self.parent, self.state) = (dist, parent, state);
-        }
+#[inline]
+fn set_colour(
+    a: &mut [Slot],
+    b: &mut [SlotB],
+    x: usize,
+    in_b: bool,
+    dist: f32,
+    parent: u32,
+    state: u32,
+) {
+    if in_b {
+        b[x] = SlotB {
+            dist,
+            parent,
+            state,
+        };
+    } else {
+        (a[x].dist, a[x].parent, a[x].state) = (dist, parent, state);
     }
 }
 
 #[derive(Debug, Clone, Default)]
 struct Workspace {
     slot: Vec<Slot>,
+    slot_b: Vec<SlotB>,
     /// The labelled search's state of each node's *reverse*, written when
     /// the reverse is reached ([`LoopEngine::best_direction`]).
     mirror: Vec<Mirror>,
@@ -274,7 +291,9 @@ impl Workspace {
         if self.generation == 0 || self.generation >= 1 << 30 {
             for s in &mut self.slot {
                 s.state = 0;
-                s.state_b = 0;
+            }
+            for s in &mut self.slot_b {
+                s.state = 0;
             }
             for m in &mut self.mirror {
                 m.state = 0;
@@ -783,6 +802,7 @@ impl LoopEngine {
             has_boundary,
             ws: Workspace {
                 slot: vec![Slot::default(); nodes],
+                slot_b: vec![SlotB::default(); nodes],
                 mirror: vec![Mirror::default(); nodes],
                 ..Workspace::default()
             },
@@ -796,7 +816,10 @@ impl LoopEngine {
     pub fn memory_bytes(&self) -> usize {
         let n = self.graph.node_count();
         self.graph.memory_bytes()
-            + n * (std::mem::size_of::<Slot>() + std::mem::size_of::<Mirror>() + 1)
+            + n * (std::mem::size_of::<Slot>()
+                + std::mem::size_of::<SlotB>()
+                + std::mem::size_of::<Mirror>()
+                + 1)
             + self.boundary_field.as_ref().map_or(0, |f| f.dist.len() * 9)
             + self
                 .pair
@@ -2483,15 +2506,18 @@ impl LoopEngine {
                 continue;
             }
             let w = graph.arc_weight(x as usize, b);
-            ws.slot[e].dist_b = w;
-            ws.slot[e].parent_b = NONE;
-            ws.slot[e].state_b = reached;
+            ws.slot_b[e] = SlotB {
+                dist: w,
+                parent: NONE,
+                state: reached,
+            };
             ws.radix.push(w.to_bits(), e as u32 | B);
         }
         let mut best = bound;
         // (settled node, relaxed node, colour of both is B).
         let mut meet: Option<(u32, u32, bool)> = None;
-        let (slot, heap, effort) = (&mut ws.slot, &mut ws.radix, &mut ws.effort);
+        let (slot, slot_b, heap, effort) =
+            (&mut ws.slot, &mut ws.slot_b, &mut ws.radix, &mut ws.effort);
         while let Some((k, node)) = heap.pop() {
             if 2.0 * f32::from_bits(k) >= best {
                 break;
@@ -2499,12 +2525,12 @@ impl LoopEngine {
             let raw = node;
             // Colour A grows from b, colour B from the edges closing into b.
             let (x, in_b) = ((raw & !B) as usize, raw & B != 0);
-            let (d, state) = slot[x].colour(in_b);
+            let (d, state) = colour(slot, slot_b, x, in_b);
             if state == settled {
                 continue;
             }
-            let parent = slot[x].parent_of(in_b);
-            slot[x].set_colour(in_b, d, parent, settled);
+            let parent = parent_of(slot, slot_b, x, in_b);
+            set_colour(slot, slot_b, x, in_b, d, parent, settled);
             *effort += 1;
             graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
@@ -2516,7 +2542,7 @@ impl LoopEngine {
                 }
                 let ry = g.reverse[y];
                 if ry != NONE {
-                    let (other, other_state) = slot[ry as usize].colour(!in_b);
+                    let (other, other_state) = colour(slot, slot_b, ry as usize, !in_b);
                     if other_state >= reached && nd + other < best {
                         best = nd + other;
                         meet = Some((x as u32, y as u32, in_b));
@@ -2524,9 +2550,9 @@ impl LoopEngine {
                 }
                 // The optimal loop's halves meet where both are below
                 // half its cost: farther nodes need not be kept.
-                let (yd, y_state) = slot[y].colour(in_b);
+                let (yd, y_state) = colour(slot, slot_b, y, in_b);
                 if 2.0 * nd < best && (y_state < reached || nd < yd) {
-                    slot[y].set_colour(in_b, nd, x as u32, y_state.max(reached));
+                    set_colour(slot, slot_b, y, in_b, nd, x as u32, y_state.max(reached));
                     heap.push(nd.to_bits(), y as u32 | if in_b { B } else { 0 });
                 }
             });
@@ -2538,7 +2564,7 @@ impl LoopEngine {
             let mut z = last;
             while z != NONE && out.len() - start <= slot.len() {
                 out.push(z);
-                z = slot[z as usize].parent_of(b_side);
+                z = parent_of(slot, slot_b, z as usize, b_side);
             }
             out[start..].reverse();
         };

@@ -268,6 +268,13 @@ impl LayoutDesigner {
         Some(l.map_or_else(|| Float32Array::new_with_length(0), |l| polyline(&l.points)))
     }
 
+    /// Whether the exact proposal [`Self::hover_step`] gave last is the
+    /// provisional one shown before it (the same loop).
+    #[wasm_bindgen(js_name = hoverUnchanged)]
+    pub fn hover_unchanged(&self) -> bool {
+        self.design.hover_unchanged()
+    }
+
     /// Whether [`Self::hover_step`] has something to do.
     #[wasm_bindgen(js_name = hoverPending)]
     pub fn hover_pending(&self) -> bool {

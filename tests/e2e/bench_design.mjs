@@ -6,8 +6,9 @@
 //           through the point drawn (the exact draw). The hover is answered progressively
 //           (www/layout-worker.js): its first draw, reported apart as "hover (first draw)", is the
 //           exact loop when the worker's first slice of search finished it, else a provisional
-//           loop (the cheapest found so far) that the exact one replaces; each hover point waits
-//           for its exact draw before the next.
+//           loop (the cheapest found so far) that the exact one replaces — or confirms, when it is
+//           the same loop, whose exact draw is then its first draw; each hover point waits for its
+//           exact draw before the next.
 //   click   a click on the surface → the anchor and its loop drawn (first
 //           and second anchor apart)
 //   drag    a drag from the surface: each update of the directional anchor
@@ -123,13 +124,15 @@ async function benchSample(env, sample) {
   const w0 = await page.evaluate(() => window.quadrille.design.hoverWorkerMs.length);
   const p0 = await page.evaluate(() => window.quadrille.design.hoverPickMs.length);
   const f0 = await page.evaluate(() => ({ l: window.quadrille.design.hoverFirstLatencies.length,
-    w: window.quadrille.design.hoverFirstWorkerMs.length, p: window.quadrille.design.hoverProvisional }));
+    w: window.quadrille.design.hoverFirstWorkerMs.length, p: window.quadrille.design.hoverProvisional,
+    u: window.quadrille.design.hoverUnchanged }));
   for (let i = 0; i < hovers; i++) await hoverAt(page, at((i * 0.618034) % 1));
   runs.hover = await page.evaluate((n) => window.quadrille.design.hoverLatencies.slice(n), h0);
   worker.hover = await page.evaluate((n) => window.quadrille.design.hoverWorkerMs.slice(n), w0);
   const pick = await page.evaluate((n) => window.quadrille.design.hoverPickMs.slice(n), p0);
   const first = await page.evaluate((f) => ({ latency: window.quadrille.design.hoverFirstLatencies.slice(f.l),
-    worker: window.quadrille.design.hoverFirstWorkerMs.slice(f.w), provisional: window.quadrille.design.hoverProvisional - f.p }), f0);
+    worker: window.quadrille.design.hoverFirstWorkerMs.slice(f.w), provisional: window.quadrille.design.hoverProvisional - f.p,
+    unchanged: window.quadrille.design.hoverUnchanged - f.u }), f0);
   runs['hover (first draw)'] = first.latency;
   worker['hover (first draw)'] = first.worker;
   for (let k = 0; k < trials; k++) {
@@ -191,7 +194,7 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, hoverFirst: hoverFirst || null, restarts, actions: {}, hoverProvisional: first.provisional,
+  const result = { sample, ...info, hoverFirst: hoverFirst || null, restarts, actions: {}, hoverProvisional: first.provisional, hoverUnchanged: first.unchanged,
     hoverRaw: { latency: runs.hover, worker: worker.hover, pick, firstLatency: first.latency, firstWorker: first.worker } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
@@ -212,7 +215,7 @@ try {
       for (const [name, a] of Object.entries(r.actions)) console.log(`| ${name} | ${a.n} (${a.timeouts}) | ${f(a.median)} | ${f(a.p95)} | ${f(a.max)} | ${f(a.workerMedian)} |`);
       const p = summary(r.hoverRaw.pick);
       console.log(`hover's pick on the page (part of its latency): n ${p.n}, median ${f(p.median)}, p95 ${f(p.p95)}, max ${f(p.max)} ms`);
-      console.log(`hovers first drawn provisionally (then the exact loop): ${r.hoverProvisional} of ${r.hoverRaw.latency.length}`);
+      console.log(`hovers first drawn provisionally: ${r.hoverProvisional} of ${r.hoverRaw.latency.length}, of which ${r.hoverUnchanged} were the exact loop already (its exact draw is its first draw)`);
     }
   } finally {
     await context.close();
