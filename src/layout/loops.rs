@@ -74,6 +74,15 @@
 //!   dual-curve search). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
+//! - The hover query can also be answered progressively
+//!   ([`LoopEngine::hover_begin`], [`LoopEngine::hover_resume`]): the same
+//!   search (the distances from ∂ grown until the cheapest dual curve is
+//!   proven, the labelled search bounded by it, the exact refinement) run
+//!   by slices of a bounded number of settled nodes; until it finishes, the
+//!   cheapest dual curve or closed loop found so far (a true walk of g′
+//!   through the vertex, with its true cost) is shown in its place. Its
+//!   final answer is [`LoopEngine::best_loop`]'s with the distances from ∂
+//!   settled fully (tested).
 //! - The fields, the searches through anchors and the distances from ∂ run
 //!   one settle loop ([`settle`]); the hover query's two bidirectional
 //!   searches (stopping at twice the key) and the tests' references keep
