@@ -75,7 +75,9 @@ export function createDesignMode(ctx) {
     // loop drawn (hoverLatencies; what the tests wait for) and the first
     // draw (hoverFirstLatencies); the layout worker's time to the exact
     // answer (hoverWorkerMs, summed over its slices) and to the first
-    // (hoverFirstWorkerMs); hovers first drawn provisionally.
+    // (hoverFirstWorkerMs); hovers first drawn provisionally (a provisional
+    // answer without a loop is not drawn: that hover's first draw is its
+    // exact draw).
     hoverLatencies: [], hoverFirstLatencies: [], hoverWorkerMs: [], hoverFirstWorkerMs: [], hoverProvisional: 0,
     // … of which the exact loop was the provisional one (not drawn again).
     hoverUnchanged: 0,
@@ -101,6 +103,7 @@ export function createDesignMode(ctx) {
   let hoverBusy = false;
   let hoverNext = null; // { point, t }
   let hoverSent = -Infinity; // t of the newest hover posted
+  let undrawn = null; // t of the newest hover whose provisional answer had no loop (not drawn)
   let firstDrawn = { t: null, at: null }; // the newest hover's first draw: its t and the frame's time
   let actionBusy = false;
   let dragNext = null; // latest drag update: { name, args, t, serial }
@@ -194,17 +197,23 @@ export function createDesignMode(ctx) {
         // First the answer to a hover (m.exact: the exact loop, else a
         // provisional one), then, when that was provisional, the exact
         // loop for the same hover (m.final).
+        // A provisional answer without a loop (none found yet) is not
+        // drawn: the hover's first draw is then its exact draw.
+        const nothing = !m.exact && m.proposal.length === 0;
         if (!m.final) {
           hoverBusy = false;
           stats.hoverReplies++;
-          stats.hoverFirstWorkerMs.push(m.ms);
-          if (!m.exact) stats.hoverProvisional++;
+          if (!nothing) stats.hoverFirstWorkerMs.push(m.ms);
+          if (!m.exact && !nothing) stats.hoverProvisional++;
+          undrawn = nothing ? m.t : null;
         }
         if (m.exact) stats.hoverWorkerMs.push(m.ms);
+        if (m.final && undrawn === m.t) stats.hoverFirstWorkerMs.push(m.ms);
         // An exact loop for a hover since replaced by a newer one is not drawn.
         const current = !m.final || (m.t >= hoverSent && !hoverNext);
-        const shown = current && (!stats.state || stats.state.anchors.length === 0);
-        if (shown && m.final && m.unchanged) {
+        const shown = current && !nothing && (!stats.state || stats.state.anchors.length === 0);
+        if (shown && m.final && undrawn === m.t) drawProposal(m.proposal, m.t, { first: true, exact: true });
+        else if (shown && m.final && m.unchanged) {
           // The provisional loop on screen is the exact one: it is not drawn
           // again, and its exact draw is its first draw.
           stats.hoverUnchanged++;

@@ -265,6 +265,8 @@ self.onmessage = async (event) => {
       forwarded.add(m.id);
       analyzer.postMessage({ ...m, serial });
     }
+    // A hover search this message interrupted goes on.
+    if (designer && designer.hoverPending()) idleSoon();
   } catch (error) {
     fail(error);
   }
