@@ -79,8 +79,9 @@ export function createDesignMode(ctx) {
     // answer without a loop is not drawn: that hover's first draw is its
     // exact draw).
     hoverLatencies: [], hoverFirstLatencies: [], hoverWorkerMs: [], hoverFirstWorkerMs: [], hoverProvisional: 0,
-    // … of which the exact loop was the provisional one (not drawn again).
-    hoverUnchanged: 0,
+    // … of which the exact loop was the provisional one (not drawn again);
+    // hovers whose first answer was not the exact loop (drawn or not).
+    hoverUnchanged: 0, hoverUnfinished: 0,
     analyses: 0, lastDrawn: 0, exportCount: 0, actionMs: {},
     // Per action: event → its state drawn (ms, measured on the page).
     actionLatencies: {},
@@ -205,6 +206,7 @@ export function createDesignMode(ctx) {
           stats.hoverReplies++;
           if (!nothing) stats.hoverFirstWorkerMs.push(m.ms);
           if (!m.exact && !nothing) stats.hoverProvisional++;
+          if (!m.exact) stats.hoverUnfinished++;
           undrawn = nothing ? m.t : null;
         }
         if (m.exact) stats.hoverWorkerMs.push(m.ms);
