@@ -15,11 +15,17 @@
 //! first, untimed, what the design tool settles in idle time before the
 //! first hover (`LoopEngine::prepare_fields`: the distances from ∂);
 //! `BENCH_QUERIES=n` queries n vertices instead of 200.
+//! `BENCH_PROGRESSIVE=n` answers each hover progressively, as the design
+//! tool does (`LoopEngine::hover_begin` and `hover_resume` by slices of n
+//! settled g′ nodes), and reports the time to the first answer (the
+//! provisional loop, or the exact one when the first slice finished) and
+//! how often and by how much the provisional one is worse; the costs
+//! (`BENCH_COSTS`) are the exact answers.
 
 use std::time::Instant;
 
 use quadrille::layout::proxy::decimate;
-use quadrille::layout::{ElasticaParams, LoopEngine};
+use quadrille::layout::{DualLoop, ElasticaParams, HoverStep, LoopEngine};
 use rand_core::{RngCore, SeedableRng};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -71,6 +77,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut settled_all = Vec::new();
         let mut anchors = Vec::new();
         let mut results = Vec::new();
+        let progressive = std::env::var("BENCH_PROGRESSIVE")
+            .ok()
+            .and_then(|s| s.parse::<u64>().ok());
+        let (mut first, mut provisional) = (Vec::new(), Vec::new());
         for _ in 0..queries {
             let v = (rng.next_u32() as usize) % mesh.vertex_count().max(1);
             let p = mesh.positions[v];
@@ -80,7 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for _ in 0..repeats {
                 let before = engine.settled_nodes();
                 let t = Instant::now();
-                l = engine.best_loop(p);
+                l = query(&mut engine, p, progressive, &mut first, &mut provisional);
                 ms = ms.min(t.elapsed().as_secs_f64() * 1e3);
                 settled = engine.settled_nodes() - before;
             }
@@ -155,6 +165,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 q(0.5),
                 q(0.95)
             );
+        }
+        if progressive.is_some() && !first.is_empty() {
+            print_progressive(&first, &mut provisional);
         }
         if !costs.is_empty() {
             let total: f64 = costs.iter().sum();
@@ -234,4 +247,66 @@ fn boundary_edge_count(mesh: &quadrille::mesh::TriMesh) -> usize {
         i = j;
     }
     count
+}
+
+/// One hover query at `p`: [`LoopEngine::best_loop`], or with `progressive`
+/// (a slice of settled g′ nodes) `hover_begin` and `hover_resume`,
+/// recording the time to the first answer and whether it was exact
+/// (`first`) and the provisional / exact cost ratio (`provisional`).
+fn query(
+    engine: &mut LoopEngine,
+    p: glam::DVec3,
+    progressive: Option<u64>,
+    first: &mut Vec<(f64, bool)>,
+    provisional: &mut Vec<f64>,
+) -> Option<DualLoop> {
+    let Some(slice) = progressive else {
+        return engine.best_loop(p);
+    };
+    let t = Instant::now();
+    match engine.hover_begin(p, slice) {
+        HoverStep::Exact(exact) => {
+            first.push((t.elapsed().as_secs_f64() * 1e3, true));
+            exact
+        }
+        HoverStep::Provisional(shown) => {
+            first.push((t.elapsed().as_secs_f64() * 1e3, false));
+            let exact = loop {
+                if let Some(exact) = engine.hover_resume(slice) {
+                    break exact;
+                }
+            };
+            let c = |x: &Option<DualLoop>| x.as_ref().map_or(f64::INFINITY, |x| x.cost);
+            provisional.push(c(&shown) / c(&exact));
+            exact
+        }
+    }
+}
+
+/// The progressive hover's summary line.
+fn print_progressive(first: &[(f64, bool)], provisional: &mut [f64]) {
+    let mut t: Vec<f64> = first.iter().map(|f| f.0).collect();
+    t.sort_by(f64::total_cmp);
+    let q = |p: f64| t[((t.len() - 1) as f64 * p).round() as usize];
+    provisional.sort_by(f64::total_cmp);
+    let worse = provisional.iter().filter(|&&r| r > 1.0 + 1e-6).count();
+    println!(
+        "  progressive: first answer median {:.2} ms, p95 {:.2} ms, max {:.2} ms; exact at once {} of {}; provisional {} (none shown {}, worse than exact {}, ratio median {:.3}, p95 {:.3})",
+        q(0.5),
+        q(0.95),
+        q(1.0),
+        first.iter().filter(|f| f.1).count(),
+        first.len(),
+        provisional.len(),
+        provisional.iter().filter(|r| r.is_infinite()).count(),
+        worse,
+        provisional
+            .get(provisional.len() / 2)
+            .copied()
+            .unwrap_or(f64::NAN),
+        provisional
+            .get((provisional.len().max(1) - 1) * 95 / 100)
+            .copied()
+            .unwrap_or(f64::NAN),
+    );
 }

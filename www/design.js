@@ -68,7 +68,20 @@ export function createDesignMode(ctx) {
   const { $ } = ctx;
   const stats = {
     active: false, ready: false, crashed: false, state: null, analysis: null, proxy: false,
-    faces: 0, inputFaces: 0, buildMs: null, hoverLatencies: [], hoverWorkerMs: [], hoverPickMs: [], hoverReplies: 0,
+    faces: 0, inputFaces: 0, buildMs: null, hoverPickMs: [], hoverReplies: 0,
+    // The hover is answered progressively (layout-worker.js): a first draw
+    // at once (the exact loop, or a provisional one while the exact search
+    // goes on), then the exact loop. Per hover, from its handler: the exact
+    // loop drawn (hoverLatencies; what the tests wait for) and the first
+    // draw (hoverFirstLatencies); the layout worker's time to the exact
+    // answer (hoverWorkerMs, summed over its slices) and to the first
+    // (hoverFirstWorkerMs); hovers first drawn provisionally (a provisional
+    // answer without a loop is not drawn: that hover's first draw is its
+    // exact draw).
+    hoverLatencies: [], hoverFirstLatencies: [], hoverWorkerMs: [], hoverFirstWorkerMs: [], hoverProvisional: 0,
+    // … of which the exact loop was the provisional one (not drawn again);
+    // hovers whose first answer was not the exact loop (drawn or not).
+    hoverUnchanged: 0, hoverUnfinished: 0,
     analyses: 0, lastDrawn: 0, exportCount: 0, actionMs: {},
     // Per action: event → its state drawn (ms, measured on the page).
     actionLatencies: {},
@@ -90,6 +103,9 @@ export function createDesignMode(ctx) {
   let surface = null; // the design mesh (proxy or input): { positions, triangles }
   let hoverBusy = false;
   let hoverNext = null; // { point, t }
+  let hoverSent = -Infinity; // t of the newest hover posted
+  let undrawn = null; // t of the newest hover whose provisional answer had no loop (not drawn)
+  let firstDrawn = { t: null, at: null }; // the newest hover's first draw: its t and the frame's time
   let actionBusy = false;
   let dragNext = null; // latest drag update: { name, args, t, serial }
   let actionSerial = 0; // serial of the newest action (posted or waiting in dragNext)
@@ -102,7 +118,16 @@ export function createDesignMode(ctx) {
   let gridSerial = null; // the analysis serial (strips and moves) the drawn grid belongs to
 
   function post(message, transfer) {
-    if (worker && !stats.crashed) worker.postMessage(message, transfer || []);
+    if (worker && !stats.crashed) toWorker(message, transfer);
+  }
+
+  // Every message after init is counted in `inbox` (shared with the layout
+  // worker when the page is cross-origin isolated), so that the worker's
+  // unfinished hover search stops for it at its next slice.
+  let inbox = null;
+  function toWorker(message, transfer = []) {
+    if (inbox) Atomics.add(inbox, 0, 1);
+    worker.postMessage(message, transfer);
   }
 
   function start() {
@@ -119,7 +144,11 @@ export function createDesignMode(ctx) {
     worker.onmessage = (event) => onMessage(event.data);
     worker.onerror = (event) => { event.preventDefault(); crashed(event.message || 'the layout worker stopped'); };
     const bytes = input.bytes.slice(0);
-    worker.postMessage({ type: 'init', bytes, name: input.name }, [bytes]);
+    // `?hoverFirst=N`: g′ nodes the layout worker searches before a hover's
+    // first answer (benchmarks; `all`: every hover answered exactly at once).
+    const hoverFirst = new URLSearchParams(location.search).get('hoverFirst');
+    inbox = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
+    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst, inbox: inbox && inbox.buffer }, [bytes]);
     $('design-note').textContent = `Building the loop engine for ${input.name}…`;
     return true;
   }
@@ -166,10 +195,33 @@ export function createDesignMode(ctx) {
         else action('clearAnchors', []);
         break;
       case 'hover': {
-        hoverBusy = false;
-        stats.hoverReplies++;
-        stats.hoverWorkerMs.push(m.ms);
-        if (!stats.state || stats.state.anchors.length === 0) drawProposal(m.proposal, m.t);
+        // First the answer to a hover (m.exact: the exact loop, else a
+        // provisional one), then, when that was provisional, the exact
+        // loop for the same hover (m.final).
+        // A provisional answer without a loop (none found yet) is not
+        // drawn: the hover's first draw is then its exact draw.
+        const nothing = !m.exact && m.proposal.length === 0;
+        if (!m.final) {
+          hoverBusy = false;
+          stats.hoverReplies++;
+          if (!nothing) stats.hoverFirstWorkerMs.push(m.ms);
+          if (!m.exact && !nothing) stats.hoverProvisional++;
+          if (!m.exact) stats.hoverUnfinished++;
+          undrawn = nothing ? m.t : null;
+        }
+        if (m.exact) stats.hoverWorkerMs.push(m.ms);
+        if (m.final && undrawn === m.t) stats.hoverFirstWorkerMs.push(m.ms);
+        // An exact loop for a hover since replaced by a newer one is not drawn.
+        const current = !m.final || (m.t >= hoverSent && !hoverNext);
+        const shown = current && !nothing && (!stats.state || stats.state.anchors.length === 0);
+        if (shown && m.final && undrawn === m.t) drawProposal(m.proposal, m.t, { first: true, exact: true });
+        else if (shown && m.final && m.unchanged) {
+          // The provisional loop on screen is the exact one: it is not drawn
+          // again, and its exact draw is its first draw.
+          stats.hoverUnchanged++;
+          if (firstDrawn.t === m.t) stats.hoverLatencies.push(firstDrawn.at - m.t);
+          else ctx.afterNextFrame(() => stats.hoverLatencies.push((firstDrawn.t === m.t ? firstDrawn.at : performance.now()) - m.t));
+        } else if (shown) drawProposal(m.proposal, m.t, { first: !m.final, exact: m.exact });
         if (hoverNext) { const h = hoverNext; hoverNext = null; sendHover(h.point, h.t); }
         break;
       }
@@ -224,6 +276,7 @@ export function createDesignMode(ctx) {
     if (!stats.ready) return;
     if (hoverBusy) { hoverNext = { point, t }; return; }
     hoverBusy = true;
+    hoverSent = t;
     post({ type: 'hover', point, t });
   }
 
@@ -267,15 +320,24 @@ export function createDesignMode(ctx) {
     v.set_points(name, positions, rgba, size * ctx.dpr());
   }
 
-  function drawProposal(polyline, t) {
+  // A hover's answer (t: its handler's time) records its first draw and,
+  // when exact, its exact draw; any other proposal (t given) its exact draw.
+  function drawProposal(polyline, t, { first = false, exact = true } = {}) {
     proposal = polyline;
     stats.proposal = polyline;
     setLines('design proposal', segmentsOf(polyline), new Uint8Array(COLOURS.proposal));
     ctx.requestRender();
     if (t !== undefined) {
       ctx.afterNextFrame(() => {
-        stats.lastDrawn = performance.now();
-        stats.hoverLatencies.push(stats.lastDrawn - t);
+        const now = performance.now();
+        if (first) {
+          stats.hoverFirstLatencies.push(now - t);
+          firstDrawn = { t, at: now };
+        }
+        if (exact) {
+          stats.lastDrawn = now;
+          stats.hoverLatencies.push(now - t);
+        }
       });
     }
   }
@@ -573,7 +635,9 @@ export function createDesignMode(ctx) {
     if (!worker || inputName !== input.name || stats.crashed) {
       stats.state = stats.analysis = null;
       stats.hoverLatencies = [];
+      stats.hoverFirstLatencies = [];
       stats.hoverWorkerMs = [];
+      stats.hoverFirstWorkerMs = [];
       stats.hoverPickMs = [];
       start();
     } else if (stats.state) {
@@ -610,7 +674,7 @@ export function createDesignMode(ctx) {
       if (!worker || stats.crashed) { reject(new Error('the design mode is not running')); return; }
       const id = nextRequest++;
       pending.set(id, { resolve, reject });
-      worker.postMessage({ ...message, id });
+      toWorker({ ...message, id });
     });
   }
 

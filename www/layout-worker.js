@@ -5,7 +5,9 @@
 // and so do the exports, the grid and the fit, which it makes from its
 // newest analysis.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name }
+// Messages in:   { type: 'init', bytes: ArrayBuffer, name, hoverFirst, inbox }  hoverFirst: null, a count of g′
+//                  nodes instead of HOVER_FIRST, or 'all' (every hover answered exactly at once); inbox: null
+//                  or a SharedArrayBuffer where the page counts the messages it posts after init
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
 //                { type: 'action', name, args: [...], t, serial } addAnchor, setLastAnchorDirection,
 //                  insertAnchorOnLoop, moveGrabbedAnchor, clearAnchors, commit, deleteStrip, undo, redo,
@@ -20,7 +22,11 @@
 //                { type: 'hold-analysis-for-testing', on }      while on, a running analysis waits at its first step
 // Messages out:  { type: 'progress', text }
 //                { type: 'ready', faces, inputFaces, proxy, buildMs, surface }
-//                { type: 'hover', proposal: Float32Array, ms, t }
+//                { type: 'hover', proposal: Float32Array, ms, t, exact, final }
+//                  the answer to a hover, at once: the exact best loop (exact), or the cheapest loop found
+//                  within HOVER_FIRST settled g′ nodes (provisional); after a provisional one, the exact
+//                  loop for the same t (final, exact; ms: the worker's time over all its slices;
+//                  unchanged: it is the provisional loop, node for node)
 //                { type: 'state', action, value, state, ms, t, serial }  right after each action
 //                { type: 'analysis', analysis, ms, serial }     afterwards, when the strips or moves changed
 //                { type: 'analysis-cancelled', revision, started, ms }  a stale analysis given up
@@ -132,25 +138,67 @@ function queueAnalysis() {
 // slice a task of its own, so that a message waits for one slice at most (a
 // few milliseconds) and the next hover, grab, drag update or click finds
 // them settled. The answers do not change, only how soon they come.
+//
+// The hover is progressive (Campen & Kobbelt 2014 §4.1: the best loop
+// through the pointer, "constantly updated"): its first slice of search
+// (HOVER_FIRST g′ nodes, a few ms) answers at once, with the exact loop
+// when the search finished, else with the cheapest loop or dual curve found
+// so far; the search then goes on by slices (HOVER_SLICE) in the same task
+// for as long as no message waits (the page counts its messages in the
+// shared `inbox`), then in idle tasks before the fields (one slice per task
+// without cross-origin isolation), and the exact loop follows. A newer hover
+// replaces the unfinished search; Enter, the wheel and new covered strips
+// finish it first (LayoutDesign::finish_hover), so what is committed or
+// browsed is the exact loop.
 const PREPARE_SLICE = 10000; // g′ nodes per slice
+const HOVER_FIRST = 6000; // g′ nodes before the first answer
+let hoverFirst = HOVER_FIRST;
+const HOVER_SLICE = 4000; // g′ nodes per later slice
 const idle = new MessageChannel();
-let preparing = false;
+let scheduled = false;
+let prepareMore = false; // prepareFields has more to settle
+let hoverJob = null; // the unfinished hover: { t, ms }
+let inbox = null; // Int32Array: messages the page has posted since init
+let received = 0; // … and those this worker has received
+
+// Slices of the unfinished hover search: one, or (with `inbox`) as many as
+// run before a message waits; posts the exact loop once it is known.
+function hoverSlices() {
+  const started = performance.now();
+  let exact;
+  do {
+    exact = designer.hoverStep(HOVER_SLICE);
+  } while (exact === undefined && inbox && designer.hoverPending() && Atomics.load(inbox, 0) === received);
+  if (hoverJob) hoverJob.ms += performance.now() - started;
+  if (exact !== undefined) {
+    if (hoverJob) self.postMessage({ type: 'hover', proposal: exact, ms: hoverJob.ms, t: hoverJob.t, exact: true, final: true, unchanged: designer.hoverUnchanged() }, [exact.buffer]);
+    hoverJob = null;
+  }
+}
+
 idle.port1.onmessage = () => {
-  preparing = false;
+  scheduled = false;
   if (!designer) return;
-  let more = false;
   try {
-    more = designer.prepareFields(PREPARE_SLICE);
+    if (designer.hoverPending()) {
+      hoverSlices();
+    } else if (prepareMore) {
+      prepareMore = designer.prepareFields(PREPARE_SLICE);
+    }
   } catch (error) {
     fail(error);
     return;
   }
-  if (more) prepareSoon();
+  if (designer.hoverPending() || prepareMore) idleSoon();
 };
-function prepareSoon() {
-  if (preparing) return;
-  preparing = true;
+function idleSoon() {
+  if (scheduled) return;
+  scheduled = true;
   idle.port2.postMessage(null);
+}
+function prepareSoon() {
+  prepareMore = true;
+  idleSoon();
 }
 
 const ACTIONS = new Set(['addAnchor', 'setLastAnchorDirection', 'insertAnchorOnLoop', 'moveGrabbedAnchor', 'clearAnchors',
@@ -158,12 +206,16 @@ const ACTIONS = new Set(['addAnchor', 'setLastAnchorDirection', 'insertAnchorOnL
 
 self.onmessage = async (event) => {
   const m = event.data;
+  if (m.type !== 'init') received += 1;
   try {
     await ready;
     if (m.type === 'init') {
       if (designer) designer.free();
       designer = null;
       self.postMessage({ type: 'progress', text: `building the loop engine for ${m.name}…` });
+      inbox = m.inbox ? new Int32Array(m.inbox) : null;
+      received = 0;
+      hoverFirst = m.hoverFirst === 'all' ? 0xffffffff : Number(m.hoverFirst) > 0 ? Number(m.hoverFirst) : HOVER_FIRST;
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
       // The analysis worker gets the design mesh (the proxy, for a large
@@ -189,12 +241,20 @@ self.onmessage = async (event) => {
       throw new Error('the layout worker has no mesh yet');
     } else if (m.type === 'hover') {
       const started = performance.now();
-      const proposal = designer.hover(m.point);
-      self.postMessage({ type: 'hover', proposal, ms: performance.now() - started, t: m.t }, [proposal.buffer]);
+      const proposal = designer.hoverBegin(m.point, hoverFirst);
+      const exact = designer.hoverExact();
+      const ms = performance.now() - started;
+      self.postMessage({ type: 'hover', proposal, ms, t: m.t, exact, final: false }, [proposal.buffer]);
+      hoverJob = exact ? null : { t: m.t, ms };
+      if (designer.hoverPending() && inbox) hoverSlices();
+      if (designer.hoverPending()) idleSoon();
     } else if (m.type === 'action') {
       if (!ACTIONS.has(m.name)) throw new Error(`unknown design action ${m.name}`);
       const started = performance.now();
       const value = designer[m.name](...(m.args || []));
+      // An action that finished an unfinished hover (Enter, the wheel)
+      // answered with its exact loop: the hover's own answer is dropped.
+      if (hoverJob && !designer.hoverPending()) hoverJob = null;
       const state = designer.state();
       self.postMessage({ type: 'state', action: m.name, value, state, ms: performance.now() - started, t: m.t, serial: m.serial }, transferables(state));
       queueAnalysis();
@@ -205,6 +265,8 @@ self.onmessage = async (event) => {
       forwarded.add(m.id);
       analyzer.postMessage({ ...m, serial });
     }
+    // A hover search this message interrupted goes on.
+    if (designer && designer.hoverPending()) idleSoon();
   } catch (error) {
     fail(error);
   }

@@ -30,7 +30,7 @@
 
 use glam::DVec3;
 
-use super::loops::{Anchor, DualLoop, LoopEngine};
+use super::loops::{Anchor, DualLoop, HoverStep, LoopEngine};
 use super::symmetry::{MirrorPlane, is_self_symmetric};
 
 /// At most this many wheel alternatives are computed per hover point.
@@ -85,6 +85,15 @@ struct Hover {
     proposals: Vec<DualLoop>,
     all: bool,
     index: usize,
+    /// Whether `proposals` holds the exact best loop; else the one shown
+    /// is provisional and the engine's search is unfinished
+    /// ([`LayoutDesign::hover_begin`]).
+    exact: bool,
+    /// Exact, and not yet given out by [`LayoutDesign::hover_resume`].
+    unreported: bool,
+    /// Whether the exact loop that replaced a provisional one is that same
+    /// loop (node for node): then it was on screen from the first answer.
+    unchanged: bool,
 }
 
 /// Why an action did nothing.
@@ -201,6 +210,17 @@ impl LayoutDesign {
     /// placed, the proposal is the loop through them and hovering changes
     /// nothing.
     pub fn hover(&mut self, position: DVec3) -> Option<&DualLoop> {
+        self.hover_begin(position, u64::MAX).0
+    }
+
+    /// Hovering answered progressively: at most `budget` settled g′ nodes
+    /// of search now ([`LoopEngine::hover_begin`]); returns the proposal and
+    /// whether it is the exact best loop. A provisional proposal is
+    /// replaced by the exact one through [`Self::hover_resume`] (or, before
+    /// Enter, the wheel or new covered strips, by finishing the search:
+    /// what is committed or browsed is always the exact loop's).
+    pub fn hover_begin(&mut self, position: DVec3, budget: u64) -> (Option<&DualLoop>, bool) {
+        let mut exact = true;
         if self.state.anchors.is_empty() {
             // The pointer still over the same vertex: the same loops, nothing
             // searched again (a move shows the best one again, as a new
@@ -213,23 +233,90 @@ impl LayoutDesign {
             {
                 h.position = position;
                 h.index = 0;
-                return self.proposal();
+                exact = h.exact;
+                return (self.proposal(), exact);
             }
-            let proposals: Vec<DualLoop> = self.engine.best_loop(position).into_iter().collect();
+            let (proposals, done) = match self.engine.hover_begin(position, budget) {
+                HoverStep::Exact(l) => (l.into_iter().collect(), true),
+                HoverStep::Provisional(l) => (l.into_iter().collect(), false),
+            };
+            exact = done;
             self.hover = Some(Hover {
                 position,
                 vertex,
                 proposals,
                 all: false,
                 index: 0,
+                exact,
+                unreported: false,
+                unchanged: false,
             });
         }
-        self.proposal()
+        (self.proposal(), exact)
+    }
+
+    /// Resumes an unfinished hover for at most `budget` settled g′ nodes.
+    /// Returns the exact proposal once, when it has become exact (here or
+    /// by an action that finished it since); `None` otherwise.
+    pub fn hover_resume(&mut self, budget: u64) -> Option<Option<&DualLoop>> {
+        let h = self.hover.as_mut()?;
+        if !h.exact {
+            // The engine forgot it (another query since): begin again.
+            let step = if self.engine.hover_pending() {
+                self.engine.hover_resume(budget)
+            } else {
+                match self.engine.hover_begin(h.position, budget) {
+                    HoverStep::Exact(l) => Some(l),
+                    HoverStep::Provisional(_) => None,
+                }
+            };
+            let l = step?;
+            let key = |l: Option<&DualLoop>| l.map(|l| (l.nodes.clone(), l.closed));
+            h.unchanged = key(h.proposals.first()) == key(l.as_ref());
+            h.proposals = l.into_iter().collect();
+            h.exact = true;
+            h.unreported = true;
+        }
+        if !std::mem::take(&mut h.unreported) {
+            return None;
+        }
+        Some(h.proposals.get(h.index))
+    }
+
+    /// Whether the exact loop [`Self::hover_resume`] gave out last is the
+    /// provisional one shown before it, node for node.
+    pub fn hover_unchanged(&self) -> bool {
+        self.hover.as_ref().is_some_and(|h| h.unchanged)
+    }
+
+    /// Whether [`Self::hover_resume`] has something to do.
+    pub fn hover_pending(&self) -> bool {
+        self.hover
+            .as_ref()
+            .is_some_and(|h| !h.exact || h.unreported)
+    }
+
+    /// Finishes an unfinished hover search now; `report`: the exact
+    /// proposal is still to be given out by [`Self::hover_resume`] (it is
+    /// not when the action's own answer shows it).
+    fn finish_hover(&mut self, report: bool) {
+        if self.hover.as_ref().is_some_and(|h| !h.exact) {
+            while self.hover_resume(u64::MAX).is_none() {}
+            if let Some(h) = self.hover.as_mut() {
+                h.unreported = report;
+            }
+        }
+    }
+
+    /// Forgets the hover proposals and an unfinished search.
+    fn drop_hover(&mut self) {
+        self.hover = None;
+        self.engine.cancel_hover();
     }
 
     /// Forgets the hover proposals (e.g. after a warm-up query).
     pub fn clear_hover(&mut self) {
-        self.hover = None;
+        self.drop_hover();
     }
 
     /// The wheel: moves `delta` steps through the ranked alternatives at the
@@ -238,6 +325,8 @@ impl LayoutDesign {
         if !self.state.anchors.is_empty() {
             return self.proposal();
         }
+        // The alternatives are ranked after the exact best loop.
+        self.finish_hover(false);
         let engine = &mut self.engine;
         let h = self.hover.as_mut()?;
         if !h.all {
@@ -277,6 +366,9 @@ impl LayoutDesign {
                 }
             }
         }
+        if self.hover.as_ref().is_some_and(|h| !h.exact) {
+            self.drop_hover();
+        }
         self.push_undo();
         self.state.anchors.push(anchor);
         self.update_constrained();
@@ -298,6 +390,9 @@ impl LayoutDesign {
     /// loop it is appended. Returns the new anchor's index. Undoable.
     pub fn insert_anchor_on_loop(&mut self, grabbed: DVec3, position: DVec3) -> usize {
         let index = self.insertion_index(grabbed);
+        if self.hover.as_ref().is_some_and(|h| !h.exact) {
+            self.drop_hover();
+        }
         self.push_undo();
         self.state
             .anchors
@@ -337,6 +432,8 @@ impl LayoutDesign {
     /// mirror image unless the loop is self-symmetric. Returns how many loops
     /// were added. Undoable.
     pub fn commit(&mut self) -> Result<usize, DesignError> {
+        // Enter commits the exact best loop, never a provisional one.
+        self.finish_hover(false);
         let dual = self.proposal().cloned().ok_or(DesignError::NoLoop)?;
         let anchors = if self.state.anchors.is_empty() {
             let h = self.hover.as_ref().ok_or(DesignError::NoLoop)?;
@@ -370,7 +467,7 @@ impl LayoutDesign {
         self.state.committed.extend(added);
         self.state.anchors.clear();
         self.constrained = None;
-        self.hover = None;
+        self.drop_hover();
         self.revision += 1;
         Ok(count)
     }
@@ -431,6 +528,9 @@ impl LayoutDesign {
         if revision != self.revision {
             return false;
         }
+        // The hover shown becomes exact for the covered set it was hovered
+        // in (and is given out as such).
+        self.finish_hover(true);
         self.engine.set_covered(covered);
         // The proposal stays on screen; the next hover searches again.
         if let Some(h) = self.hover.as_mut() {
@@ -454,7 +554,7 @@ impl LayoutDesign {
             self.committed_changed();
         }
         self.update_constrained();
-        self.hover = None;
+        self.drop_hover();
     }
 
     /// Recomputes the stand-in covered set from the committed loops.
@@ -464,7 +564,7 @@ impl LayoutDesign {
         for c in &self.state.committed {
             self.engine.cover_loop(&c.dual, hw);
         }
-        self.hover = None;
+        self.drop_hover();
         self.revision += 1;
     }
 
@@ -669,6 +769,72 @@ mod tests {
         assert!(
             d.engine.settled_nodes() > settled,
             "searched after the covered strips changed"
+        );
+    }
+
+    /// A hover answered progressively (one settled node before the first
+    /// answer: provisional) gives the exact loop once through
+    /// `hover_resume`; Enter before that commits the exact loop, not the
+    /// provisional one; the wheel ranks after the exact loop; new covered
+    /// strips arriving meanwhile finish it for the strips it was hovered
+    /// with and give it out. The exact loop is `hover`'s on a fresh design.
+    #[test]
+    fn a_provisional_hover_is_replaced_by_the_exact_loop_and_never_committed() {
+        let points = [on_torus(0.3, 0.0), on_torus(1.1, 2.0), on_torus(2.4, 0.9)];
+        let mut provisional_worse = 0;
+        for (i, &p) in points.iter().enumerate() {
+            let exact = torus_design().hover(p).cloned().expect("a loop");
+            // Resumed to the end, from first answers after 1 to 1 000 nodes.
+            for budget in [1, 100, 300, 1_000] {
+                let mut d = torus_design();
+                let (shown, done) = d.hover_begin(p, budget);
+                let shown = shown.cloned();
+                if done {
+                    assert_eq!(shown.as_ref(), Some(&exact), "point {i}: at once");
+                    continue;
+                }
+                assert!(d.hover_pending());
+                if let Some(l) = &shown {
+                    assert!(l.cost >= exact.cost, "point {i}");
+                    provisional_worse += usize::from(l.nodes != exact.nodes);
+                }
+                let got = loop {
+                    if let Some(l) = d.hover_resume(50) {
+                        break l.cloned();
+                    }
+                };
+                assert_eq!(got.as_ref(), Some(&exact), "point {i}: resumed");
+                assert_eq!(d.hover_unchanged(), shown.as_ref() == Some(&exact));
+                assert!(d.hover_resume(50).is_none(), "given out once");
+                assert!(!d.hover_pending());
+                assert_eq!(d.proposal(), Some(&exact));
+            }
+            // Enter while provisional.
+            let mut d = torus_design();
+            assert!(!d.hover_begin(p, 1).1);
+            assert_eq!(d.commit(), Ok(1));
+            assert_eq!(d.committed()[0].dual, exact, "point {i}: committed");
+            assert!(!d.hover_pending());
+            // The wheel while provisional: the exact loop first.
+            let mut d = torus_design();
+            d.hover_begin(p, 1);
+            d.browse(1);
+            d.browse(-1);
+            assert_eq!(d.proposal(), Some(&exact), "point {i}: browsed back");
+            // New covered strips while provisional.
+            let mut d = torus_design();
+            d.hover_begin(p, 1);
+            let n = d.engine.graph.g.vertex_count();
+            let covered = vec![vec![DVec3::X, DVec3::Y, DVec3::Z]; n];
+            assert!(d.apply_covered(d.revision(), &covered));
+            assert_eq!(
+                d.hover_resume(50).map(|l| l.cloned()),
+                Some(Some(exact.clone()))
+            );
+        }
+        assert!(
+            provisional_worse > 0,
+            "every provisional loop was already the exact one"
         );
     }
 

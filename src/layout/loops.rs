@@ -74,6 +74,15 @@
 //!   dual-curve search). The hover query settles the distances
 //!   from ∂ to the cheapest dual curve first and runs the closed-loop search
 //!   once, bounded by it.
+//! - The hover query can also be answered progressively
+//!   ([`LoopEngine::hover_begin`], [`LoopEngine::hover_resume`]): the same
+//!   search (the distances from ∂ grown until the cheapest dual curve is
+//!   proven, the labelled search bounded by it, the exact refinement) run
+//!   by slices of a bounded number of settled nodes; until it finishes, the
+//!   cheapest dual curve or closed loop found so far (a true walk of g′
+//!   through the vertex, with its true cost) is shown in its place. Its
+//!   final answer is [`LoopEngine::best_loop`]'s with the distances from ∂
+//!   settled fully (tested).
 //! - The fields, the searches through anchors and the distances from ∂ run
 //!   one settle loop ([`settle`]); the hover query's two bidirectional
 //!   searches (stopping at twice the key) and the tests' references keep
@@ -178,11 +187,11 @@ pub struct SelfCrossing {
     pub angle_degrees: f64,
 }
 
-/// Per-node search state, one 32-byte record so that a relaxation touches
-/// one cache line per node (the bidirectional search reads the other
-/// colour of `reverse(y)` right after writing `y`).
+/// Per-node search state of colour A (and the labelled search's label),
+/// one 16-byte record: the labelled search, which reads only this colour,
+/// touches four nodes per cache line (successors lie side by side).
 #[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(32))]
+#[repr(C, align(16))]
 struct Slot {
     dist: f32,
     parent: u32,
@@ -190,10 +199,15 @@ struct Slot {
     state: u32,
     /// Source of the path that reached the node (multi-source search).
     label: u32,
-    /// The second colour of the bidirectional loop search.
-    dist_b: f32,
-    parent_b: u32,
-    state_b: u32,
+}
+
+/// The second colour of the bidirectional loop search, in an array of its
+/// own.
+#[derive(Debug, Clone, Copy, Default)]
+struct SlotB {
+    dist: f32,
+    parent: u32,
+    state: u32,
 }
 
 /// What the labelled search of the hover query knows of `reverse(x)`,
@@ -210,35 +224,47 @@ struct Mirror {
     state: u32,
 }
 
-impl Slot {
-    /// Distance and state of the bidirectional search's colour A or B.
-    #[inline]
-    fn colour(&self, b: bool) -> (f32, u32) {
-        if b {
-            (self.dist_b, self.state_b)
-        } else {
-            (self.dist, self.state)
-        }
+/// Distance and state of node `x` in the bidirectional search's colour A
+/// or B.
+#[inline]
+fn colour(a: &[Slot], b: &[SlotB], x: usize, in_b: bool) -> (f32, u32) {
+    if in_b {
+        (b[x].dist, b[x].state)
+    } else {
+        (a[x].dist, a[x].state)
     }
+}
 
-    #[inline]
-    fn parent_of(&self, b: bool) -> u32 {
-        if b { self.parent_b } else { self.parent }
-    }
+#[inline]
+fn parent_of(a: &[Slot], b: &[SlotB], x: usize, in_b: bool) -> u32 {
+    if in_b { b[x].parent } else { a[x].parent }
+}
 
-    #[inline]
-    fn set_colour(&mut self, b: bool, dist: f32, parent: u32, state: u32) {
-        if b {
-            (self.dist_b, self.parent_b, self.state_b) = (dist, parent, state);
-        } else {
-            (self.dist, self.parent, self.state) = (dist, parent, state);
-        }
+#[inline]
+fn set_colour(
+    a: &mut [Slot],
+    b: &mut [SlotB],
+    x: usize,
+    in_b: bool,
+    dist: f32,
+    parent: u32,
+    state: u32,
+) {
+    if in_b {
+        b[x] = SlotB {
+            dist,
+            parent,
+            state,
+        };
+    } else {
+        (a[x].dist, a[x].parent, a[x].state) = (dist, parent, state);
     }
 }
 
 #[derive(Debug, Clone, Default)]
 struct Workspace {
     slot: Vec<Slot>,
+    slot_b: Vec<SlotB>,
     /// The labelled search's state of each node's *reverse*, written when
     /// the reverse is reached ([`LoopEngine::best_direction`]).
     mirror: Vec<Mirror>,
@@ -274,7 +300,9 @@ impl Workspace {
         if self.generation == 0 || self.generation >= 1 << 30 {
             for s in &mut self.slot {
                 s.state = 0;
-                s.state_b = 0;
+            }
+            for s in &mut self.slot_b {
+                s.state = 0;
             }
             for m in &mut self.mirror {
                 m.state = 0;
@@ -353,6 +381,24 @@ impl BoundaryField {
     }
 }
 
+/// [`LoopEngine::best_direction`]'s search between two slices of a
+/// progressive hover ([`LoopEngine::hover_begin`]).
+#[derive(Debug, Clone)]
+struct LabelledSearch {
+    /// The first out-edge of the hover vertex (the sources' row).
+    start: usize,
+    /// The workspace generation it runs in: another search since then
+    /// has overwritten its state.
+    generation: u32,
+    /// The cheapest loop closed so far (initially the search's bound).
+    best: f32,
+    found: Option<(f32, u32)>,
+    /// Where `found` closed: (x, y, parent of reverse(y)), relaxing the
+    /// arc x → y.
+    meet: Option<(u32, u32, u32)>,
+    finished: bool,
+}
+
 /// The loop engine: g and g′ built once per mesh, then queries.
 pub struct LoopEngine {
     pub graph: ElasticaGraph,
@@ -369,6 +415,37 @@ pub struct LoopEngine {
     layered: LayeredWorkspace,
     /// The state of [`LoopEngine::two_anchor_loop`]'s searches.
     pair: PairWorkspace,
+    /// The progressive hover query between its slices.
+    hover_search: Option<HoverSearch>,
+}
+
+/// A hover query answered progressively ([`LoopEngine::hover_begin`]):
+/// the same answer as [`LoopEngine::best_loop`] with the distances from ∂
+/// settled fully, computed by slices of a bounded number of settled g′
+/// nodes.
+#[derive(Debug, Clone)]
+struct HoverSearch {
+    v: usize,
+    /// The cheapest dual curve through `v` in the distances from ∂ settled
+    /// so far (cost, out-edge), in the order of `out_sources` …
+    dual: Option<(f32, u32)>,
+    /// … and whether no dual curve through `v` is cheaper (every curve
+    /// below the settled radius is known).
+    dual_proven: bool,
+    /// The closed-loop search, once `dual` is proven (bounded by it).
+    labelled: Option<LabelledSearch>,
+}
+
+/// What one slice of a progressive hover query gives
+/// ([`LoopEngine::hover_begin`], [`LoopEngine::hover_resume`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum HoverStep {
+    /// Not finished: the cheapest loop or dual curve through the vertex
+    /// found so far (a true loop of g′ with its true cost, not necessarily
+    /// the best), if any.
+    Provisional(Option<DualLoop>),
+    /// Finished: the exact answer, [`LoopEngine::best_loop`]'s.
+    Exact(Option<DualLoop>),
 }
 
 /// [`LoopEngine::two_anchor_loop`]: the distances from the second anchor's
@@ -734,11 +811,13 @@ impl LoopEngine {
             has_boundary,
             ws: Workspace {
                 slot: vec![Slot::default(); nodes],
+                slot_b: vec![SlotB::default(); nodes],
                 mirror: vec![Mirror::default(); nodes],
                 ..Workspace::default()
             },
             layered: LayeredWorkspace::default(),
             pair: PairWorkspace::default(),
+            hover_search: None,
         }
     }
 
@@ -746,7 +825,10 @@ impl LoopEngine {
     pub fn memory_bytes(&self) -> usize {
         let n = self.graph.node_count();
         self.graph.memory_bytes()
-            + n * (std::mem::size_of::<Slot>() + std::mem::size_of::<Mirror>() + 1)
+            + n * (std::mem::size_of::<Slot>()
+                + std::mem::size_of::<SlotB>()
+                + std::mem::size_of::<Mirror>()
+                + 1)
             + self.boundary_field.as_ref().map_or(0, |f| f.dist.len() * 9)
             + self
                 .pair
@@ -787,6 +869,166 @@ impl LoopEngine {
         let v = self.nearest_vertex(position)?;
         let (cost, kind) = self.best_through(v, f32::INFINITY)?;
         Some(self.make_loop(kind, cost))
+    }
+
+    /// The hover query answered progressively (§4.1's hover, with the
+    /// exact answer of [`Self::best_loop`] as it is once the distances from
+    /// ∂ are settled fully): settles at most `budget` g′ nodes, then gives
+    /// either the exact answer or the cheapest loop or dual curve found so
+    /// far, to be shown until [`Self::hover_resume`] finishes. Forgets a
+    /// hover query still unfinished.
+    ///
+    /// The search runs in three steps: the distances from ∂ are grown until
+    /// the cheapest dual curve through the vertex is proven (cheaper than
+    /// the settled radius, or the field complete), then the labelled
+    /// closed-loop search bounded by it, then the exact refinement of the
+    /// best few directions (not budgeted: about 2 % of a query). Another
+    /// query of the engine between two slices restarts the labelled search
+    /// (it shares the workspace); the distances from ∂ are kept.
+    pub fn hover_begin(&mut self, position: DVec3, budget: u64) -> HoverStep {
+        self.hover_search = None;
+        let Some(v) = self.nearest_vertex(position) else {
+            return HoverStep::Exact(None);
+        };
+        self.hover_search = Some(HoverSearch {
+            v,
+            dual: None,
+            dual_proven: !self.has_boundary,
+            labelled: None,
+        });
+        self.hover_step(budget, true)
+    }
+
+    /// Resumes the hover query of [`Self::hover_begin`] for at most
+    /// `budget` more settled nodes. `None` when it is still unfinished
+    /// (nothing is built for showing) or when there is none (see
+    /// [`Self::hover_pending`]).
+    pub fn hover_resume(&mut self, budget: u64) -> Option<Option<DualLoop>> {
+        self.hover_search.as_ref()?;
+        match self.hover_step(budget, false) {
+            HoverStep::Exact(l) => Some(l),
+            HoverStep::Provisional(_) => None,
+        }
+    }
+
+    /// Whether a hover query of [`Self::hover_begin`] is unfinished.
+    pub fn hover_pending(&self) -> bool {
+        self.hover_search.is_some()
+    }
+
+    /// Forgets an unfinished hover query.
+    pub fn cancel_hover(&mut self) {
+        self.hover_search = None;
+    }
+
+    /// One slice of the progressive hover query; builds the provisional
+    /// loop only when `show`.
+    fn hover_step(&mut self, budget: u64, show: bool) -> HoverStep {
+        let Some(mut hs) = self.hover_search.take() else {
+            return HoverStep::Exact(None);
+        };
+        let v = hs.v;
+        let mut left = budget;
+        while !hs.dual_proven {
+            hs.dual = None;
+            let mut radius = 0.0;
+            if let Some(f) = &self.boundary_field {
+                radius = f.radius;
+                let mut limit = f32::INFINITY;
+                for b in self.out_sources(v) {
+                    let r = self.graph.g.reverse[b as usize];
+                    if r == NONE {
+                        continue;
+                    }
+                    let c = f.distance(b) + f.distance(r);
+                    if c < limit {
+                        limit = c;
+                        hs.dual = Some((c, b));
+                    }
+                }
+            }
+            // Every dual curve cheaper than the radius has both halves
+            // settled, so one found below it is the cheapest.
+            if radius == f32::INFINITY || hs.dual.is_some_and(|(c, _)| c < radius) {
+                hs.dual_proven = true;
+                break;
+            }
+            if left == 0 {
+                return self.hover_pause(hs, show);
+            }
+            let used = self.grow_boundary(f32::INFINITY, left);
+            left -= used.min(left);
+        }
+        let limit = hs.dual.map_or(f32::INFINITY, |(c, _)| c);
+        let stale = hs
+            .labelled
+            .as_ref()
+            .is_none_or(|l| l.generation != self.ws.generation);
+        if stale {
+            hs.labelled = self.labelled_start(v, limit);
+        }
+        let closed = match hs.labelled.as_mut() {
+            None => None,
+            Some(search) => {
+                self.labelled_run(search, left);
+                if !search.finished {
+                    return self.hover_pause(hs, show);
+                }
+                let found = search.found;
+                found.and_then(|(approx, _)| self.refine_directions(v, limit, approx))
+            }
+        };
+        let best = closed.or(hs.dual.map(|(c, b)| (c, Kind::Open(b))));
+        if let Some((c, _)) = &best {
+            self.hover_radius = (1.25 * c).max(BOUNDARY_RADIUS);
+        }
+        HoverStep::Exact(best.map(|(c, k)| self.make_loop(k, c)))
+    }
+
+    /// Keeps the unfinished hover query; the cheapest loop or dual curve
+    /// found so far when `show`.
+    fn hover_pause(&mut self, hs: HoverSearch, show: bool) -> HoverStep {
+        let mut shown: Option<(f32, Kind)> = None;
+        if show {
+            shown = hs.dual.map(|(c, b)| (c, Kind::Open(b)));
+            if let Some(l) = hs
+                .labelled
+                .as_ref()
+                .filter(|l| l.generation == self.ws.generation)
+            {
+                if let (Some((c, _)), Some(meet)) = (l.found, l.meet) {
+                    if shown.as_ref().is_none_or(|(d, _)| c < *d) {
+                        shown = Some((c, Kind::Closed(self.labelled_loop(meet))));
+                    }
+                }
+            }
+        }
+        self.hover_search = Some(hs);
+        HoverStep::Provisional(shown.map(|(c, k)| self.make_loop(k, c)))
+    }
+
+    /// The loop the labelled search closed relaxing x → y, reverse(y)
+    /// reached from `p`: s … x, y, reverse(p) … reverse(s′) (the closing
+    /// arc reverse(s′) → s implied), as `cycle_through` leaves it.
+    fn labelled_loop(&self, (x, y, p): (u32, u32, u32)) -> Vec<u32> {
+        let g = &self.graph.g;
+        let slot = &self.ws.slot;
+        let chain = |last: u32| {
+            let mut out = Vec::new();
+            let mut z = last;
+            while z != NONE && out.len() <= slot.len() {
+                out.push(z);
+                z = slot[z as usize].parent;
+            }
+            out.reverse();
+            out
+        };
+        let mut path = chain(x);
+        path.push(y);
+        if p != NONE {
+            path.extend(chain(p).iter().rev().map(|&z| g.reverse[z as usize]));
+        }
+        path
     }
 
     /// The best loop and ranked alternatives through one positional anchor,
@@ -1938,6 +2180,8 @@ impl LoopEngine {
         }
         self.boundary_field = None;
         self.pair.cache.clear();
+        // A progressive hover's search ran on the old enabled set.
+        self.hover_search = None;
     }
 
     /// The enabled out-edges of `v`. (A loop and its reverse leave `v` in
@@ -2034,14 +2278,20 @@ impl LoopEngine {
 
     /// The best closed loop through `v` cheaper than `limit`.
     fn best_loop_through(&mut self, v: usize, limit: f32) -> Option<(f32, Kind)> {
-        let mut best: Option<(f32, Kind)> = None;
         // One labelled bidirectional search from all out-edges of `v` ranks
         // the closing directions (approximately: each node keeps only its
         // cheapest source), then exact bidirectional searches through the
         // best few (each bounded by the best loop so far) yield the loop.
-        let Some((approx, _)) = self.best_direction(v, limit) else {
-            return best;
-        };
+        let (approx, _) = self.best_direction(v, limit)?;
+        self.refine_directions(v, limit, approx)
+    }
+
+    /// The exact part of [`Self::best_loop_through`], after the labelled
+    /// search (cheapest loop `approx`) left its per-direction costs in
+    /// `ws.label_best`: the exact loop through each of the best few
+    /// directions, bounded by the best so far.
+    fn refine_directions(&mut self, v: usize, limit: f32, approx: f32) -> Option<(f32, Kind)> {
+        let mut best: Option<(f32, Kind)> = None;
         let start = self.graph.g.out_edges(v).start;
         let mut ranked: Vec<(f32, u32)> = self
             .ws
@@ -2074,6 +2324,14 @@ impl LoopEngine {
     /// it). Approximate only in that each node keeps its cheapest source.
     /// Returns the loop cost and the out-edge `s` it leaves `v` through.
     fn best_direction(&mut self, v: usize, bound: f32) -> Option<(f32, u32)> {
+        let mut search = self.labelled_start(v, bound)?;
+        self.labelled_run(&mut search, u64::MAX);
+        search.found
+    }
+
+    /// Starts [`Self::best_direction`]'s search (sources queued, closing
+    /// arcs tabulated); `None` when `v` has no out-edge.
+    fn labelled_start(&mut self, v: usize, bound: f32) -> Option<LabelledSearch> {
         let graph = &self.graph;
         let g = &graph.g;
         let disabled = &self.disabled;
@@ -2083,7 +2341,7 @@ impl LoopEngine {
             return None;
         }
         let now = ws.next_generation();
-        let (reached, settled) = (2 * now, 2 * now + 1);
+        let reached = 2 * now;
         ws.radix.clear();
         for s in row.clone() {
             if disabled[s] {
@@ -2115,8 +2373,34 @@ impl LoopEngine {
                 graph.for_each_arc(closing as usize, |t, w| close_row[t - start] = w);
             }
         }
-        let mut best = bound;
-        let mut found = None;
+        Some(LabelledSearch {
+            start,
+            generation: now,
+            best: bound,
+            found: None,
+            meet: None,
+            finished: false,
+        })
+    }
+
+    /// Runs [`Self::best_direction`]'s search until it is finished or has
+    /// settled `budget` nodes (then it can be resumed, as long as no other
+    /// search has used the workspace since: `search.generation`). Returns
+    /// the nodes settled.
+    fn labelled_run(&mut self, search: &mut LabelledSearch, budget: u64) -> u64 {
+        let graph = &self.graph;
+        let g = &graph.g;
+        let disabled = &self.disabled;
+        let ws = &mut self.ws;
+        let (reached, settled) = (2 * search.generation, 2 * search.generation + 1);
+        if ws.generation != search.generation || search.finished {
+            return 0;
+        }
+        let len = ws.label_best.len();
+        let mut best = search.best;
+        let mut found = search.found;
+        let mut meet = search.meet;
+        let mut left = budget;
         let (slot, mirror, heap, effort, close, label_best) = (
             &mut ws.slot,
             &mut ws.mirror,
@@ -2125,6 +2409,9 @@ impl LoopEngine {
             &ws.close,
             &mut ws.label_best,
         );
+        // The out-edges of the search's vertex start where its sources do.
+        let start = search.start;
+        let mut finished = true;
         while let Some((k, node)) = heap.pop() {
             if 2.0 * f32::from_bits(k) >= best {
                 break;
@@ -2133,6 +2420,13 @@ impl LoopEngine {
             if slot[x].state == settled {
                 continue;
             }
+            if left == 0 {
+                // Out of budget: put the entry back, resume later.
+                heap.push(k, node);
+                finished = false;
+                break;
+            }
+            left -= 1;
             slot[x].state = settled;
             *effort += 1;
             let d = slot[x].dist;
@@ -2156,6 +2450,11 @@ impl LoopEngine {
                     if c < best {
                         best = c;
                         found = Some((c, lx));
+                        // Where the loop closes, for a provisional answer:
+                        // x and reverse(y)'s parent are settled, so their
+                        // paths stay as they are.
+                        let ry = g.reverse[y];
+                        meet = Some((x as u32, y as u32, slot[ry as usize].parent));
                     }
                 }
                 // A node at half the best loop or more is never settled and
@@ -2177,7 +2476,11 @@ impl LoopEngine {
                 }
             });
         }
-        found
+        search.best = best;
+        search.found = found;
+        search.meet = meet;
+        search.finished = finished;
+        budget - left
     }
 
     /// The exact minimum-cost loop through node `b` (a g-edge leaving vertex
@@ -2212,15 +2515,18 @@ impl LoopEngine {
                 continue;
             }
             let w = graph.arc_weight(x as usize, b);
-            ws.slot[e].dist_b = w;
-            ws.slot[e].parent_b = NONE;
-            ws.slot[e].state_b = reached;
+            ws.slot_b[e] = SlotB {
+                dist: w,
+                parent: NONE,
+                state: reached,
+            };
             ws.radix.push(w.to_bits(), e as u32 | B);
         }
         let mut best = bound;
         // (settled node, relaxed node, colour of both is B).
         let mut meet: Option<(u32, u32, bool)> = None;
-        let (slot, heap, effort) = (&mut ws.slot, &mut ws.radix, &mut ws.effort);
+        let (slot, slot_b, heap, effort) =
+            (&mut ws.slot, &mut ws.slot_b, &mut ws.radix, &mut ws.effort);
         while let Some((k, node)) = heap.pop() {
             if 2.0 * f32::from_bits(k) >= best {
                 break;
@@ -2228,12 +2534,12 @@ impl LoopEngine {
             let raw = node;
             // Colour A grows from b, colour B from the edges closing into b.
             let (x, in_b) = ((raw & !B) as usize, raw & B != 0);
-            let (d, state) = slot[x].colour(in_b);
+            let (d, state) = colour(slot, slot_b, x, in_b);
             if state == settled {
                 continue;
             }
-            let parent = slot[x].parent_of(in_b);
-            slot[x].set_colour(in_b, d, parent, settled);
+            let parent = parent_of(slot, slot_b, x, in_b);
+            set_colour(slot, slot_b, x, in_b, d, parent, settled);
             *effort += 1;
             graph.for_each_arc(x, |y, w| {
                 if disabled[y] {
@@ -2245,7 +2551,7 @@ impl LoopEngine {
                 }
                 let ry = g.reverse[y];
                 if ry != NONE {
-                    let (other, other_state) = slot[ry as usize].colour(!in_b);
+                    let (other, other_state) = colour(slot, slot_b, ry as usize, !in_b);
                     if other_state >= reached && nd + other < best {
                         best = nd + other;
                         meet = Some((x as u32, y as u32, in_b));
@@ -2253,9 +2559,9 @@ impl LoopEngine {
                 }
                 // The optimal loop's halves meet where both are below
                 // half its cost: farther nodes need not be kept.
-                let (yd, y_state) = slot[y].colour(in_b);
+                let (yd, y_state) = colour(slot, slot_b, y, in_b);
                 if 2.0 * nd < best && (y_state < reached || nd < yd) {
-                    slot[y].set_colour(in_b, nd, x as u32, y_state.max(reached));
+                    set_colour(slot, slot_b, y, in_b, nd, x as u32, y_state.max(reached));
                     heap.push(nd.to_bits(), y as u32 | if in_b { B } else { 0 });
                 }
             });
@@ -2267,7 +2573,7 @@ impl LoopEngine {
             let mut z = last;
             while z != NONE && out.len() - start <= slot.len() {
                 out.push(z);
-                z = slot[z as usize].parent_of(b_side);
+                z = parent_of(slot, slot_b, z as usize, b_side);
             }
             out[start..].reverse();
         };
@@ -3392,6 +3698,120 @@ mod tests {
             }
         }
         assert!(compared >= 40, "{compared}");
+    }
+
+    /// The progressive hover ([`LoopEngine::hover_begin`] and
+    /// [`LoopEngine::hover_resume`], by slices of 1 to 5 000 settled
+    /// nodes, from no distances from ∂ settled, sometimes with another
+    /// query between two slices) ends with [`LoopEngine::best_loop`]'s loop
+    /// of an engine whose distances from ∂ are settled in one go, node for
+    /// node; every provisional loop shown meanwhile is a walk of enabled g′
+    /// arcs through the hovered vertex whose summed weights are its cost,
+    /// and costs no less than the exact loop. On a torus, an open cylinder
+    /// and a plane.
+    #[test]
+    fn a_progressive_hover_ends_with_the_exact_loop_and_shows_true_loops_meanwhile() {
+        let meshes = [
+            torus(2.0, 0.7, 30, 12),
+            cylinder(1.0, 3.0, 24, 12),
+            flat_grid(1.0, 12),
+        ];
+        let (mut shown, mut worse, mut exact_at_once, mut interrupted) = (0, 0, 0, 0);
+        for mesh in &meshes {
+            let mut eager = LoopEngine::new(mesh, &ElasticaParams::default());
+            eager.settle_boundary(f32::INFINITY);
+            let mut progressive = LoopEngine::new(mesh, &ElasticaParams::default());
+            let n = mesh.vertex_count();
+            for (k, v) in (0..n).step_by(n / 16).enumerate() {
+                let p = eager.vertex_position(v);
+                let reference = eager.best_loop(p);
+                let budget = [1u64, 40, 700, 5_000][k % 4];
+                let check_shown = |e: &LoopEngine, l: &DualLoop| {
+                    let g = &e.graph.g;
+                    assert!(
+                        l.nodes.iter().any(|&x| g.source[x as usize] as usize == v),
+                        "vertex {v}: the provisional loop misses the vertex"
+                    );
+                    let nodes = &l.nodes;
+                    let arcs = if l.closed {
+                        nodes.len()
+                    } else {
+                        nodes.len() - 1
+                    };
+                    let mut cost = 0.0f64;
+                    for i in 0..arcs {
+                        let (a, c) = (nodes[i] as usize, nodes[(i + 1) % nodes.len()] as usize);
+                        assert!(
+                            e.graph.is_arc(a, c) && !e.disabled[a],
+                            "vertex {v}: arc {i}"
+                        );
+                        cost += e.graph.arc_weight(a, c) as f64;
+                    }
+                    if !l.closed {
+                        // A dual curve's weights from ∂ and back: its two ends
+                        // leave and reach the boundary.
+                        assert!(g.boundary[g.source[nodes[0] as usize] as usize]);
+                        assert!(g.boundary[g.target[*nodes.last().unwrap() as usize] as usize]);
+                    }
+                    assert!(
+                        (cost - l.cost).abs() <= 1e-4 * l.cost.max(1.0),
+                        "vertex {v}: walked {cost}, reported {}",
+                        l.cost
+                    );
+                };
+                let mut provisional: Vec<DualLoop> = Vec::new();
+                let exact = match progressive.hover_begin(p, budget) {
+                    HoverStep::Exact(l) => {
+                        exact_at_once += 1;
+                        l
+                    }
+                    HoverStep::Provisional(l) => {
+                        provisional.extend(l);
+                        let mut slices = 0;
+                        loop {
+                            slices += 1;
+                            if k % 3 == 1 && slices == 2 {
+                                // Another query between two slices.
+                                let q = eager.vertex_position((v + n / 2) % n);
+                                progressive.loops_through(q, 2);
+                                interrupted += 1;
+                            }
+                            if let Some(l) = progressive.hover_resume(budget) {
+                                break l;
+                            }
+                        }
+                    }
+                };
+                assert!(!progressive.hover_pending());
+                for l in &provisional {
+                    check_shown(&progressive, l);
+                    shown += 1;
+                    let best = exact
+                        .as_ref()
+                        .expect("an exact loop after a provisional one");
+                    assert!(
+                        l.cost >= best.cost - 1e-6 * best.cost.max(1.0),
+                        "vertex {v}"
+                    );
+                    worse += usize::from(l.cost > best.cost * (1.0 + 1e-6));
+                }
+                match (&exact, &reference) {
+                    (Some(a), Some(b)) => {
+                        assert_eq!(a.cost, b.cost, "vertex {v}");
+                        assert_eq!(a.closed, b.closed, "vertex {v}");
+                        assert_eq!(a.nodes, b.nodes, "vertex {v}");
+                    }
+                    (None, None) => {}
+                    _ => panic!("vertex {v}: {exact:?} / {reference:?}"),
+                }
+            }
+        }
+        // Every path was taken: exact at once, provisional loops (some worse
+        // than the exact one), searches restarted after another query.
+        assert!(exact_at_once > 0 && shown > 0 && worse > 0 && interrupted > 0);
+        eprintln!(
+            "progressive hover: {exact_at_once} exact at once, {shown} provisional ({worse} worse)"
+        );
     }
 
     #[test]

@@ -51,7 +51,7 @@ pub mod symmetry;
 pub use design::LayoutDesign;
 pub use elastica::{ElasticaGraph, ElasticaParams};
 pub use embed::{EdgeCrossing, EmbedError, EmbeddedLoop, LoopEmbedder, Singularity, embed_loop};
-pub use loops::{Anchor, DualLoop, LoopEngine, SelfCrossing};
+pub use loops::{Anchor, DualLoop, HoverStep, LoopEngine, SelfCrossing};
 pub use strips::{Strip, StripAnalysis, StripParams, strip_analysis, strip_analysis_with};
 pub use surface_graph::SurfaceGraph;
 

@@ -128,6 +128,8 @@ pub struct LayoutDesigner {
     last_error: Option<String>,
     /// The anchor inserted by the last grab, moved by the drag that follows.
     grabbed: Option<usize>,
+    /// Whether the last progressive hover answered exactly.
+    hover_exact: bool,
     /// The input (when the design runs on a proxy) and the file's frame,
     /// until [`Self::take_analysis_meshes`] hands them over.
     handover: Option<(Option<TriMesh>, Frame)>,
@@ -193,6 +195,7 @@ impl LayoutDesigner {
             posted: None,
             last_error: None,
             grabbed: None,
+            hover_exact: true,
             handover: Some((original, frame)),
         })
     }
@@ -234,6 +237,48 @@ impl LayoutDesigner {
             .design
             .hover(p)
             .map_or_else(|| Float32Array::new_with_length(0), |l| polyline(&l.points)))
+    }
+
+    /// The hover query answered progressively: at most `budget` settled g′
+    /// nodes of search now; the proposal polyline (empty: none) is the
+    /// exact best loop when [`Self::hover_exact`] says so, else the
+    /// cheapest loop or dual curve found so far, replaced by
+    /// [`Self::hover_step`]'s answer.
+    #[wasm_bindgen(js_name = hoverBegin)]
+    pub fn hover_begin(&mut self, p: &[f64], budget: u32) -> Result<Float32Array, JsError> {
+        let p = point(p)?;
+        let (l, exact) = self.design.hover_begin(p, budget as u64);
+        let out = l.map_or_else(|| Float32Array::new_with_length(0), |l| polyline(&l.points));
+        self.hover_exact = exact;
+        Ok(out)
+    }
+
+    /// Whether the last [`Self::hover_begin`] answered exactly.
+    #[wasm_bindgen(js_name = hoverExact)]
+    pub fn hover_exact(&self) -> bool {
+        self.hover_exact
+    }
+
+    /// Resumes an unfinished hover for at most `budget` settled g′ nodes;
+    /// returns the exact proposal once it is known (empty: no loop), else
+    /// `undefined`.
+    #[wasm_bindgen(js_name = hoverStep)]
+    pub fn hover_step(&mut self, budget: u32) -> Option<Float32Array> {
+        let l = self.design.hover_resume(budget as u64)?;
+        Some(l.map_or_else(|| Float32Array::new_with_length(0), |l| polyline(&l.points)))
+    }
+
+    /// Whether the exact proposal [`Self::hover_step`] gave last is the
+    /// provisional one shown before it (the same loop).
+    #[wasm_bindgen(js_name = hoverUnchanged)]
+    pub fn hover_unchanged(&self) -> bool {
+        self.design.hover_unchanged()
+    }
+
+    /// Whether [`Self::hover_step`] has something to do.
+    #[wasm_bindgen(js_name = hoverPending)]
+    pub fn hover_pending(&self) -> bool {
+        self.design.hover_pending()
     }
 
     /// The wheel: `delta` steps through the alternatives.

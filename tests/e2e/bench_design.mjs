@@ -3,7 +3,12 @@
 // moves, clicks, drags and key presses through playwright. Times, from the
 // input event on the page to the frame that shows its effect:
 //   hover   pointer move (its handler, before the pick of the surface point) → the best loop
-//           through the point drawn
+//           through the point drawn (the exact draw). The hover is answered progressively
+//           (www/layout-worker.js): its first draw, reported apart as "hover (first draw)", is the
+//           exact loop when the worker's first slice of search finished it, else a provisional
+//           loop (the cheapest found so far) that the exact one replaces — or confirms, when it is
+//           the same loop, whose exact draw is then its first draw; each hover point waits for its
+//           exact draw before the next.
 //   click   a click on the surface → the anchor and its loop drawn (first
 //           and second anchor apart)
 //   drag    a drag from the surface: each update of the directional anchor
@@ -18,6 +23,8 @@
 //   cd tests/e2e && node bench_design.mjs [sample …]   (default: torus stanford-bunny)
 //   BENCH_TRIALS=n  edit trials per sample (default 6) · BENCH_HOVERS=n hover points (default 40)
 //   BENCH_BACKEND=webgl2|webgpu (default webgl2)
+//   BENCH_HOVER_FIRST=n|all  g′ nodes the worker searches before a hover's first answer (default: the
+//   worker's; all: every hover answered exactly at once, as before the progressive hover)
 //   BENCH_ACTION_TIMEOUT=s  an action still unanswered after s seconds (default 30) counts as a
 //   timeout (∞ in the percentiles); the layout worker is then restarted and the next trial begins.
 // Writes target/bench/design.json (with each hover's latency, worker time and pick time: hoverRaw).
@@ -32,6 +39,7 @@ const trials = Number(process.env.BENCH_TRIALS || 6);
 const hovers = Number(process.env.BENCH_HOVERS || 40);
 const backend = process.env.BENCH_BACKEND || 'webgl2';
 const actionTimeout = 1000 * Number(process.env.BENCH_ACTION_TIMEOUT || 30);
+const hoverFirst = process.env.BENCH_HOVER_FIRST;
 
 const sorted = (xs) => [...xs].sort((a, b) => a - b);
 // Nearest-rank percentile.
@@ -92,7 +100,7 @@ async function hoverAt(page, { x, y }) {
 const d2 = (p, q) => (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
 
 async function benchSample(env, sample) {
-  const { page, errors } = await open(env, `sample=${sample}`);
+  const { page, errors } = await open(env, `sample=${sample}${hoverFirst ? `&hoverFirst=${hoverFirst}` : ''}`);
   await waitForRun(page, `${sample}.obj`);
   await enterDesign(page, 300000);
   const info = await page.evaluate(() => ({ faces: window.quadrille.design.faces, inputFaces: window.quadrille.design.inputFaces,
@@ -100,7 +108,7 @@ async function benchSample(env, sample) {
   const hits = await surfaceGrid(page, 16);
   if (hits.length < 2 * hovers) throw new Error(`${sample}: only ${hits.length} surface points on screen`);
   const at = (f) => hits[Math.floor(f * (hits.length - 1))];
-  const runs = { hover: [], 'click (1st anchor)': [], 'click (2nd anchor)': [], drag: [], grab: [], Enter: [], undo: [] };
+  const runs = { hover: [], 'hover (first draw)': [], 'click (1st anchor)': [], 'click (2nd anchor)': [], drag: [], grab: [], Enter: [], undo: [] };
   const timeouts = Object.fromEntries(Object.keys(runs).map((k) => [k, 0]));
   let restarts = 0;
   // Adds a measurement's latencies to `name`; a timeout adds ∞.
@@ -109,16 +117,24 @@ async function benchSample(env, sample) {
     if (m.timedOut) { runs[name].push(Infinity); timeouts[name]++; restarts++; }
     return !m.timedOut;
   };
-  const worker = { hover: [] };
+  const worker = { hover: [], 'hover (first draw)': [] };
   // Hover: distinct points spread over the surface on screen.
   await idle(page);
   const h0 = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
   const w0 = await page.evaluate(() => window.quadrille.design.hoverWorkerMs.length);
   const p0 = await page.evaluate(() => window.quadrille.design.hoverPickMs.length);
+  const f0 = await page.evaluate(() => ({ l: window.quadrille.design.hoverFirstLatencies.length,
+    w: window.quadrille.design.hoverFirstWorkerMs.length, p: window.quadrille.design.hoverProvisional,
+    u: window.quadrille.design.hoverUnchanged }));
   for (let i = 0; i < hovers; i++) await hoverAt(page, at((i * 0.618034) % 1));
   runs.hover = await page.evaluate((n) => window.quadrille.design.hoverLatencies.slice(n), h0);
   worker.hover = await page.evaluate((n) => window.quadrille.design.hoverWorkerMs.slice(n), w0);
   const pick = await page.evaluate((n) => window.quadrille.design.hoverPickMs.slice(n), p0);
+  const first = await page.evaluate((f) => ({ latency: window.quadrille.design.hoverFirstLatencies.slice(f.l),
+    worker: window.quadrille.design.hoverFirstWorkerMs.slice(f.w), provisional: window.quadrille.design.hoverProvisional - f.p,
+    unchanged: window.quadrille.design.hoverUnchanged - f.u }), f0);
+  runs['hover (first draw)'] = first.latency;
+  worker['hover (first draw)'] = first.worker;
   for (let k = 0; k < trials; k++) {
     const u = (0.37 * k + 0.11) % 1;
     const [a, b, c] = [at(u), at((u + 0.5) % 1), at((u + 0.25) % 1)];
@@ -178,7 +194,8 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, restarts, actions: {}, hoverRaw: { latency: runs.hover, worker: worker.hover, pick } };
+  const result = { sample, ...info, hoverFirst: hoverFirst || null, restarts, actions: {}, hoverProvisional: first.provisional, hoverUnchanged: first.unchanged,
+    hoverRaw: { latency: runs.hover, worker: worker.hover, pick, firstLatency: first.latency, firstWorker: first.worker } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
 }
@@ -198,6 +215,7 @@ try {
       for (const [name, a] of Object.entries(r.actions)) console.log(`| ${name} | ${a.n} (${a.timeouts}) | ${f(a.median)} | ${f(a.p95)} | ${f(a.max)} | ${f(a.workerMedian)} |`);
       const p = summary(r.hoverRaw.pick);
       console.log(`hover's pick on the page (part of its latency): n ${p.n}, median ${f(p.median)}, p95 ${f(p.p95)}, max ${f(p.max)} ms`);
+      console.log(`hovers first drawn provisionally: ${r.hoverProvisional} of ${r.hoverRaw.latency.length}, of which ${r.hoverUnchanged} were the exact loop already (its exact draw is its first draw)`);
     }
   } finally {
     await context.close();

@@ -863,6 +863,62 @@ test('design mode: three strips on the torus grid into quads, fit, and export in
   assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
 });
 
+// The progressive hover (www/layout-worker.js): on the bunny's proxy most
+// hovers are first drawn with a provisional loop; the loop drawn last for
+// each hover must be the one a page answering every hover exactly at once
+// (`?hoverFirst=all`) draws at the same screen point, and Enter pressed in
+// the same task as the pointer move (so before the exact loop can arrive)
+// commits that exact loop, also when the hover's first answer was not exact.
+test('design mode: a progressive hover ends with the exact loop, and Enter while it is provisional commits the exact loop', async (env) => {
+  const polyline = (page) => page.evaluate(() => [...window.quadrille.design.proposal]);
+  const hoverAndRead = async (page, h) => {
+    const n = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
+    await page.mouse.move(h.x, h.y);
+    await page.waitForFunction((n) => window.quadrille.design.hoverLatencies.length > n, n, DESIGN_WAIT);
+    return polyline(page);
+  };
+  const same = (a, b) => a.length === b.length && a.every((x, i) => Math.abs(x - b[i]) <= 1e-6 * (1 + Math.abs(b[i])));
+  // The reference: every hover answered exactly at once.
+  const ref = await open(env, 'sample=stanford-bunny&hoverFirst=all');
+  await waitForRun(ref.page, 'stanford-bunny.obj');
+  await enterDesign(ref.page, 300000);
+  const hits = await surfaceGrid(ref.page, 16);
+  const points = Array.from({ length: 14 }, (_, i) => hits[Math.floor(((i * 0.618034) % 1) * (hits.length - 1))]);
+  const expected = [];
+  for (const h of points) expected.push(await hoverAndRead(ref.page, h));
+  assert(await ref.page.evaluate(() => window.quadrille.design.hoverProvisional) === 0, 'the reference drew nothing provisionally');
+  assert(ref.errors.length === 0, `console errors: ${ref.errors.join(' | ')}`);
+  await ref.page.close();
+
+  const { page, errors } = await open(env, 'sample=stanford-bunny');
+  await waitForRun(page, 'stanford-bunny.obj');
+  await enterDesign(page, 300000);
+  for (let i = 0; i < 8; i++) {
+    const got = await hoverAndRead(page, points[i]);
+    assert(got.length > 0 && same(got, expected[i]), `hover ${i}: the loop drawn last is the exact one (${got.length / 3} against ${expected[i].length / 3} points)`);
+  }
+  const first = await page.evaluate(() => ({ provisional: window.quadrille.design.hoverProvisional, n: window.quadrille.design.hoverFirstLatencies.length }));
+  assert(first.provisional > 0, `some hovers were first drawn provisionally: ${JSON.stringify(first)}`);
+  // Enter in the same task as the move, at points not hovered on this page.
+  let whileProvisional = 0;
+  for (let i = 8; i < points.length; i++) {
+    const before = await page.evaluate(() => ({ unfinished: window.quadrille.design.hoverUnfinished, loops: window.quadrille.design.state.loops.length }));
+    await page.evaluate(({ x, y }) => {
+      document.getElementById('canvas').dispatchEvent(new PointerEvent('pointermove', { clientX: x, clientY: y, pointerId: 1, bubbles: true }));
+      document.body.dispatchEvent(new KeyboardEvent('keydown', { key: 'Enter', bubbles: true }));
+    }, points[i]);
+    await page.waitForFunction((b) => window.quadrille.design.state.loops.length > b, before.loops, DESIGN_WAIT);
+    const s = await page.evaluate(() => ({ loop: [...window.quadrille.design.state.loops.at(-1).points], unfinished: window.quadrille.design.hoverUnfinished }));
+    whileProvisional += s.unfinished > before.unfinished ? 1 : 0;
+    assert(same(s.loop, expected[i]), `Enter at point ${i}: the committed loop is the exact one (${s.loop.length / 3} against ${expected[i].length / 3} points)`);
+    await page.keyboard.press('Control+z');
+    await page.waitForFunction((b) => window.quadrille.design.state.loops.length === b, before.loops, DESIGN_WAIT);
+  }
+  console.log(`      [${env.backend}] bunny: ${first.provisional} of 8 hovers first drawn provisionally; ${whileProvisional} of ${points.length - 8} Enter presses came while the hover's search was unfinished`);
+  assert(whileProvisional > 0, 'no Enter came while a hover search was unfinished');
+  assert(errors.length === 0, `console errors: ${errors.join(' | ')}`);
+});
+
 test('design mode: Grid waits for its analysis in the analysis worker; hover and clicks answer meanwhile', async (env) => {
   const { page, errors } = await open(env, 'sample=torus');
   await waitForRun(page, 'torus.obj');
