@@ -249,6 +249,15 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
 
 
+def default_target(args, src, divisor=16):
+    """The target vertex count for `src` (its imported vertices / divisor)
+    and its topology as `quadrille metrics` reports it."""
+    info = compare.quadrille_json(args, ["metrics", src, "--reference", src], args.timeout)
+    topo = info.get("metrics", info).get("topology", {})
+    nv = topo.get("vertices") or info.get("vertices")
+    return max(1, nv // divisor), topo
+
+
 def reordered_copy(src, dst, seed):
     """src with its vertices and faces shuffled (seeded): the same surface,
     the coordinates copied as written."""
@@ -552,10 +561,7 @@ def main():
         src = os.path.abspath(os.path.join(args.meshes, name + ".obj"))
         if not os.path.exists(src):
             sys.exit(f"quality: {src} does not exist (set --meshes or QUADRILLE_MESHES)")
-        info = compare.quadrille_json(args, ["metrics", src, "--reference", src], args.timeout)
-        topo = info.get("metrics", info).get("topology", {})
-        nv = topo.get("vertices") or info.get("vertices")
-        target = max(1, nv // args.divisor)
+        target, topo = default_target(args, src, args.divisor)
         entry = {"target": target, "input_loops": topo.get("boundary_loops", "–"), "rows": {}}
         for label in rows:
             stem = stem_of(args.out, name, label)
