@@ -791,9 +791,9 @@ fn split_at_widest_corner(
 /// longest distance from the vertex to a corner of its faces: a vertex
 /// moved across a crease would cut it) and keeps its first position that
 /// close to them (a tip pulled in would be cut off); boundary vertices
-/// stay. Then a wide corner at a boundary
-/// vertex of one quad is dissolved ([`dissolve_rim_vertices`]), and every
-/// quad still wide is split into two triangles through the wide corner
+/// stay. Then a wide corner at a boundary vertex of one quad is dissolved
+/// ([`dissolve_rim_vertices`]), and every quad still wide is split into
+/// two triangles through the wide corner
 /// (the diagonal that halves it; skipped when that diagonal is already an
 /// edge). The caller pairs the triangles with other odd faces where it can
 /// and then takes back the splits the odd-face budget cannot hold
@@ -833,10 +833,11 @@ pub fn fix_wide_corners(
                 // The widest corner of v's faces, or None when one of them
                 // turns over against its normal before the move, or when,
                 // with an input, their centroids stray further from it than
-                // before the move plus a tenth of the longest distance from
-                // v to a corner of its faces (a vertex moved across a crease
-                // cuts it: its faces' centroids leave the input), or the old
-                // position ends further than that from the moved faces.
+                // before the first round plus a tenth of the longest distance
+                // from v to a corner of its faces (a vertex moved across a
+                // crease cuts it: its faces' centroids leave the input), or
+                // v's first position ends further than that from the moved
+                // faces.
                 let deviation = |pos: &[DVec3]| -> f64 {
                     surface.map_or(0.0, |s| {
                         vf[v]
@@ -955,12 +956,14 @@ pub fn fix_wide_corners(
 /// The rings of candidate positions [`fix_wide_corners`] tries around a
 /// vertex, as shares of the longest distance from it to a corner of its
 /// faces, in [`RING_DIRECTIONS`] directions each. Measured (5 vertex
-/// orders of spot, cow, teapot, beetle and suzanne at the default target,
-/// largest corner of each run; without → with the rings): 10 of the 25
-/// runs kept a quad corner above 170° (up to 331°) within the split budget,
-/// none has with them; median Hausdorff distance unchanged on spot, cow
-/// and suzanne, teapot 0.055 → 0.049, beetle 0.117 → 0.108; with rings
-/// out to 0.5 a horn tip of spot was pulled in (Hausdorff 0.057 → 0.090).
+/// orders of spot, cow, teapot, beetle and suzanne at the file's vertex
+/// count / 16, largest corner of each run; without → with the rings): 10
+/// of the 25 runs kept a quad corner above 170° (up to 331°) within the
+/// split budget, none has with them; median Hausdorff distance unchanged
+/// on spot, cow and suzanne, teapot 0.055 → 0.049, beetle 0.117 → 0.108.
+/// With rings out to 0.5 a horn tip of spot was pulled in (Hausdorff 0.057
+/// → 0.090). docs/QUALITY.md (26c0fca): no default run of the 8 shared
+/// meshes has a quad corner above 170°.
 const RING_RADII: [f64; 3] = [0.1, 0.2, 0.3];
 const RING_DIRECTIONS: usize = 12;
 
