@@ -24,7 +24,7 @@
 //! stay the farthest part).
 
 use super::topology::{EdgeTopology, ccw_next, cw_next};
-use crate::mesh::TriMesh;
+use crate::mesh::{TriMesh, UnionFind};
 
 /// The mesh with its non-manifold vertices that have an open fan split
 /// into one vertex per fan; `None` when there is none.
@@ -33,24 +33,11 @@ pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
     let nf = mesh.triangles.len();
     // Union-find over corners (3 f + i): corners of one vertex joined
     // across the manifold edges between their faces.
-    let mut parent: Vec<usize> = (0..3 * nf).collect();
-    fn find(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(3 * nf);
     for f in 0..nf {
         for i in 0..3 {
             if let Some((g, gi)) = ccw_next(&topology, f, i) {
-                let (a, b) = (
-                    find(&mut parent, 3 * f + i),
-                    find(&mut parent, 3 * g as usize + gi as usize),
-                );
-                if a != b {
-                    parent[a.max(b)] = a.min(b);
-                }
+                sets.union((3 * f + i) as u32, 3 * g + gi as u32);
             }
         }
     }
@@ -59,7 +46,7 @@ pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
     for f in 0..nf {
         for i in 0..3 {
             if ccw_next(&topology, f, i).is_none() || cw_next(&topology, f, i).is_none() {
-                let r = find(&mut parent, 3 * f + i);
+                let r = sets.find((3 * f + i) as u32) as usize;
                 open[r] = true;
             }
         }
@@ -68,7 +55,7 @@ pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
     let mut roots: Vec<Vec<usize>> = vec![Vec::new(); mesh.positions.len()];
     for f in 0..nf {
         for i in 0..3 {
-            let r = find(&mut parent, 3 * f + i);
+            let r = sets.find((3 * f + i) as u32) as usize;
             let v = mesh.triangles[f][i] as usize;
             if !roots[v].contains(&r) {
                 roots[v].push(r);
@@ -87,7 +74,7 @@ pub fn split_nonmanifold_vertices(mesh: &TriMesh) -> Option<TriMesh> {
     for f in 0..nf {
         for i in 0..3 {
             let v = mesh.triangles[f][i] as usize;
-            let root = find(&mut parent, 3 * f + i);
+            let root = sets.find((3 * f + i) as u32) as usize;
             let id = match index_of_root.get(&root) {
                 Some(&id) => id,
                 None => {
