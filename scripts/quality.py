@@ -63,6 +63,8 @@ IM_EQUIVALENT = {
             "feature_quads": False,
             "flat_triangles": False,
             "pair_non_quads_degrees": 0,
+            "pair_fallback_degrees": 0,
+            "collapse_odd_edges": False,
             "rotate_edges_degrees": 0,
             "fix_wide_corners": False,
             "collapse_diagonals": False,
@@ -135,8 +137,11 @@ ROWS = {
     "global + least-squares placement": ("default", {"remesh": {"mode": "global",
                                                                 "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
-    # The pairing's second round within 90° for odd faces above the budget.
-    "default + pairing fallback (90°)": ("default", {"extraction": {"post": {"pair_fallback_degrees": 90}}}),
+    # The pairing's second round within 90° for odd faces above the budget,
+    # then edges between two odd faces collapsed (both on by default).
+    "default - odd-edge collapse": ("default", {"extraction": {"post": {"collapse_odd_edges": False}}}),
+    "default - pairing fallback and odd-edge collapse": ("default", {"extraction": {"post": {
+        "pair_fallback_degrees": 0, "collapse_odd_edges": False}}}),
     # Overlays on the defaults.
     "default - split long edges": ("default", {"field": {"split_long_edges": False}}),
     "default - scale consistency": ("default", {"field": {"scale_consistency": 0}}),
@@ -244,7 +249,8 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "global - feature curves", "global x4 - feature curves", "global - conformal scale",
               "default - scale consistency", "default + feature-vertex constraints",
               "default + thin parts (5 edges)", "default - wide-corner fix", "default - fragment bridges",
-              "default - cap vertices kept", "default - least-squares placement", "default + pairing fallback (90°)",
+              "default - cap vertices kept", "default - least-squares placement", "default - odd-edge collapse",
+              "default - pairing fallback and odd-edge collapse",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
               "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
 

@@ -204,6 +204,19 @@ pub fn quad_corner_angles(p: &[DVec3; 4]) -> [f64; 4] {
     std::array::from_fn(|i| interior_angle(p[(i + 3) % 4], p[i], p[(i + 1) % 4], normal))
 }
 
+/// The interior corner angles (radians) of any polygon: a quad's as
+/// [`quad_corner_angles`], another polygon's about its Newell normal.
+pub(crate) fn polygon_corner_angles(p: &[DVec3]) -> Vec<f64> {
+    if let Ok(q) = <&[DVec3; 4]>::try_from(p) {
+        return quad_corner_angles(q).to_vec();
+    }
+    let n = p.len();
+    let normal = crate::mesh::newell_normal(p.iter().copied());
+    (0..n)
+        .map(|i| interior_angle(p[(i + n - 1) % n], p[i], p[(i + 1) % n], normal))
+        .collect()
+}
+
 /// The shape of the quads of any polygon soup (manifold or not): corner
 /// angles, planarity, edge ratios, quad quality.
 pub fn quad_metrics(positions: &[DVec3], faces: &FaceList) -> QuadMetrics {

@@ -169,6 +169,7 @@ pub fn schema() -> Vec<ParamDoc> {
         num("extraction.post.pair_non_quads_degrees", 0.0, 180.0, "Merge neighbouring odd faces into quads within this normal angle; 0 = off."),
         num("extraction.post.pair_max_corner_deviation", 0.0, 90.0, "Odd-face pairing makes only quads whose corners lie within 90° ± this."),
         num("extraction.post.pair_fallback_degrees", 0.0, 180.0, "A second pairing round within this normal angle for the odd faces still above the budget; 0 = off."),
+        flag("extraction.post.collapse_odd_edges", "Collapse edges between two odd faces (folded tips of thin parts) while the odd faces are above the budget."),
         int("extraction.post.pair_max_quads", 0.0, 100.0, "Odd faces pair across strips of at most this many quads."),
         num("extraction.post.non_quad_budget_percent", 0.0, 100.0, "The odd-face pairing stops, shortest chains first, once at most this percentage of faces is odd (0 = pair all it can)."),
         num("extraction.post.split_reflex_degrees", 0.0, 360.0, "Quads with a corner above this are split into two triangles before the pairing; 0 = off."),

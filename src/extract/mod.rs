@@ -389,7 +389,7 @@ pub fn post_process(
     }
     if p.pair_non_quads_degrees > 0.0 {
         report.non_quad_pairs_merged +=
-            postprocess::pair_with_fallback(&mut faces, &g, p, surface, 4);
+            postprocess::pair_with_fallback(&mut faces, &mut g, p, surface, 4);
     }
     if p.rotate_edges_degrees > 0.0 {
         progress.report(0.55, "edge rotations")?;
@@ -426,7 +426,7 @@ pub fn post_process(
         };
         report.reflex_quads_split += splits;
         if faces.iter().any(|f| f.len() != 4) {
-            let m = postprocess::pair_with_fallback(&mut faces, &mesh_graph, p, surface, 1);
+            let m = postprocess::pair_with_fallback(&mut faces, &mut mesh_graph, p, surface, 1);
             let (rotated, collapsed) = if p.rotate_edges_degrees > 0.0 {
                 let r = postprocess::rotate_edges(
                     &mut faces,
