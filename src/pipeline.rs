@@ -186,6 +186,11 @@ pub struct RemeshParams {
     /// ([`crate::param::Params::close_small_holes`], which has the
     /// figures). Default on.
     pub close_small_holes: bool,
+    /// The global mode's thin parts: target edges round a part thinner
+    /// than that, asked across it only
+    /// ([`crate::param::Params::thin_part_across`], which has the
+    /// figures); 0 turns it off. Default 0 (off).
+    pub thin_part_across: f64,
 }
 
 impl Default for RemeshParams {
@@ -200,6 +205,7 @@ impl Default for RemeshParams {
             least_squares_placement: false,
             loop_separation: map.loop_separation,
             close_small_holes: map.close_small_holes,
+            thin_part_across: map.thin_part_across,
         }
     }
 }
