@@ -606,6 +606,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
                 boundary_tangents: &[],
                 cyclic_loops: used,
                 stiffening: 0,
+                across: &[],
             })
             .expect("a map");
             assert_eq!(m.conflicts, 0);
@@ -1137,4 +1138,57 @@ fn the_loop_gap_cap_refines_a_narrow_strip_within_the_budget() {
     let (capped, plain) = (sizing(&riddled, 4.0), sizing(&riddled, 0.0));
     let changed = capped.iter().zip(&plain).filter(|(a, b)| a != b).count();
     assert_eq!(changed, 0, "the cap changed {changed} faces");
+}
+
+/// `thin_part_across`: an open tube 1.4 target edges round gets 4 units
+/// round it in the map (4 asked; the cap's floor, 0.35 of S, allows
+/// 1.37 / 0.35 ≈ 3.9, rounded to 4), and the units along it stay those of
+/// S; without it the map has one round it. Measured on the ring of edges half-way up: the
+/// sum of their parametric lengths (rotation- and seam-invariant), and
+/// along the tube the parametric length per unit of length.
+#[test]
+fn a_thin_tube_gets_its_edges_round_it_and_keeps_them_along_it() {
+    // Circumference 2π · 0.1, height 4; 12 target vertices on an area of
+    // 2.51: S ≈ 0.46, 1.4 edges round.
+    let mesh = cylinder(0.1, 4.0, 24, 60);
+    let measure = |across: f64| {
+        let mut params = uniform(12);
+        params.filtered_normals = false;
+        params.thin_part_across = across;
+        let prepared = param::prepare(&mesh, &params);
+        let s = prepared.face_sizing[0];
+        let (_, m) = map(&mesh, &params);
+        check_seamless(&mesh, &m, true);
+        let (mut round, mut along, mut length) = (0.0, 0.0, 0.0);
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for e in 0..3 {
+                let (a, b) = (
+                    mesh.positions[t[e] as usize],
+                    mesh.positions[t[(e + 1) % 3] as usize],
+                );
+                let duv = (m.uv[f][(e + 1) % 3] - m.uv[f][e]).length();
+                // Each ring edge once (the face below it, b − a counter-clockwise).
+                if a.z.abs() < 1e-9 && b.z.abs() < 1e-9 && a.cross(b).z > 0.0 {
+                    round += duv;
+                }
+                if (a.x - b.x).abs() < 1e-12 && (a.y - b.y).abs() < 1e-12 && a.z.abs() < 1.0 {
+                    along += duv;
+                    length += (b - a).length();
+                }
+            }
+        }
+        let circumference = std::f64::consts::TAU * 0.1;
+        (round, along / length * s, circumference / s)
+    };
+    let (off, off_along, edges_round) = measure(0.0);
+    let (on, on_along, _) = measure(4.0);
+    println!(
+        "tube {edges_round:.2} target edges round: {off:.3} units round off, {on:.3} on; \
+         along × S {off_along:.3} off, {on_along:.3} on"
+    );
+    assert!(edges_round < 1.5, "a thin tube: {edges_round}");
+    assert!(off < 2.0 + 1e-6, "off: {off}");
+    assert!((on - 4.0).abs() < 0.05, "on: {on}");
+    assert!((off_along - 1.0).abs() < 0.1, "{off_along}");
+    assert!((on_along - 1.0).abs() < 0.1, "{on_along}");
 }

@@ -12,7 +12,10 @@
 //! another fan becomes one vertex per fan, at the same position: the
 //! sheets meet along their boundaries as they do in the input, and each
 //! is a manifold surface with boundary. The first vertices are the
-//! input's; a vertex's first fan keeps its index.
+//! input's; a vertex's first fan keeps its index. The beetle at the
+//! table's target, medians over 15 vertex orders: Hausdorff distance
+//! 0.342 without the split, 0.165 with it (`docs/RESULTS.md`, "The
+//! beetle's global Hausdorff distance over 15 vertex orders").
 //!
 //! A pinch of closed fans stays as it is: that is a closed part touching
 //! another at one point, and split off it is a part of its own, mapped on

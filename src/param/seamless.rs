@@ -134,6 +134,10 @@ pub struct MapInput<'a> {
     /// one coordinate must come back to its start value through the
     /// transitions, so that isolines close around them (empty: none).
     pub cyclic_loops: &'a [Vec<u32>],
+    /// Per face on a thin part: the target edge across it as a fraction
+    /// of S(f) and that direction (`super::thin_parts`; empty or `None`:
+    /// S(f) both ways).
+    pub across: &'a [Option<(f64, DVec3)>],
     /// Re-solves of MIQ's stiffening after the rounding (see
     /// [`super::Params::stiffening`]); 0: none.
     pub stiffening: usize,
@@ -484,7 +488,12 @@ fn energy_rows(
                 let terms = (0..3)
                     .map(|i| (lay.w(c.wedge[f][i], comp), w * grad[i].dot(*axis)))
                     .collect();
-                let target = if k == comp { w / s } else { 0.0 };
+                let target = if k == comp {
+                    let across = input.across.get(f).copied().flatten();
+                    w * super::thin_parts::inverse_length(s, *axis, across)
+                } else {
+                    0.0
+                };
                 rows.push((terms, target));
             }
         }
