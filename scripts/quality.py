@@ -134,6 +134,9 @@ ROWS = {
     "global + thin parts (3 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 3}}),
     "global + thin parts (5 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 5}}),
     "global + thin parts (8 edges)": ("default", {"remesh": {"mode": "global"}, "sizing": {"thin_part_edges": 8}}),
+    # Thin parts asked only across (the map's edge round the part capped,
+    # along it kept; src/param/thin_parts.rs, off by default).
+    "global + thin parts across (5 round)": ("default", {"remesh": {"mode": "global", "thin_part_across": 5}}),
     "global + least-squares placement": ("default", {"remesh": {"mode": "global",
                                                                 "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
@@ -252,7 +255,8 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "default - cap vertices kept", "default - least-squares placement", "default - odd-edge collapse",
               "default - pairing fallback and odd-edge collapse",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
-              "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)")
+              "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)",
+              "global + thin parts across (5 round)")
 
 
 def default_target(args, src, divisor=16):
