@@ -1658,12 +1658,6 @@ const design = createDesignMode({
   $,
   viewer: () => viewer,
   requestRender,
-  // Draws now unless a frame is already queued (which will draw); whether it drew.
-  renderIfIdle: () => {
-    if (!viewer || renderQueued) return false;
-    renderNow();
-    return true;
-  },
   afterNextFrame: (f) => { afterFrame.push(f); requestRender(); },
   pick: (clientX, clientY) => {
     if (!viewer) return null;
