@@ -62,15 +62,7 @@ const median = (xs) => {
   return s[Math.floor(s.length / 2)];
 };
 
-// Called from an animation frame's callback: runs `f` in a task after that
-// frame's rendering steps (style, layout, paint, the canvas's commit).
-function afterRendering(f) {
-  const channel = new MessageChannel();
-  channel.port1.onmessage = () => f();
-  channel.port2.postMessage(null);
-}
-
-// ctx: { $, viewer(), requestRender(), renderIfIdle() → drew, afterNextFrame(fn), pick(clientX, clientY) → [x,y,z] | null,
+// ctx: { $, viewer(), requestRender(), afterNextFrame(fn), pick(clientX, clientY) → [x,y,z] | null,
 //        input() → { name, bytes } | null, setRegionSurface(surface | null), setStatus, showError, dpr() }
 export function createDesignMode(ctx) {
   const { $ } = ctx;
@@ -90,12 +82,6 @@ export function createDesignMode(ctx) {
     // … of which the exact loop was the provisional one (not drawn again);
     // hovers whose first answer was not the exact loop (drawn or not).
     hoverUnchanged: 0, hoverUnfinished: 0,
-    // Per hover, from its handler to the end of the rendering of the frame
-    // that puts its exact loop (hoverShownLatencies) and its first draw
-    // (hoverFirstShownLatencies) on screen: a task posted from that frame
-    // runs once its rendering steps are done. The same point in time
-    // whether the loop was drawn in the frame or before it (`drawAtOnce`).
-    hoverShownLatencies: [], hoverFirstShownLatencies: [],
     analyses: 0, lastDrawn: 0, exportCount: 0, actionMs: {},
     // Per action: event → its state drawn (ms, measured on the page).
     actionLatencies: {},
@@ -119,13 +105,7 @@ export function createDesignMode(ctx) {
   let hoverNext = null; // { point, t }
   let hoverSent = -Infinity; // t of the newest hover posted
   let undrawn = null; // t of the newest hover whose provisional answer had no loop (not drawn)
-  // The newest hover's first draw: its t, the draw's time, the time its
-  // frame was shown, and whether its exact draw (the same loop) waits for that.
-  let firstDrawn = { t: null, at: null, shown: null, exactWaits: false };
-  // `?hoverDraw=now`: a hover's answer is drawn as soon as it arrives when
-  // no frame is already queued (else by that frame), instead of at the next
-  // animation frame.
-  const drawAtOnce = new URLSearchParams(location.search).get('hoverDraw') === 'now';
+  let firstDrawn = { t: null, at: null }; // the newest hover's first draw: its t and the frame's time
   let actionBusy = false;
   let dragNext = null; // latest drag update: { name, args, t, serial }
   let actionSerial = 0; // serial of the newest action (posted or waiting in dragNext)
@@ -239,16 +219,8 @@ export function createDesignMode(ctx) {
           // The provisional loop on screen is the exact one: it is not drawn
           // again, and its exact draw is its first draw.
           stats.hoverUnchanged++;
-          if (firstDrawn.t === m.t) {
-            stats.hoverLatencies.push(firstDrawn.at - m.t);
-            if (firstDrawn.shown !== null) stats.hoverShownLatencies.push(firstDrawn.shown - m.t);
-            else firstDrawn.exactWaits = true;
-          } else {
-            ctx.afterNextFrame(() => {
-              stats.hoverLatencies.push((firstDrawn.t === m.t ? firstDrawn.at : performance.now()) - m.t);
-              afterRendering(() => stats.hoverShownLatencies.push(performance.now() - m.t));
-            });
-          }
+          if (firstDrawn.t === m.t) stats.hoverLatencies.push(firstDrawn.at - m.t);
+          else ctx.afterNextFrame(() => stats.hoverLatencies.push((firstDrawn.t === m.t ? firstDrawn.at : performance.now()) - m.t));
         } else if (shown) drawProposal(m.proposal, m.t, { first: !m.final, exact: m.exact });
         if (hoverNext) { const h = hoverNext; hoverNext = null; sendHover(h.point, h.t); }
         break;
@@ -354,33 +326,19 @@ export function createDesignMode(ctx) {
     proposal = polyline;
     stats.proposal = polyline;
     setLines('design proposal', segmentsOf(polyline), new Uint8Array(COLOURS.proposal));
-    // Drawn: the draw's time; shown: the end of its frame's rendering.
-    const drawn = () => {
-      const now = performance.now();
-      if (first) {
-        stats.hoverFirstLatencies.push(now - t);
-        firstDrawn = { t, at: now, shown: null, exactWaits: false };
-      }
-      if (exact) {
-        stats.lastDrawn = now;
-        stats.hoverLatencies.push(now - t);
-      }
-    };
-    const shown = () => {
-      const now = performance.now();
-      if (first && firstDrawn.t === t) {
-        stats.hoverFirstShownLatencies.push(now - t);
-        firstDrawn.shown = now;
-        if (firstDrawn.exactWaits) stats.hoverShownLatencies.push(now - t);
-      }
-      if (exact) stats.hoverShownLatencies.push(now - t);
-    };
-    if (t !== undefined && drawAtOnce && ctx.renderIfIdle()) {
-      drawn();
-      requestAnimationFrame(() => afterRendering(shown));
-    } else {
-      ctx.requestRender();
-      if (t !== undefined) ctx.afterNextFrame(() => { drawn(); afterRendering(shown); });
+    ctx.requestRender();
+    if (t !== undefined) {
+      ctx.afterNextFrame(() => {
+        const now = performance.now();
+        if (first) {
+          stats.hoverFirstLatencies.push(now - t);
+          firstDrawn = { t, at: now };
+        }
+        if (exact) {
+          stats.lastDrawn = now;
+          stats.hoverLatencies.push(now - t);
+        }
+      });
     }
   }
 
@@ -678,8 +636,6 @@ export function createDesignMode(ctx) {
       stats.state = stats.analysis = null;
       stats.hoverLatencies = [];
       stats.hoverFirstLatencies = [];
-      stats.hoverShownLatencies = [];
-      stats.hoverFirstShownLatencies = [];
       stats.hoverWorkerMs = [];
       stats.hoverFirstWorkerMs = [];
       stats.hoverPickMs = [];

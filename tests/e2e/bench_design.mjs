@@ -25,10 +25,6 @@
 //   BENCH_BACKEND=webgl2|webgpu (default webgl2)
 //   BENCH_HOVER_FIRST=n|all  g′ nodes the worker searches before a hover's first answer (default: the
 //   worker's; all: every hover answered exactly at once, as before the progressive hover)
-//   BENCH_HOVER_DRAW=now  the page draws a hover's answer as soon as it arrives when no frame is queued
-//   (`?hoverDraw=now`), instead of at the next animation frame. The hover rows time the draw; the
-//   "(shown)" rows time the end of the rendering of the frame that puts the loop on screen (a task
-//   posted from that frame), the same point whether the loop was drawn in that frame or before it.
 //   BENCH_ACTION_TIMEOUT=s  an action still unanswered after s seconds (default 30) counts as a
 //   timeout (∞ in the percentiles); the layout worker is then restarted and the next trial begins.
 // Writes target/bench/design.json (with each hover's latency, worker time and pick time: hoverRaw).
@@ -44,7 +40,6 @@ const hovers = Number(process.env.BENCH_HOVERS || 40);
 const backend = process.env.BENCH_BACKEND || 'webgl2';
 const actionTimeout = 1000 * Number(process.env.BENCH_ACTION_TIMEOUT || 30);
 const hoverFirst = process.env.BENCH_HOVER_FIRST;
-const hoverDraw = process.env.BENCH_HOVER_DRAW;
 
 const sorted = (xs) => [...xs].sort((a, b) => a - b);
 // Nearest-rank percentile.
@@ -105,7 +100,7 @@ async function hoverAt(page, { x, y }) {
 const d2 = (p, q) => (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
 
 async function benchSample(env, sample) {
-  const { page, errors } = await open(env, `sample=${sample}${hoverFirst ? `&hoverFirst=${hoverFirst}` : ''}${hoverDraw ? `&hoverDraw=${hoverDraw}` : ''}`);
+  const { page, errors } = await open(env, `sample=${sample}${hoverFirst ? `&hoverFirst=${hoverFirst}` : ''}`);
   await waitForRun(page, `${sample}.obj`);
   await enterDesign(page, 300000);
   const info = await page.evaluate(() => ({ faces: window.quadrille.design.faces, inputFaces: window.quadrille.design.inputFaces,
@@ -113,7 +108,7 @@ async function benchSample(env, sample) {
   const hits = await surfaceGrid(page, 16);
   if (hits.length < 2 * hovers) throw new Error(`${sample}: only ${hits.length} surface points on screen`);
   const at = (f) => hits[Math.floor(f * (hits.length - 1))];
-  const runs = { hover: [], 'hover (first draw)': [], 'hover (shown)': [], 'hover (first draw, shown)': [], 'click (1st anchor)': [], 'click (2nd anchor)': [], drag: [], grab: [], Enter: [], undo: [] };
+  const runs = { hover: [], 'hover (first draw)': [], 'click (1st anchor)': [], 'click (2nd anchor)': [], drag: [], grab: [], Enter: [], undo: [] };
   const timeouts = Object.fromEntries(Object.keys(runs).map((k) => [k, 0]));
   let restarts = 0;
   // Adds a measurement's latencies to `name`; a timeout adds ∞.
@@ -128,7 +123,6 @@ async function benchSample(env, sample) {
   const h0 = await page.evaluate(() => window.quadrille.design.hoverLatencies.length);
   const w0 = await page.evaluate(() => window.quadrille.design.hoverWorkerMs.length);
   const p0 = await page.evaluate(() => window.quadrille.design.hoverPickMs.length);
-  const s0 = await page.evaluate(() => ({ e: window.quadrille.design.hoverShownLatencies.length, f: window.quadrille.design.hoverFirstShownLatencies.length }));
   const f0 = await page.evaluate(() => ({ l: window.quadrille.design.hoverFirstLatencies.length,
     w: window.quadrille.design.hoverFirstWorkerMs.length, p: window.quadrille.design.hoverProvisional,
     u: window.quadrille.design.hoverUnchanged }));
@@ -140,11 +134,6 @@ async function benchSample(env, sample) {
     worker: window.quadrille.design.hoverFirstWorkerMs.slice(f.w), provisional: window.quadrille.design.hoverProvisional - f.p,
     unchanged: window.quadrille.design.hoverUnchanged - f.u }), f0);
   runs['hover (first draw)'] = first.latency;
-  // The frames' rendering ends after the last draw: wait for its task.
-  await settle(page);
-  const shownRows = await page.evaluate((s) => ({ e: window.quadrille.design.hoverShownLatencies.slice(s.e), f: window.quadrille.design.hoverFirstShownLatencies.slice(s.f) }), s0);
-  runs['hover (shown)'] = shownRows.e;
-  runs['hover (first draw, shown)'] = shownRows.f;
   worker['hover (first draw)'] = first.worker;
   for (let k = 0; k < trials; k++) {
     const u = (0.37 * k + 0.11) % 1;
@@ -205,8 +194,8 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, hoverFirst: hoverFirst || null, hoverDraw: hoverDraw || null, restarts, actions: {}, hoverProvisional: first.provisional, hoverUnchanged: first.unchanged,
-    hoverRaw: { latency: runs.hover, worker: worker.hover, pick, firstLatency: first.latency, firstWorker: first.worker, shown: runs['hover (shown)'], firstShown: runs['hover (first draw, shown)'] } };
+  const result = { sample, ...info, hoverFirst: hoverFirst || null, restarts, actions: {}, hoverProvisional: first.provisional, hoverUnchanged: first.unchanged,
+    hoverRaw: { latency: runs.hover, worker: worker.hover, pick, firstLatency: first.latency, firstWorker: first.worker } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
 }
