@@ -1135,13 +1135,6 @@ impl LoopEngine {
             g.out_edges(a)
                 .find(|&e| g.target[e] as usize == b && !self.disabled[e])
         };
-        let walk_cost = |nodes: &[u32], closed: bool| -> f64 {
-            let m = nodes.len();
-            let arcs = if closed { m } else { m - 1 };
-            (0..arcs)
-                .map(|i| graph.arc_weight(nodes[i] as usize, nodes[(i + 1) % m] as usize) as f64)
-                .sum()
-        };
         let pv = graph.position[v];
         let mut best: Option<(f64, Vec<u32>, bool)> = None;
         let mut offer = |cost: f64, nodes: Vec<u32>, closed: bool| {
@@ -1158,7 +1151,7 @@ impl LoopEngine {
                 continue;
             }
             if nodes.iter().any(|&x| g.source[x as usize] as usize == v) {
-                offer(walk_cost(nodes, closed), nodes.to_vec(), closed);
+                offer(self.walk_weight(nodes, closed), nodes.to_vec(), closed);
                 continue;
             }
             // Nodes i … i + span − 1 replaced; a dual curve keeps its ends.
@@ -1191,7 +1184,7 @@ impl LoopEngine {
                         spliced.extend([e1 as u32, e2 as u32]);
                         spliced.extend_from_slice(&nodes[i + span..]);
                     }
-                    offer(walk_cost(&spliced, closed), spliced, closed);
+                    offer(self.walk_weight(&spliced, closed), spliced, closed);
                 }
             }
         }
@@ -1239,11 +1232,21 @@ impl LoopEngine {
         if nodes.contains(&NONE) {
             return None;
         }
-        let cost: f64 = nodes
-            .windows(2)
-            .map(|w| self.graph.arc_weight(w[0] as usize, w[1] as usize) as f64)
-            .sum();
+        let cost = self.walk_weight(&nodes, false);
         Some(self.loop_from_nodes(nodes, cost, false))
+    }
+
+    /// The cost of a walk of g′: the weights of its arcs (for a closed loop
+    /// also the arc from the last node back to the first).
+    fn walk_weight(&self, nodes: &[u32], closed: bool) -> f64 {
+        let m = nodes.len();
+        let arcs = if closed { m } else { m.saturating_sub(1) };
+        (0..arcs)
+            .map(|i| {
+                let (a, b) = (nodes[i] as usize, nodes[(i + 1) % m] as usize);
+                self.graph.arc_weight(a, b) as f64
+            })
+            .sum()
     }
 
     /// [`Self::provisional_curve`]'s half: the cheapest walk (A*, at most
