@@ -1109,6 +1109,11 @@ window.quadrille.screenshot = async () => {
 };
 window.quadrille.cancel = () => cancel();
 window.quadrille.failStageForTesting = (stage) => worker.postMessage({ type: 'fail-stage-for-testing', stage });
+// The next job's `stage` waits after its first progress report until it is cancelled (worker.js).
+window.quadrille.holdStageForTesting = (stage) => {
+  if (!self.crossOriginIsolated) throw new Error('holding a stage needs cross-origin isolation');
+  worker.postMessage({ type: 'hold-stage-for-testing', stage });
+};
 window.quadrille.panicForTesting = () => {
   current = { job: nextJob++, name: 'panic test', started: performance.now(), stages: {}, flag: null, deadline: 0 };
   worker.postMessage({ type: 'panic-for-testing', job: current.job });

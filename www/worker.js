@@ -9,6 +9,9 @@
 //                { type: 'cancel', job }
 //                { type: 'panic-for-testing', job }
 //                { type: 'fail-stage-for-testing', stage }   the next run's `stage` fails (once)
+//                { type: 'hold-stage-for-testing', stage }   the next job's `stage`, after its first progress
+//                  report, waits until the job's shared cancel flag is set (HOLD_MS at most), then goes on
+//                  (once; needs cross-origin isolation)
 // Messages out:  { type: 'progress', job, stage, fraction, text }
 //                { type: 'stage', job, stage, ms, ...result }   typed arrays transferred
 //                  (result: report, mesh, scalars, lines, points, counts, metrics, surface; see src/web/worker_api.rs)
@@ -28,6 +31,9 @@ const ready = init();
 let session = null;
 let current = null; // { job, cancelled, flag }
 let failStage = null; // (tests) the stage the next run fails in
+let holdStage = null; // (tests) the stage the next job holds in until cancelled
+// (tests) The longest a held stage waits for its cancel flag before it goes on.
+const HOLD_MS = 20000;
 
 const nextTask = () => new Promise((resolve) => setTimeout(resolve, 0));
 
@@ -74,6 +80,15 @@ async function drive({ job, cancelFlag }, prepare, work = null) {
       if (failStage !== null && stage === failStage) {
         me.failed = stage;
         failStage = null;
+      }
+      // (tests) The stage is running and has said so: it waits here for
+      // Cancel (the page sets the shared flag), so that Cancel always meets
+      // it running however fast it is.
+      if (holdStage !== null && stage === holdStage && me.flag !== null) {
+        holdStage = null;
+        // The page stores the flag without a notify: looked at every 5 ms.
+        const until = performance.now() + HOLD_MS;
+        while (Atomics.load(me.flag, 0) === 0 && performance.now() < until) Atomics.wait(me.flag, 0, 0, 5);
       }
       return !isCancelled() && !me.failed;
     };
@@ -136,6 +151,8 @@ self.onmessage = async (event) => {
     if (current && current.job === message.job) current.cancelled = true;
   } else if (message.type === 'fail-stage-for-testing') {
     failStage = message.stage;
+  } else if (message.type === 'hold-stage-for-testing') {
+    holdStage = message.stage;
   } else if (message.type === 'panic-for-testing') {
     try {
       await ready;

@@ -82,7 +82,15 @@
 //!   cheapest dual curve or closed loop found so far (a true walk of g′
 //!   through the vertex, with its true cost) is shown in its place. Its
 //!   final answer is [`LoopEngine::best_loop`]'s with the distances from ∂
-//!   settled fully (tested).
+//!   settled fully (tested). Where that search has found nothing yet, the
+//!   provisional answer comes from elsewhere: a recent exact answer through
+//!   the vertex, or one with a node or two replaced by g-edges through it
+//!   ([`LoopEngine::recent_through`]; on a closed mesh, where every loop
+//!   through the vertex is found only as the search ends, the idle time
+//!   fills the recent answers with loops through spread vertices); and on
+//!   an open mesh whose distances from ∂ do not reach the vertex yet, a
+//!   dual curve through it to where they do, by a greedy A*
+//!   ([`LoopEngine::provisional_curve`]).
 //! - The fields, the searches through anchors and the distances from ∂ run
 //!   one settle loop ([`settle`]); the hover query's two bidirectional
 //!   searches (stopping at twice the key) and the tests' references keep
@@ -127,6 +135,24 @@ const LEVEL_GROWTH: f32 = 1.02;
 const FIELD_CACHE: usize = 4;
 /// … and by at least this much (normalised cost).
 const LEVEL_STEP: f32 = 0.01 * BOUNDARY_RADIUS;
+/// The weight of the straight-line distance to the boundary in the A* of
+/// a provisional dual curve ([`LoopEngine::provisional_curve`]): above 1
+/// the search is greedy (its curve is still a true walk with its true
+/// cost, only not the cheapest). 4: 3–4k settled nodes per half on the
+/// bunny's proxy, against 9–11k at 2 and more than 6 000 at 0.9.
+const PROVISIONAL_GUIDE: f32 = 4.0;
+/// The hover query's exact answers kept for provisional loops
+/// ([`LoopEngine::recent_through`]).
+const RECENT_LOOPS: usize = 128;
+/// On a closed mesh the idle time fills the recent answers up to this many
+/// (fandisk, 200 hovers after the idle time, native: hovers with no
+/// provisional loop 71 without, 28 with 32 loops (0.5 s of idle time), 25
+/// with 64 (1.2 s), 28 with 128 (2.7 s)).
+const IDLE_LOOPS: usize = 32;
+/// The idle-time queries that fill them on a closed mesh run by slices of
+/// at most this many settled nodes (about a millisecond), so that a hover
+/// waits little for the slice it arrives in.
+const IDLE_LOOP_SLICE: u64 = 2_000;
 
 /// A constraint point φ = (p, d) of §5.4: the loop passes near `position`,
 /// and, when `direction` is non-zero, with its tangent parallel to it.
@@ -417,6 +443,17 @@ pub struct LoopEngine {
     pair: PairWorkspace,
     /// The progressive hover query between its slices.
     hover_search: Option<HoverSearch>,
+    /// Per vertex of g, the straight-line distance (normalised units) to
+    /// the nearest boundary vertex: the guide of [`LoopEngine::curve_to_field`]
+    /// (empty without a boundary).
+    boundary_gap: Vec<f32>,
+    /// The last [`RECENT_LOOPS`] exact answers of the hover query (nodes,
+    /// closed), the most recent last: provisional loops are made of them
+    /// ([`LoopEngine::recent_through`]); dropped when the enabled set
+    /// changes.
+    recent: Vec<RecentLoop>,
+    /// Idle-time queries begun ([`LoopEngine::fill_recent`]).
+    idle_queries: u64,
 }
 
 /// A hover query answered progressively ([`LoopEngine::hover_begin`]):
@@ -434,6 +471,29 @@ struct HoverSearch {
     dual_proven: bool,
     /// The closed-loop search, once `dual` is proven (bounded by it).
     labelled: Option<LabelledSearch>,
+    /// An idle-time query ([`LoopEngine::prepare_fields`] on a closed
+    /// mesh), only for its answer among the recent ones: not a hover.
+    idle: bool,
+}
+
+/// An exact answer of the hover query kept for provisional loops
+/// ([`LoopEngine::recent_through`]), with the box of its nodes' ends and
+/// its longest node (normalised units).
+#[derive(Debug, Clone)]
+struct RecentLoop {
+    nodes: Vec<u32>,
+    closed: bool,
+    lo: Vec3,
+    hi: Vec3,
+    reach: f32,
+}
+
+/// The positions of node `x`'s ends (normalised units).
+fn g_source(graph: &ElasticaGraph, x: u32) -> Vec3 {
+    graph.position[graph.g.source[x as usize] as usize]
+}
+fn g_target(graph: &ElasticaGraph, x: u32) -> Vec3 {
+    graph.position[graph.g.target[x as usize] as usize]
 }
 
 /// What one slice of a progressive hover query gives
@@ -801,7 +861,7 @@ impl LoopEngine {
         let has_boundary = g.boundary.iter().any(|&b| b);
         let graph = ElasticaGraph::new(g, params);
         let nodes = graph.node_count();
-        LoopEngine {
+        let mut engine = LoopEngine {
             graph,
             index,
             disabled: vec![false; nodes],
@@ -818,7 +878,17 @@ impl LoopEngine {
             layered: LayeredWorkspace::default(),
             pair: PairWorkspace::default(),
             hover_search: None,
+            boundary_gap: Vec::new(),
+            recent: Vec::new(),
+            idle_queries: 0,
+        };
+        if engine.has_boundary {
+            // What a provisional dual curve needs, made here rather than in
+            // the first hover, which meets them.
+            engine.boundary_gap = engine.boundary_gaps();
+            engine.layered.start(nodes);
         }
+        engine
     }
 
     /// Bytes held by g, g′ and the query buffers (excluding the BVH).
@@ -895,6 +965,7 @@ impl LoopEngine {
             dual: None,
             dual_proven: !self.has_boundary,
             labelled: None,
+            idle: false,
         });
         self.hover_step(budget, true)
     }
@@ -904,7 +975,7 @@ impl LoopEngine {
     /// (nothing is built for showing) or when there is none (see
     /// [`Self::hover_pending`]).
     pub fn hover_resume(&mut self, budget: u64) -> Option<Option<DualLoop>> {
-        self.hover_search.as_ref()?;
+        self.hover_search.as_ref().filter(|h| !h.idle)?;
         match self.hover_step(budget, false) {
             HoverStep::Exact(l) => Some(l),
             HoverStep::Provisional(_) => None,
@@ -913,7 +984,7 @@ impl LoopEngine {
 
     /// Whether a hover query of [`Self::hover_begin`] is unfinished.
     pub fn hover_pending(&self) -> bool {
-        self.hover_search.is_some()
+        self.hover_search.as_ref().is_some_and(|h| !h.idle)
     }
 
     /// Forgets an unfinished hover query.
@@ -954,7 +1025,7 @@ impl LoopEngine {
                 break;
             }
             if left == 0 {
-                return self.hover_pause(hs, show);
+                return self.hover_pause(hs, show, budget);
             }
             let used = self.grow_boundary(f32::INFINITY, left);
             left -= used.min(left);
@@ -972,7 +1043,7 @@ impl LoopEngine {
             Some(search) => {
                 self.labelled_run(search, left);
                 if !search.finished {
-                    return self.hover_pause(hs, show);
+                    return self.hover_pause(hs, show, budget);
                 }
                 let found = search.found;
                 found.and_then(|(approx, _)| self.refine_directions(v, limit, approx))
@@ -982,12 +1053,42 @@ impl LoopEngine {
         if let Some((c, _)) = &best {
             self.hover_radius = (1.25 * c).max(BOUNDARY_RADIUS);
         }
-        HoverStep::Exact(best.map(|(c, k)| self.make_loop(k, c)))
+        let exact = best.map(|(c, k)| self.make_loop(k, c));
+        if let Some(l) = &exact {
+            if self.recent.len() >= RECENT_LOOPS {
+                self.recent.remove(0);
+            }
+            let (lo, hi) = l.nodes.iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), &x| {
+                    let (a, b) = (g_source(&self.graph, x), g_target(&self.graph, x));
+                    (lo.min(a).min(b), hi.max(a).max(b))
+                },
+            );
+            let g = &self.graph.g;
+            let reach = l
+                .nodes
+                .iter()
+                .map(|&x| g.length[x as usize])
+                .fold(0.0, f32::max);
+            self.recent.push(RecentLoop {
+                nodes: l.nodes.clone(),
+                closed: l.closed,
+                lo,
+                hi,
+                reach,
+            });
+        }
+        HoverStep::Exact(exact)
     }
 
     /// Keeps the unfinished hover query; the cheapest loop or dual curve
-    /// found so far when `show`.
-    fn hover_pause(&mut self, hs: HoverSearch, show: bool) -> HoverStep {
+    /// found so far when `show`. When the search has found none yet
+    /// because the distances from ∂ do not reach `v` (the first hovers of
+    /// the mode, before the idle time has settled them), a dual curve
+    /// through `v` to where they do reach ([`Self::provisional_curve`],
+    /// at most `budget` nodes per half).
+    fn hover_pause(&mut self, hs: HoverSearch, show: bool, budget: u64) -> HoverStep {
         let mut shown: Option<(f32, Kind)> = None;
         if show {
             shown = hs.dual.map(|(c, b)| (c, Kind::Open(b)));
@@ -1003,8 +1104,212 @@ impl LoopEngine {
                 }
             }
         }
+        let v = hs.v;
+        let dual_proven = hs.dual_proven;
         self.hover_search = Some(hs);
-        HoverStep::Provisional(shown.map(|(c, k)| self.make_loop(k, c)))
+        if !show {
+            return HoverStep::Provisional(None);
+        }
+        // Only when the search itself has nothing to show.
+        let mut best = match shown {
+            Some((c, k)) => Some(self.make_loop(k, c)),
+            None => self.recent_through(v),
+        };
+        if best.is_none() && !dual_proven {
+            best = self.provisional_curve(v, budget);
+        }
+        HoverStep::Provisional(best)
+    }
+
+    /// A true loop or dual curve through `v` made of a recent exact answer
+    /// of the hover query ([`Self::recent`]): the answer itself when it
+    /// passes through `v`, else with one or two of its nodes, from `a` to
+    /// `c`, replaced by the g-edges `a → v → c` where those exist, are
+    /// enabled and turn within the limit (`v` within the k rings of g of
+    /// both). The cheapest such walk (its cost summed over its arcs), if
+    /// any. The ends of a dual curve, on the boundary, are kept.
+    fn recent_through(&self, v: usize) -> Option<DualLoop> {
+        let graph = &self.graph;
+        let g = &graph.g;
+        let edge = |a: usize, b: usize| {
+            g.out_edges(a)
+                .find(|&e| g.target[e] as usize == b && !self.disabled[e])
+        };
+        let pv = graph.position[v];
+        let mut best: Option<(f64, Vec<u32>, bool)> = None;
+        let mut offer = |cost: f64, nodes: Vec<u32>, closed: bool| {
+            if best.as_ref().is_none_or(|b| cost < b.0) {
+                best = Some((cost, nodes, closed));
+            }
+        };
+        for r in &self.recent {
+            let (nodes, closed) = (r.nodes.as_slice(), r.closed);
+            let m = nodes.len();
+            let outside = (r.lo - pv).max(pv - r.hi).max(Vec3::ZERO).length();
+            // Farther than its longest node from every node end: no splice.
+            if m < 3 || outside > r.reach {
+                continue;
+            }
+            if nodes.iter().any(|&x| g.source[x as usize] as usize == v) {
+                offer(self.walk_weight(nodes, closed), nodes.to_vec(), closed);
+                continue;
+            }
+            // Nodes i … i + span − 1 replaced; a dual curve keeps its ends.
+            let (first, last) = if closed { (0, m) } else { (1, m - 1) };
+            for span in 1..=2usize {
+                for i in first..last {
+                    if !closed && i + span > last {
+                        break;
+                    }
+                    let (x, z) = (nodes[i] as usize, nodes[(i + span - 1) % m] as usize);
+                    let (a, c) = (g.source[x] as usize, g.target[z] as usize);
+                    let reach = g.length[x].max(g.length[z]);
+                    if a == v || c == v || a == c || graph.position[a].distance(pv) > reach {
+                        continue;
+                    }
+                    let (Some(e1), Some(e2)) = (edge(a, v), edge(v, c)) else {
+                        continue;
+                    };
+                    let prev = nodes[(i + m - 1) % m] as usize;
+                    let next = nodes[(i + span) % m] as usize;
+                    if !(graph.is_arc(prev, e1) && graph.is_arc(e1, e2) && graph.is_arc(e2, next)) {
+                        continue;
+                    }
+                    let mut spliced: Vec<u32> = Vec::with_capacity(m + 2);
+                    if closed {
+                        spliced.extend([e1 as u32, e2 as u32]);
+                        spliced.extend((i + span..i + m).map(|k| nodes[k % m]));
+                    } else {
+                        spliced.extend_from_slice(&nodes[..i]);
+                        spliced.extend([e1 as u32, e2 as u32]);
+                        spliced.extend_from_slice(&nodes[i + span..]);
+                    }
+                    offer(self.walk_weight(&spliced, closed), spliced, closed);
+                }
+            }
+        }
+        let (cost, mut nodes, closed) = best?;
+        if closed {
+            // Starting at `v`, as the exact search's loops do (so that an
+            // exact answer equal to it is the same node sequence).
+            let at = nodes
+                .iter()
+                .position(|&x| g.source[x as usize] as usize == v);
+            nodes.rotate_left(at.unwrap_or(0));
+        }
+        Some(self.loop_from_nodes(nodes, cost, closed))
+    }
+
+    /// A true dual curve through `v` (a walk of enabled g′ arcs from ∂ to ∂
+    /// with its true cost, not necessarily the cheapest) while the
+    /// distances from ∂ do not reach `v`: the cheapest way from an
+    /// out-edge `b` of `v` to a node whose reverse the field has reached
+    /// (settled or not: its parents are a true path from ∂), then the same
+    /// from `reverse(b)`, each by an A* of at most `budget` settled nodes
+    /// guided by the straight-line distance to the boundary (weighted by
+    /// [`PROVISIONAL_GUIDE`]). `None` when either half finds nothing.
+    fn provisional_curve(&mut self, v: usize, budget: u64) -> Option<DualLoop> {
+        let g = &self.graph.g;
+        let sources: Vec<u32> = self
+            .out_sources(v)
+            .into_iter()
+            .filter(|&b| g.reverse[b as usize] != NONE)
+            .collect();
+        let (leave, b) = self.curve_to_field(&sources, budget)?;
+        let r = self.graph.g.reverse[b as usize];
+        let (enter, _) = self.curve_to_field(&[r], budget)?;
+        let g = &self.graph.g;
+        let back = |walk: &[u32]| -> Vec<u32> {
+            walk.iter().rev().map(|&x| g.reverse[x as usize]).collect()
+        };
+        // ∂ … reverse(y₂), reversed: reverse(y₂) … b, then b … y₁, then
+        // y₁ … ∂ (the field's path to reverse(y₁), reversed).
+        let mut nodes = self.boundary_path(g.reverse[*enter.last()? as usize]);
+        nodes.extend(back(&enter).into_iter().skip(1));
+        nodes.extend(leave.iter().skip(1));
+        let tail = self.boundary_path(g.reverse[*leave.last()? as usize]);
+        nodes.extend(back(&tail).into_iter().skip(1));
+        if nodes.contains(&NONE) {
+            return None;
+        }
+        let cost = self.walk_weight(&nodes, false);
+        Some(self.loop_from_nodes(nodes, cost, false))
+    }
+
+    /// The cost of a walk of g′: the weights of its arcs (for a closed loop
+    /// also the arc from the last node back to the first).
+    fn walk_weight(&self, nodes: &[u32], closed: bool) -> f64 {
+        let m = nodes.len();
+        let arcs = if closed { m } else { m.saturating_sub(1) };
+        (0..arcs)
+            .map(|i| {
+                let (a, b) = (nodes[i] as usize, nodes[(i + 1) % m] as usize);
+                self.graph.arc_weight(a, b) as f64
+            })
+            .sum()
+    }
+
+    /// [`Self::provisional_curve`]'s half: the cheapest walk (A*, at most
+    /// `budget` settled nodes) from `sources` to a node `y` whose reverse
+    /// the distances from ∂ have reached, counting the field's distance of
+    /// `reverse(y)`. Returns the walk (a source first, `y` last) and the
+    /// source it starts from.
+    fn curve_to_field(&mut self, sources: &[u32], budget: u64) -> Option<(Vec<u32>, u32)> {
+        let field = self.boundary_field.as_ref()?;
+        let graph = &self.graph;
+        let g = &graph.g;
+        let gap = &self.boundary_gap;
+        let disabled = &self.disabled;
+        let starts: Vec<(u32, f32)> = sources.iter().map(|&s| (s, 0.0)).collect();
+        let mut best: Option<(f32, u32)> = None;
+        let mut left = budget;
+        let effort = astar(
+            graph,
+            &mut self.layered,
+            &starts,
+            |x| disabled[x],
+            |x| PROVISIONAL_GUIDE * gap[g.target[x] as usize],
+            f32::INFINITY,
+            |x, d, bound| {
+                let r = g.reverse[x];
+                if r != NONE {
+                    let total = d + field.dist[r as usize];
+                    if total < *bound {
+                        *bound = total;
+                        best = Some((total, x as u32));
+                    }
+                }
+                left = left.saturating_sub(1);
+                if left == 0 {
+                    *bound = f32::NEG_INFINITY;
+                }
+            },
+        );
+        self.ws.effort += effort;
+        let (_, y) = best?;
+        let walk = path_to(&self.layered, y);
+        let first = *walk.first()?;
+        Some((walk, first))
+    }
+
+    /// [`Self::boundary_gap`]: per vertex, the distance to the nearest
+    /// boundary vertex (∞ without a boundary).
+    fn boundary_gaps(&self) -> Vec<f32> {
+        let g = &self.graph.g;
+        let position = &self.graph.position;
+        let rim: Vec<Vec3> = (0..g.vertex_count())
+            .filter(|&v| g.boundary[v])
+            .map(|v| position[v])
+            .collect();
+        position
+            .iter()
+            .map(|p| {
+                rim.iter()
+                    .map(|q| p.distance_squared(*q))
+                    .fold(f32::INFINITY, f32::min)
+                    .sqrt()
+            })
+            .collect()
     }
 
     /// The loop the labelled search closed relaxing x → y, reverse(y)
@@ -1280,7 +1585,41 @@ impl LoopEngine {
                 .as_ref()
                 .is_none_or(|f| f.radius.is_finite());
         }
+        // A closed mesh has no dual curve to show while a hover's search
+        // runs: its recent answers are the provisional loops
+        // ([`Self::recent_through`]), filled here with the loops through
+        // vertices spread over the mesh.
+        if !self.has_boundary && left > 0 && self.hover_search.as_ref().is_none_or(|h| h.idle) {
+            more |= self.fill_recent(left.min(IDLE_LOOP_SLICE));
+        }
         more
+    }
+
+    /// One slice of [`Self::prepare_fields`]'s loops on a closed mesh: the
+    /// hover query at the next vertex of a spread order (the golden ratio's
+    /// multiples of the vertex count), resumed for at most `budget` settled
+    /// nodes; its answer joins the recent ones. Returns whether there are
+    /// fewer than [`IDLE_LOOPS`] of them.
+    fn fill_recent(&mut self, budget: u64) -> bool {
+        let n = self.graph.g.vertex_count();
+        if n == 0 || self.recent.len() >= IDLE_LOOPS {
+            return false;
+        }
+        if self.hover_search.is_none() {
+            let v = ((self.idle_queries as f64 * 0.618_033_988_75).fract() * n as f64) as usize;
+            self.idle_queries += 1;
+            self.hover_search = Some(HoverSearch {
+                v: v.min(n - 1),
+                dual: None,
+                dual_proven: true,
+                labelled: None,
+                idle: true,
+            });
+        }
+        if let HoverStep::Exact(_) = self.hover_step(budget, false) {
+            self.hover_search = None;
+        }
+        self.recent.len() < IDLE_LOOPS
     }
 
     /// The anchors' part of [`Self::prepare_fields`]: returns the budget
@@ -2180,8 +2519,10 @@ impl LoopEngine {
         }
         self.boundary_field = None;
         self.pair.cache.clear();
-        // A progressive hover's search ran on the old enabled set.
+        // A progressive hover's search ran on the old enabled set, and the
+        // recent answers may cross newly disabled nodes.
         self.hover_search = None;
+        self.recent.clear();
     }
 
     /// The enabled out-edges of `v`. (A loop and its reverse leave `v` in
@@ -3709,6 +4050,124 @@ mod tests {
     /// arcs through the hovered vertex whose summed weights are its cost,
     /// and costs no less than the exact loop. On a torus, an open cylinder
     /// and a plane.
+    /// A loop or dual curve shown for vertex `v`: it passes through `v`,
+    /// walks enabled g′ arcs (a dual curve from the boundary to the
+    /// boundary), and its weights sum to its cost.
+    fn check_true_walk(e: &LoopEngine, l: &DualLoop, v: usize) {
+        let g = &e.graph.g;
+        assert!(
+            l.nodes.iter().any(|&x| g.source[x as usize] as usize == v),
+            "vertex {v}: the provisional loop misses the vertex"
+        );
+        let nodes = &l.nodes;
+        let arcs = if l.closed {
+            nodes.len()
+        } else {
+            nodes.len() - 1
+        };
+        let mut cost = 0.0f64;
+        for i in 0..arcs {
+            let (a, c) = (nodes[i] as usize, nodes[(i + 1) % nodes.len()] as usize);
+            assert!(
+                e.graph.is_arc(a, c) && !e.disabled[a],
+                "vertex {v}: arc {i}"
+            );
+            cost += e.graph.arc_weight(a, c) as f64;
+        }
+        if !l.closed {
+            // A dual curve's weights from ∂ and back: its two ends
+            // leave and reach the boundary.
+            assert!(g.boundary[g.source[nodes[0] as usize] as usize]);
+            assert!(g.boundary[g.target[*nodes.last().unwrap() as usize] as usize]);
+        }
+        assert!(
+            (cost - l.cost).abs() <= 1e-4 * l.cost.max(1.0),
+            "vertex {v}: walked {cost}, reported {}",
+            l.cost
+        );
+    }
+
+    #[test]
+    fn a_closed_mesh_shows_true_provisional_loops_from_its_idle_time_loops() {
+        // On a closed mesh the hover's search finds a loop only as it ends;
+        // after the idle time's loops through spread vertices, a hover
+        // stopped after one node shows a true loop through its vertex for
+        // a quarter of the vertices or more (32 loops on 640 vertices; none
+        // without them).
+        let mesh = torus(2.0, 0.7, 40, 16);
+        let n = mesh.vertex_count();
+        let mut idle = LoopEngine::new(&mesh, &ElasticaParams::default());
+        let mut plain = LoopEngine::new(&mesh, &ElasticaParams::default());
+        let mut slices = 0;
+        while idle.prepare_fields(&[], 5_000) {
+            slices += 1;
+            assert!(slices < 100_000, "the idle loops never end");
+        }
+        assert_eq!(idle.recent.len(), IDLE_LOOPS);
+        let (mut shown, mut queried, mut cheaper) = (0, 0, 0);
+        for v in (0..n).step_by(7) {
+            let p = idle.vertex_position(v);
+            queried += 1;
+            if let HoverStep::Provisional(l) = plain.hover_begin(p, 1) {
+                assert!(l.is_none(), "vertex {v}: a loop without any search");
+            }
+            plain.cancel_hover();
+            let exact = plain.best_loop(p).expect("a loop on the torus");
+            match idle.hover_begin(p, 1) {
+                HoverStep::Provisional(Some(l)) => {
+                    check_true_walk(&idle, &l, v);
+                    // Not necessarily dearer than the hover's answer: that
+                    // one refines only the labelled search's best few
+                    // directions.
+                    cheaper += usize::from(l.cost < exact.cost * (1.0 - 1e-6));
+                    shown += 1;
+                }
+                HoverStep::Provisional(None) => {}
+                HoverStep::Exact(_) => panic!("vertex {v}: exact after one node"),
+            }
+            idle.cancel_hover();
+        }
+        eprintln!(
+            "closed mesh: {shown} of {queried} hovers shown a provisional loop ({cheaper} cheaper than the hover's answer)"
+        );
+        assert!(4 * shown >= queried, "{shown} of {queried}");
+    }
+
+    #[test]
+    fn an_open_mesh_shows_a_dual_curve_before_the_distances_from_the_boundary_reach_the_vertex() {
+        // The middle of a long open cylinder, no distances from ∂ settled:
+        // the first slice settles too few of them to prove a dual curve
+        // through the vertex, and shows one to where they reach instead.
+        let mesh = cylinder(1.0, 6.0, 24, 36);
+        let mut e = LoopEngine::new(&mesh, &ElasticaParams::default());
+        let p = DVec3::new(1.0, 0.0, 0.0);
+        let v = e.nearest_vertex(p).expect("a vertex");
+        let l = match e.hover_begin(p, 400) {
+            HoverStep::Provisional(Some(l)) => l,
+            other => panic!("no provisional curve: {other:?}"),
+        };
+        // The field does not reach the vertex: the curve is not its own.
+        let f = e.boundary_field.as_ref().expect("a field");
+        assert!(
+            e.graph
+                .g
+                .out_edges(v)
+                .all(|b| f.distance(b as u32).is_infinite())
+        );
+        assert!(!l.closed);
+        check_true_walk(&e, &l, v);
+        let exact = loop {
+            if let Some(x) = e.hover_resume(10_000) {
+                break x.expect("an exact answer");
+            }
+        };
+        assert!(l.cost >= exact.cost - 1e-6 * exact.cost);
+        eprintln!(
+            "open mesh: provisional {:.3}, exact {:.3}",
+            l.cost, exact.cost
+        );
+    }
+
     #[test]
     fn a_progressive_hover_ends_with_the_exact_loop_and_shows_true_loops_meanwhile() {
         let meshes = [
@@ -3726,39 +4185,7 @@ mod tests {
                 let p = eager.vertex_position(v);
                 let reference = eager.best_loop(p);
                 let budget = [1u64, 40, 700, 5_000][k % 4];
-                let check_shown = |e: &LoopEngine, l: &DualLoop| {
-                    let g = &e.graph.g;
-                    assert!(
-                        l.nodes.iter().any(|&x| g.source[x as usize] as usize == v),
-                        "vertex {v}: the provisional loop misses the vertex"
-                    );
-                    let nodes = &l.nodes;
-                    let arcs = if l.closed {
-                        nodes.len()
-                    } else {
-                        nodes.len() - 1
-                    };
-                    let mut cost = 0.0f64;
-                    for i in 0..arcs {
-                        let (a, c) = (nodes[i] as usize, nodes[(i + 1) % nodes.len()] as usize);
-                        assert!(
-                            e.graph.is_arc(a, c) && !e.disabled[a],
-                            "vertex {v}: arc {i}"
-                        );
-                        cost += e.graph.arc_weight(a, c) as f64;
-                    }
-                    if !l.closed {
-                        // A dual curve's weights from ∂ and back: its two ends
-                        // leave and reach the boundary.
-                        assert!(g.boundary[g.source[nodes[0] as usize] as usize]);
-                        assert!(g.boundary[g.target[*nodes.last().unwrap() as usize] as usize]);
-                    }
-                    assert!(
-                        (cost - l.cost).abs() <= 1e-4 * l.cost.max(1.0),
-                        "vertex {v}: walked {cost}, reported {}",
-                        l.cost
-                    );
-                };
+                let check_shown = |e: &LoopEngine, l: &DualLoop| check_true_walk(e, l, v);
                 let mut provisional: Vec<DualLoop> = Vec::new();
                 let exact = match progressive.hover_begin(p, budget) {
                     HoverStep::Exact(l) => {

@@ -1497,18 +1497,20 @@ test('the parametrization layer follows the alignment mode and is kept across ch
 test('the parametrization stage shows its progress, Cancel stops it and the page goes on', async (env) => {
   const { page, errors } = await open(env, 'sample=spot');
   await waitForRun(page, 'spot.obj');
+  // On spot the stage can begin and end between two frames: it is held
+  // (worker.js) after its first progress report until the job's cancel flag
+  // is set, so Cancel always meets it running. Without a working Cancel the
+  // stage goes on after 20 s and finishes, and the checks below fail.
+  await page.evaluate(() => window.quadrille.holdStageForTesting('parametrization'));
   await page.check('#layer-parametrization');
-  // Cancel is pressed in the same frame that shows the stage running: on spot the stage can end
-  // sooner than a separate click would arrive.
-  const bar = await page.waitForFunction(() => {
-    const running = document.getElementById('status').textContent.includes('integer-grid map') && !document.getElementById('progress').hidden;
-    if (!running) return false;
-    const shown = document.getElementById('progress-parametrization')?.checkVisibility() ?? false;
-    document.getElementById('cancel').click();
-    return { shown };
-  }, null, { polling: 'raf' });
-  assert((await bar.jsonValue()).shown, 'a progress bar for the stage');
+  // Running: the worker's own progress report of the stage is on screen.
+  await page.waitForFunction(() => !document.getElementById('progress').hidden
+    && /parametrization — /.test(document.querySelector('#progress .progress-text').textContent)
+    && document.getElementById('status').textContent.includes('integer-grid map'), null, { timeout: 60000 });
+  assert(await page.isVisible('#progress-parametrization'), 'a progress bar for the stage');
+  await page.click('#cancel');
   await page.waitForFunction(() => document.getElementById('status').textContent.includes('cancelled'), null, { timeout: 5000 });
+  console.log(`      [${env.backend}] ${(await page.textContent('#status')).trim()}`);
   assert(!(await page.isChecked('#layer-parametrization')), 'the layer is off again after a cancel');
   assert(await page.evaluate(() => window.quadrille.lastParam == null), 'no map was kept');
   await page.click('#sample-buttons >> text=fandisk');
