@@ -24,6 +24,9 @@
 //!    takes the non-quads from 15–20 % after tracing to 3–7 % (it stops at
 //!    4 %, [`PostProcessParams::non_quad_budget_percent`]) on the
 //!    shared meshes at their default targets.
+//!    Odd faces still above the budget get a second pairing round within
+//!    90° and then [`collapse_odd_edges`]: an edge between two odd faces
+//!    collapsed (the folded tips of parts thinner than a target edge).
 //!    Then, deviation: valence-improving edge rotations between quads
 //!    ([`rotate_edges`]) and diagonal collapses ([`collapse_diagonals`]),
 //!    quad-mesh simplification's local operations; a rotation that opens
