@@ -489,20 +489,11 @@ pub fn loop_audit(mesh: &PolyMesh, input: &TriMesh) -> LoopAudit {
     );
     // The input's boundary edges (on one triangle), each tagged with its
     // loop and its start's arc length.
-    let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
     let on_loop = |v: u32| arcs.loop_of[v as usize] != u32::MAX;
-    for t in &input.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            if on_loop(a) && on_loop(b) {
-                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-    }
-    let boundary_edges: Vec<[u32; 2]> = count
+    let boundary_edges: Vec<[u32; 2]> = crate::mesh::boundary_half_edges(input)
         .into_iter()
-        .filter(|&(_, n)| n == 1)
-        .map(|((a, b), _)| [a, b])
+        .filter(|&(a, b)| on_loop(a) && on_loop(b))
+        .map(|(a, b)| [a.min(b), a.max(b)])
         .collect();
     let input_boundary: Vec<([DVec3; 2], (u32, f64))> = boundary_edges
         .iter()

@@ -291,28 +291,32 @@ pub struct SharpEdge {
     pub boundary: bool,
 }
 
+/// The boundary half-edges (a, b) — the sides of the edges of exactly one
+/// triangle, as their triangle runs them — in face order, then corner
+/// order. The one place that finds a triangle mesh's boundary.
+pub fn boundary_half_edges(mesh: &TriMesh) -> Vec<(u32, u32)> {
+    let mut sides: Vec<(u32, u8)> = edge_runs(&sorted_sides(mesh))
+        .filter_map(|run| match run {
+            [x] => Some((x.2, x.3)),
+            _ => None,
+        })
+        .collect();
+    sides.sort_unstable();
+    sides
+        .into_iter()
+        .map(|(f, i)| {
+            let t = mesh.triangles[f as usize];
+            (t[i as usize], t[(i as usize + 1) % 3])
+        })
+        .collect()
+}
+
 /// Vertices on an edge that belongs to exactly one triangle.
 pub fn boundary_vertices(mesh: &TriMesh) -> Vec<bool> {
-    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(mesh.triangles.len() * 3);
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            edges.push((a.min(b), a.max(b)));
-        }
-    }
-    edges.sort_unstable();
     let mut boundary = vec![false; mesh.positions.len()];
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i;
-        while j < edges.len() && edges[j] == edges[i] {
-            j += 1;
-        }
-        if j - i == 1 {
-            boundary[edges[i].0 as usize] = true;
-            boundary[edges[i].1 as usize] = true;
-        }
-        i = j;
+    for (a, b) in boundary_half_edges(mesh) {
+        boundary[a as usize] = true;
+        boundary[b as usize] = true;
     }
     boundary
 }
@@ -335,24 +339,12 @@ pub struct BoundaryArcs {
 impl BoundaryArcs {
     /// Walks every boundary edge (an edge of exactly one triangle) once.
     pub fn new(mesh: &TriMesh) -> BoundaryArcs {
-        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
-        for t in &mesh.triangles {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
         // Boundary half-edges a → b, as their triangle runs them.
         let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
         let mut starts = Vec::new();
-        for t in &mesh.triangles {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                if count[&(a.min(b), a.max(b))] == 1 {
-                    next.entry(a).or_default().push(b);
-                    starts.push(a);
-                }
-            }
+        for (a, b) in boundary_half_edges(mesh) {
+            next.entry(a).or_default().push(b);
+            starts.push(a);
         }
         starts.sort_unstable();
         starts.dedup();

@@ -19,7 +19,7 @@ mod tri;
 pub use adjacency::EdgeTopology;
 pub use adjacency::{
     BoundaryArcs, Csr, FaceAdjacency, RingCollector, VertexAdjacency, VertexFaces,
-    boundary_vertices,
+    boundary_half_edges, boundary_vertices,
 };
 pub use face_list::{EAR_CLIPPING_LIMIT, FaceList, drop_unused};
 pub use frame::{Aabb, Frame};

@@ -33,22 +33,10 @@ pub fn close_small_holes(mesh: &TriMesh, edge_length: &[f64], min_edges: f64) ->
     if !(min_edges.is_finite() && min_edges > 0.0) {
         return None;
     }
-    let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-        }
-    }
     // Boundary half-edges a → b as their triangle runs them, by start.
     let mut next: std::collections::HashMap<u32, Vec<u32>> = Default::default();
-    for t in &mesh.triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            if count[&(a.min(b), a.max(b))] == 1 {
-                next.entry(a).or_default().push(b);
-            }
-        }
+    for (a, b) in crate::mesh::boundary_half_edges(mesh) {
+        next.entry(a).or_default().push(b);
     }
     let mut starts: Vec<u32> = next.keys().copied().collect();
     starts.sort_unstable();
@@ -150,16 +138,18 @@ mod tests {
         TriMesh::new(positions, triangles).unwrap()
     }
 
+    /// The boundary edges of `m`, after checking that every other edge
+    /// has two consistently oriented triangles.
     fn boundary_edges(m: &TriMesh) -> usize {
-        let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
-        for t in &m.triangles {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-        assert!(count.values().all(|&c| c <= 2), "manifold edges");
-        count.values().filter(|&&c| c == 1).count()
+        let unmatched: usize = crate::mesh::EdgeTopology::new(m)
+            .opposite
+            .iter()
+            .flatten()
+            .filter(|&&g| g == u32::MAX)
+            .count();
+        let boundary = crate::mesh::boundary_half_edges(m).len();
+        assert_eq!(unmatched, boundary, "manifold, oriented edges");
+        boundary
     }
 
     #[test]
