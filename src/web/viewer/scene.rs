@@ -227,15 +227,6 @@ impl DrawMesh {
     }
 }
 
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let up = parent[parent[x as usize] as usize];
-        parent[x as usize] = up;
-        x = up;
-    }
-    x
-}
-
 impl Surface {
     /// Smooth normals split at creases. Vertices at the same position are
     /// welded first (a result surface gives every face its own corners);
@@ -284,7 +275,7 @@ impl Surface {
                 .map(|e| (e.a, e.b))
                 .collect();
         // Corner 3t + k is triangle t's k-th corner.
-        let mut parent: Vec<u32> = (0..3 * mesh.triangles.len() as u32).collect();
+        let mut fans = crate::mesh::UnionFind::new(3 * mesh.triangles.len());
         let mut sides: HashMap<(u32, u32), Vec<(u32, u32)>> = HashMap::new();
         for (t, tri) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {
@@ -305,19 +296,18 @@ impl Surface {
             if let [x, y] = s[..] {
                 if !sharp.contains(key) {
                     for (c, d) in [(x.0, y.0), (x.1, y.1)] {
-                        let (rc, rd) = (find(&mut parent, c), find(&mut parent, d));
-                        parent[rc as usize] = rd;
+                        fans.union(c, d);
                     }
                 }
             }
         }
-        let mut fan_normal = vec![glam::DVec3::ZERO; parent.len()];
+        let mut fan_normal = vec![glam::DVec3::ZERO; 3 * mesh.triangles.len()];
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let n = face_normals[t].normalize_or_zero();
             for k in 0..3 {
                 let p = |j: usize| mesh.positions[tri[j % 3] as usize];
                 let angle = (p(k + 1) - p(k)).angle_between(p(k + 2) - p(k));
-                let root = find(&mut parent, (3 * t + k) as u32);
+                let root = fans.find((3 * t + k) as u32);
                 if angle.is_finite() {
                     fan_normal[root as usize] += n * angle;
                 }
@@ -332,7 +322,7 @@ impl Surface {
             .enumerate()
             .map(|(t, tri)| {
                 std::array::from_fn(|k| {
-                    let root = find(&mut parent, (3 * t + k) as u32);
+                    let root = fans.find((3 * t + k) as u32);
                     *drawn.entry((tri[k], root)).or_insert_with(|| {
                         let n = fan_normal[root as usize].normalize_or_zero().as_vec3();
                         normals.push(if n == Vec3::ZERO {
