@@ -295,6 +295,18 @@ pub struct SharpEdge {
 /// triangle, as their triangle runs them — in face order, then corner
 /// order. The one place that finds a triangle mesh's boundary.
 pub fn boundary_half_edges(mesh: &TriMesh) -> Vec<(u32, u32)> {
+    boundary_sides(mesh)
+        .into_iter()
+        .map(|(f, i)| {
+            let t = mesh.triangles[f as usize];
+            (t[i as usize], t[(i as usize + 1) % 3])
+        })
+        .collect()
+}
+
+/// [`boundary_half_edges`] as triangle sides (face, local edge from
+/// corner i to corner i + 1), in the same order.
+fn boundary_sides(mesh: &TriMesh) -> Vec<(u32, u8)> {
     let mut sides: Vec<(u32, u8)> = edge_runs(&sorted_sides(mesh))
         .filter_map(|run| match run {
             [x] => Some((x.2, x.3)),
@@ -303,12 +315,6 @@ pub fn boundary_half_edges(mesh: &TriMesh) -> Vec<(u32, u32)> {
         .collect();
     sides.sort_unstable();
     sides
-        .into_iter()
-        .map(|(f, i)| {
-            let t = mesh.triangles[f as usize];
-            (t[i as usize], t[(i as usize + 1) % 3])
-        })
-        .collect()
 }
 
 /// Vertices on an edge that belongs to exactly one triangle.
@@ -337,40 +343,81 @@ pub struct BoundaryArcs {
 }
 
 impl BoundaryArcs {
-    /// Walks every boundary edge (an edge of exactly one triangle) once.
+    /// Walks every boundary edge (an edge of exactly one triangle) once,
+    /// loops in the order of their smallest start vertex, each from there
+    /// in its triangles' direction. At a vertex where several loops touch
+    /// (a non-manifold vertex: two fans of triangles meet there) a loop
+    /// goes on along the boundary of the fan it arrived in, found by
+    /// turning round the vertex through that fan's triangles; a loop that
+    /// cannot be turned (a non-manifold edge in the fan) goes on along any
+    /// boundary edge not yet walked from there.
     pub fn new(mesh: &TriMesh) -> BoundaryArcs {
-        // Boundary half-edges a → b, as their triangle runs them.
-        let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
-        let mut starts = Vec::new();
-        for (a, b) in boundary_half_edges(mesh) {
-            next.entry(a).or_default().push(b);
-            starts.push(a);
+        let sides = boundary_sides(mesh);
+        let topology = EdgeTopology::new(mesh);
+        let nf = mesh.triangles.len();
+        // Index of each boundary side in `sides`, per face and local edge.
+        let mut index = vec![[u32::MAX; 3]; nf];
+        let mut from: HashMap<u32, Vec<u32>> = HashMap::new();
+        for (k, &(f, i)) in sides.iter().enumerate() {
+            index[f as usize][i as usize] = k as u32;
+            from.entry(mesh.triangles[f as usize][i as usize])
+                .or_default()
+                .push(k as u32);
         }
-        starts.sort_unstable();
-        starts.dedup();
+        let start_of = |k: u32| {
+            let (f, i) = sides[k as usize];
+            mesh.triangles[f as usize][i as usize]
+        };
+        let mut walked = vec![false; sides.len()];
+        // The boundary side after side k: turn round its end vertex
+        // through its fan until a boundary side leaves it.
+        let after = |k: u32, walked: &[bool]| -> Option<u32> {
+            let (f, i) = sides[k as usize];
+            let (mut g, mut e) = (f as usize, (i as usize + 1) % 3);
+            for _ in 0..nf {
+                let s = index[g][e];
+                if s != u32::MAX {
+                    return Some(s);
+                }
+                let Some((h, j)) = topology.across(g, e) else {
+                    break;
+                };
+                (g, e) = (h, (j + 1) % 3);
+            }
+            let end = mesh.triangles[f as usize][(i as usize + 1) % 3];
+            from.get(&end)?
+                .iter()
+                .copied()
+                .find(|&s| !walked[s as usize])
+        };
+        let mut order: Vec<u32> = (0..sides.len() as u32).collect();
+        order.sort_by_key(|&k| (start_of(k), k));
         let n = mesh.positions.len();
         let mut arcs = BoundaryArcs {
             loop_of: vec![u32::MAX; n],
             arc: vec![0.0; n],
             length: Vec::new(),
         };
-        for &start in &starts {
-            if arcs.loop_of[start as usize] != u32::MAX {
+        for first in order {
+            if walked[first as usize] {
                 continue;
             }
             let id = arcs.length.len() as u32;
-            let (mut cur, mut along) = (start, 0.0);
+            let (mut k, mut along) = (first, 0.0);
             loop {
-                arcs.loop_of[cur as usize] = id;
-                arcs.arc[cur as usize] = along;
-                let Some(b) = next.get_mut(&cur).and_then(|v| v.pop()) else {
-                    break;
-                };
-                along += mesh.positions[cur as usize].distance(mesh.positions[b as usize]);
-                if b == start || arcs.loop_of[b as usize] != u32::MAX {
-                    break;
+                walked[k as usize] = true;
+                let (f, i) = sides[k as usize];
+                let t = mesh.triangles[f as usize];
+                let (a, b) = (t[i as usize], t[(i as usize + 1) % 3]);
+                if arcs.loop_of[a as usize] == u32::MAX {
+                    arcs.loop_of[a as usize] = id;
+                    arcs.arc[a as usize] = along;
                 }
-                cur = b;
+                along += mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+                match after(k, &walked) {
+                    Some(s) if !walked[s as usize] => k = s,
+                    _ => break,
+                }
             }
             arcs.length.push(along);
         }
@@ -502,5 +549,59 @@ mod tests {
         assert_eq!(adj.neighbors(0), &[1]);
         assert_eq!(adj.neighbors(1), &[0]);
         assert!(adj.neighbors(2).is_empty());
+    }
+
+    fn lengths(arcs: &BoundaryArcs) -> Vec<f64> {
+        let mut l = arcs.length.clone();
+        l.sort_by(f64::total_cmp);
+        l
+    }
+
+    #[test]
+    fn boundary_arcs_walk_each_loop_whole() {
+        let arcs = BoundaryArcs::new(&strip());
+        assert_eq!(arcs.length, vec![8.0]);
+        assert_eq!(arcs.arc[0], 0.0);
+        assert!(arcs.loop_of.iter().all(|&l| l == 0));
+    }
+
+    #[test]
+    fn boundary_arcs_go_on_through_a_pinched_vertex_along_their_own_fan() {
+        // Two triangles touching at vertex 0 (a bow tie): two loops, each
+        // its triangle's whole perimeter.
+        let bow_tie = TriMesh {
+            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::NEG_X, DVec3::NEG_Y],
+            triangles: vec![[0, 1, 2], [0, 3, 4]],
+        };
+        let perimeter = 2.0 + 2f64.sqrt();
+        let l = lengths(&BoundaryArcs::new(&bow_tie));
+        assert_eq!(l.len(), 2);
+        assert!(l.iter().all(|x| (x - perimeter).abs() < 1e-12), "{l:?}");
+        // A 4 × 4 sheet without squares (1, 1) and (2, 2), which touch at
+        // vertex (2, 2): the rim (16) and one loop round both holes (8), as
+        // on the surface with vertex (2, 2) split into one per fan.
+        let mut positions = Vec::new();
+        for y in 0..5 {
+            for x in 0..5 {
+                positions.push(DVec3::new(x as f64, y as f64, 0.0));
+            }
+        }
+        let mut triangles = Vec::new();
+        for y in 0..4u32 {
+            for x in 0..4u32 {
+                if (x, y) == (1, 1) || (x, y) == (2, 2) {
+                    continue;
+                }
+                let v = |dx: u32, dy: u32| (y + dy) * 5 + x + dx;
+                triangles.push([v(0, 0), v(1, 0), v(1, 1)]);
+                triangles.push([v(0, 0), v(1, 1), v(0, 1)]);
+            }
+        }
+        let arcs = BoundaryArcs::new(&TriMesh {
+            positions,
+            triangles,
+        });
+        assert_eq!(lengths(&arcs), vec![8.0, 16.0]);
+        assert!(arcs.is_boundary(12));
     }
 }
