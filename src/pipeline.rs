@@ -1298,26 +1298,32 @@ impl Pipeline {
                 mesh: q.mesh.clone(),
                 report: Default::default(),
                 repair: Default::default(),
+                graph: None,
             },
         };
         if self.params.extraction.post.reopen_input_holes
             && let Some(surface) = surface.as_deref()
-            && let Some((mesh, opened)) =
+            && let Some((mesh, opened, kept)) =
                 extract::reopen::reopen_closed_loops(&result.mesh, &self.input.mesh, surface)
         {
             result.mesh = mesh;
             result.report.input_holes_reopened = opened;
-            if let ExtractedMesh::Local(_) = extracted
-                && let Some((mesh, [moved, dissolved, split])) = extract::fix_wide_corners_of(
+            // The local mode's last steps once more on the opened rims.
+            let graph = result.graph.take();
+            if let Some(graph) = graph
+                && let Some((mesh, graph)) = extract::finish_reopened(
                     &result.mesh,
-                    Some(surface),
-                    &self.params.extraction.post,
+                    &kept,
+                    &graph,
+                    &self.input.mesh,
+                    surface,
+                    &self.params.extraction,
+                    &mut result.report,
+                    &mut result.repair,
                 )
             {
                 result.mesh = mesh;
-                result.report.wide_corner_vertices_moved += moved;
-                result.report.wide_corner_rim_vertices_dissolved += dissolved;
-                result.report.wide_corner_quads_split += split;
+                result.graph = Some(graph);
             }
         }
         let steps = match self.params.remesh.mode {

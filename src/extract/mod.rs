@@ -352,6 +352,9 @@ pub struct PostProcessed {
     pub report: PostProcessReport,
     /// Repairs the rebuild needed (normally none).
     pub repair: RepairReport,
+    /// The extraction graph's attributes per vertex of `mesh`; `None` in
+    /// the global mode.
+    pub graph: Option<Graph>,
 }
 
 /// Thesis 3.7 on an extracted mesh, then the optional pure-quad split.
@@ -409,9 +412,48 @@ pub fn post_process(
     progress.report(0.8, "rebuilding")?;
     let rules = params.repair_rules(surface);
     let mut repair_report = RepairReport::default();
-    let (mut mesh, map) = repair::repair(faces, &mut g, &rules, &mut repair_report);
+    let (mesh, map) = repair::repair(faces, &mut g, &rules, &mut repair_report);
     // The graph's attributes per vertex of `mesh`.
-    let mut mesh_graph = g.select(&map);
+    let mesh_graph = g.select(&map);
+    let (mut mesh, mesh_graph) = finish(
+        mesh,
+        mesh_graph,
+        params,
+        surface,
+        &mut report,
+        &mut repair_report,
+    );
+    let mut graph = Some(mesh_graph);
+    if params.pure_quad {
+        progress.report(0.9, "pure-quad split")?;
+        if let Ok(split) = pure_quad::catmull_clark_split(&mesh, surface)
+            && let Some(g) = graph.take()
+        {
+            (mesh, graph) = split_and_smooth(&mesh, split, g, p, surface);
+        }
+    }
+    Ok(PostProcessed {
+        mesh,
+        report,
+        repair: repair_report,
+        graph,
+    })
+}
+
+/// The post-processing's last steps on a rebuilt mesh and its graph: the
+/// odd faces the rebuild left paired once more, then the wide-corner fix.
+/// Run by [`post_process`], and again by [`finish_reopened`] on a mesh
+/// whose input holes [`reopen`] opened.
+fn finish(
+    mut mesh: PolyMesh,
+    mut mesh_graph: Graph,
+    params: &ExtractionParams,
+    surface: Option<&SurfaceIndex>,
+    report: &mut PostProcessReport,
+    repair_report: &mut RepairReport,
+) -> (PolyMesh, Graph) {
+    let p = &params.post;
+    let rules = params.repair_rules(surface);
     // The rebuild's repair can leave odd faces of its own (a removed vertex
     // turns its quads into triangles): pair them once more.
     if p.pair_non_quads_degrees > 0.0 {
@@ -452,8 +494,7 @@ pub fn post_process(
             }
             if m > 0 || splits > 0 || valences_changed {
                 report.non_quad_pairs_merged += m;
-                let (again, map2) =
-                    repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
+                let (again, map2) = repair::repair(faces, &mut mesh_graph, &rules, repair_report);
                 mesh = again;
                 mesh_graph = mesh_graph.select(&map2);
             }
@@ -488,66 +529,75 @@ pub fn post_process(
             postprocess::undo_splits(&mut faces, &splits, p.wide_corner_split_budget_percent);
         report.wide_corner_quads_split += splits.len() - undone;
         if moved + dissolved + splits.len() > 0 {
-            let (again, map2) = repair::repair(faces, &mut mesh_graph, &rules, &mut repair_report);
+            let (again, map2) = repair::repair(faces, &mut mesh_graph, &rules, repair_report);
             mesh = again;
             mesh_graph = mesh_graph.select(&map2);
         }
     }
-    if params.pure_quad {
-        progress.report(0.9, "pure-quad split")?;
-        if let Ok(split) = pure_quad::catmull_clark_split(&mesh, surface) {
-            mesh = split_and_smooth(&mesh, split, mesh_graph, p, surface);
-        }
-    }
-    Ok(PostProcessed {
-        mesh,
-        report,
-        repair: repair_report,
-    })
+    (mesh, mesh_graph)
 }
 
-/// The wide-corner fix ([`postprocess::fix_wide_corners`]) once more, on a
-/// mesh whose input holes [`reopen`] opened after the post-processing:
-/// the faces it removed and the corners it moved onto the rims can leave
-/// quads with a corner above `p.wide_corner_degrees`. The mesh's boundary
-/// vertices (the rims) stay, and the splits the odd-face budget cannot hold
-/// are taken back ([`postprocess::undo_splits`]; no pairing, which needs
-/// the extraction's graph). Returns the mesh and the report's counts
-/// (moved, dissolved, split), or `None` when nothing changed or the result
-/// would not be a valid mesh.
-pub fn fix_wide_corners_of(
-    mesh: &PolyMesh,
-    surface: Option<&SurfaceIndex>,
-    p: &PostProcessParams,
-) -> Option<(PolyMesh, [usize; 3])> {
-    if !p.fix_wide_corners || p.wide_corner_degrees <= 0.0 {
+/// [`finish`] once more, on a mesh whose input holes [`reopen`] opened
+/// after the post-processing: the faces it removed leave odd faces on the
+/// rims, with no pairing after them, and the corners it moved onto the
+/// rims can leave quads with a corner above `wide_corner_degrees`.
+/// `kept` gives the vertex of the post-processed mesh (whose graph is
+/// `graph`) that each vertex of `opened` is; the vertices on `opened`'s
+/// boundary, and only those, count as input-boundary vertices from here.
+/// Its rebuilds fill no hole: these steps replace faces and remove none,
+/// so every hole they meet is one of the input's, kept or opened again
+/// (the repair's own test of that, by positions, closed the teapot's
+/// spout again). Should the result have other boundary loops than
+/// `opened`, or a loop of the input closed over again (the loop audit),
+/// `None`: `opened` stays as it is. The counts go to `report` and
+/// `repair_report`.
+#[allow(clippy::too_many_arguments)]
+pub fn finish_reopened(
+    opened: &PolyMesh,
+    kept: &[u32],
+    graph: &Graph,
+    input: &crate::mesh::TriMesh,
+    surface: &SurfaceIndex,
+    params: &ExtractionParams,
+    report: &mut PostProcessReport,
+    repair_report: &mut RepairReport,
+) -> Option<(PolyMesh, Graph)> {
+    if kept.len() != opened.vertex_count() || kept.iter().any(|&v| v as usize >= graph.len()) {
         return None;
     }
-    let list = mesh.to_face_list();
-    let mut faces: Vec<Vec<u32>> = list.iter().map(|f| f.to_vec()).collect();
-    let mut pos = mesh.positions.clone();
-    let boundary: Vec<bool> = (0..mesh.vertex_count() as u32)
-        .map(|v| mesh.is_boundary_vertex(v))
-        .collect();
-    let (moved, dissolved, splits) = postprocess::fix_wide_corners(
-        &mut faces,
-        &mut pos,
-        &boundary,
-        p.wide_corner_degrees,
-        surface,
+    let mut g = graph.select(kept);
+    g.pos.clone_from(&opened.positions);
+    for v in 0..opened.vertex_count() {
+        g.boundary[v] = opened.is_boundary_vertex(v as u32);
+    }
+    let no_filling = ExtractionParams {
+        max_hole: 0,
+        fan_large_holes: false,
+        ..*params
+    };
+    let (mut r, mut rr) = (*report, *repair_report);
+    let (mesh, g) = finish(
+        opened.clone(),
+        g,
+        &no_filling,
+        Some(surface),
+        &mut r,
+        &mut rr,
     );
-    let undone = postprocess::undo_splits(&mut faces, &splits, p.wide_corner_split_budget_percent);
-    let split = splits.len() - undone;
-    if moved + dissolved + split == 0 {
+    let closed = |m: &PolyMesh| {
+        crate::metrics::loop_audit(m, input)
+            .fates
+            .iter()
+            .filter(|&&f| f == crate::metrics::LoopFate::ClosedOver)
+            .count()
+    };
+    if mesh.boundary_loops().len() != opened.boundary_loops().len()
+        || closed(&mesh) > closed(opened)
+    {
         return None;
     }
-    let mut list = crate::mesh::FaceList::new();
-    for f in &faces {
-        list.push(f);
-    }
-    let (positions, list) = crate::mesh::drop_unused(pos, &list);
-    let fixed = PolyMesh::from_faces(positions, &list).ok()?;
-    Some((fixed, [moved, dissolved, split]))
+    (*report, *repair_report) = (r, rr);
+    Some((mesh, g))
 }
 
 /// The split mesh's new points (edge midpoints, face centroids) relaxed by
@@ -555,17 +605,19 @@ pub fn fix_wide_corners_of(
 /// split (digest §5.11–5.12): the centroid of a split triangle or pentagon
 /// is a valence-3 or -5 vertex whose quads the smoothing evens out. The
 /// old vertices get the attributes of `graph` (one entry per vertex of
-/// `coarse`); an edge point is on the boundary when its edge is.
+/// `coarse`); an edge point is on the boundary when its edge is. Returns
+/// the split mesh and its graph (`None` when `graph` does not fit
+/// `coarse`; the split is then not smoothed).
 fn split_and_smooth(
     coarse: &PolyMesh,
     mut split: PolyMesh,
     mut graph: Graph,
     p: &PostProcessParams,
     surface: Option<&SurfaceIndex>,
-) -> PolyMesh {
+) -> (PolyMesh, Option<Graph>) {
     let nv = coarse.vertex_count();
     if graph.len() != nv || split.vertex_count() != nv + coarse.edge_count() + coarse.face_count() {
-        return split;
+        return (split, None);
     }
     for e in 0..coarse.edge_count() as u32 {
         let h = 2 * e;
@@ -580,8 +632,8 @@ fn split_and_smooth(
     graph.pos.clone_from(&split.positions);
     let faces: Vec<Vec<u32>> = split.to_face_list().iter().map(|f| f.to_vec()).collect();
     postprocess::smooth(&faces, &mut graph, p, surface);
-    split.positions = graph.pos;
-    split
+    split.positions.clone_from(&graph.pos);
+    (split, Some(graph))
 }
 
 #[cfg(test)]
@@ -589,12 +641,32 @@ mod tests {
     use super::*;
     use crate::mesh::FaceList;
 
+    fn plane_graph(mesh: &PolyMesh) -> Graph {
+        let n = mesh.vertex_count();
+        Graph {
+            pos: mesh.positions.clone(),
+            normal: vec![DVec3::Z; n],
+            scale: vec![1.0; n],
+            curvature: vec![0.0; n],
+            q: vec![DVec3::X; n],
+            feature_count: vec![0; n],
+            size: vec![1; n],
+            boundary: (0..n as u32).map(|v| mesh.is_boundary_vertex(v)).collect(),
+            boundary_loop: vec![u32::MAX; n],
+            input_loop_length: Vec::new(),
+            component: vec![0; n],
+            adj: vec![Vec::new(); n],
+        }
+    }
+
     /// A quad on a rim with a vertex of that quad alone 8° off the chord
-    /// of its neighbours (a 188° corner): the quad becomes a triangle on
-    /// the chord and the vertex leaves the mesh. A mesh whose only wide
-    /// corner is in a pentagon, or one without, is left as it is.
+    /// of its neighbours (a 188° corner), as the reopening can leave one,
+    /// next to a triangle: [`finish`] takes the vertex out (the quad
+    /// becomes a triangle on the chord) and pairs the two triangles into a
+    /// quad, leaving two quads with no corner above the bar. A mesh whose
+    /// only wide corner is in a pentagon is left as it is.
     #[test]
-    fn wide_corners_left_after_reopening_are_fixed_on_the_mesh() {
+    fn the_last_steps_fix_a_wide_corner_on_a_rim_and_pair_what_it_leaves() {
         let bend = 8f64.to_radians();
         let positions = vec![
             DVec3::new(0.0, 0.0, 0.0),
@@ -605,25 +677,43 @@ mod tests {
             DVec3::new(0.0, 1.0, 0.0),
             DVec3::new(1.5, 0.5 * (0.5 * bend).tan(), 0.0),
         ];
-        let p = PostProcessParams::default();
+        let params = ExtractionParams::default();
+        let run = |mesh: &PolyMesh| {
+            let (mut report, mut repair) = Default::default();
+            let (out, graph) = finish(
+                mesh.clone(),
+                plane_graph(mesh),
+                &params,
+                None,
+                &mut report,
+                &mut repair,
+            );
+            assert_eq!(graph.len(), out.vertex_count());
+            (out, report)
+        };
         let mut faces = FaceList::new();
         faces.push(&[0, 1, 4, 5]);
         faces.push(&[1, 6, 2, 3, 4]);
         let pentagon = PolyMesh::from_faces(positions.clone(), &faces).unwrap();
-        assert!(fix_wide_corners_of(&pentagon, None, &p).is_none());
+        let (out, report) = run(&pentagon);
+        assert_eq!(out.positions, pentagon.positions);
+        assert_eq!(out.face_count(), 2);
+        assert_eq!(report, PostProcessReport::default());
 
         let mut faces = FaceList::new();
         faces.push(&[0, 1, 4, 5]);
         faces.push(&[1, 6, 2, 3]);
         faces.push(&[1, 3, 4]);
         let mesh = PolyMesh::from_faces(positions, &faces).unwrap();
-        let (fixed, counts) = fix_wide_corners_of(&mesh, None, &p).expect("a wide corner");
-        assert_eq!(counts, [0, 1, 0]);
+        let (fixed, report) = run(&mesh);
+        assert_eq!(report.wide_corner_rim_vertices_dissolved, 1);
         assert_eq!(fixed.vertex_count(), 6);
         let degrees: Vec<usize> = (0..fixed.face_count() as u32)
             .map(|f| fixed.face_vertices(f).count())
             .collect();
-        assert_eq!(degrees, vec![4, 3, 3]);
-        assert!(fix_wide_corners_of(&fixed, None, &p).is_none());
+        assert_eq!(degrees, vec![4, 4]);
+        let widest = crate::metrics::quad_metrics(&fixed.positions, &fixed.to_face_list())
+            .max_corner_angle_degrees;
+        assert!(widest <= params.post.wide_corner_degrees, "{widest}");
     }
 }

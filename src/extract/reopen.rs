@@ -8,7 +8,8 @@
 //! edges around can end up under a face (the bunny's smallest hole, 3.1
 //! edges around, under a triangle at 600 vertices). After post-processing,
 //! [`crate::metrics::loop_audit`] finds such loops, and two passes open
-//! them:
+//! them (then the local mode's last steps run again on the rims,
+//! [`super::finish_reopened`]):
 //! 1. A face whose centroid's closest point on the input lies on the rim of
 //!    one of them lies over the hole and is removed.
 //! 2. A loop still closed over and at most [`SMALL_LOOP_EDGES`] edges
@@ -38,12 +39,14 @@ use crate::spatial::{SegmentGrid, SurfaceIndex};
 pub const SMALL_LOOP_EDGES: f64 = 6.0;
 
 /// The mesh without the faces over input holes it closed over (module
-/// doc), and how many loops that opened; `None` when no loop was opened.
+/// doc), how many loops that opened, and which vertex of `mesh` each of
+/// its vertices is (some moved onto the rims); `None` when no loop was
+/// opened.
 pub fn reopen_closed_loops(
     mesh: &PolyMesh,
     input: &TriMesh,
     surface: &SurfaceIndex,
-) -> Option<(PolyMesh, usize)> {
+) -> Option<(PolyMesh, usize, Vec<u32>)> {
     let audit = loop_audit(mesh, input);
     let closed = |a: &LoopAudit| {
         a.fates
@@ -57,24 +60,30 @@ pub fn reopen_closed_loops(
     }
     let first = remove_faces_over_rims(mesh, input, surface, &audit);
     let audit = match &first {
-        Some(opened) => loop_audit(opened, input),
+        Some((opened, _)) => loop_audit(opened, input),
         None => audit,
     };
+    let (first, kept) = match first {
+        Some((opened, kept)) => (Some(opened), kept),
+        None => (None, (0..mesh.vertex_count() as u32).collect()),
+    };
+    // The second pass keeps the vertices' numbers.
     let second = open_small_loops(first.as_ref().unwrap_or(mesh), input, &audit);
     let result = second.or(first)?;
     let after = closed(&loop_audit(&result, input));
-    (after < before).then_some((result, before - after))
+    (after < before).then_some((result, before - after, kept))
 }
 
 /// Pass 1: the faces whose centroid's closest point on the input lies on
-/// the rim of a loop closed over; `None` when there is none (or removing
-/// them would break the mesh).
+/// the rim of a loop closed over removed, with the vertex of `mesh` each
+/// vertex left is; `None` when there is none (or removing them would break
+/// the mesh).
 fn remove_faces_over_rims(
     mesh: &PolyMesh,
     input: &TriMesh,
     surface: &SurfaceIndex,
     audit: &LoopAudit,
-) -> Option<PolyMesh> {
+) -> Option<(PolyMesh, Vec<u32>)> {
     // The rims of the loops closed over, each edge tagged with its loop.
     let rims: Vec<_> = audit
         .boundary_edges
@@ -112,6 +121,7 @@ fn remove_faces_over_rims(
     // Only the vertices the remaining faces use, renumbered.
     let mut index = vec![u32::MAX; mesh.vertex_count()];
     let mut positions = Vec::new();
+    let mut old = Vec::new();
     let mut kept = FaceList::new();
     for face in faces.iter() {
         let renumbered: Vec<u32> = face
@@ -120,6 +130,7 @@ fn remove_faces_over_rims(
                 if index[v as usize] == u32::MAX {
                     index[v as usize] = positions.len() as u32;
                     positions.push(mesh.positions[v as usize]);
+                    old.push(v);
                 }
                 index[v as usize]
             })
@@ -130,7 +141,7 @@ fn remove_faces_over_rims(
     if topology.nonmanifold_vertices > 0 || topology.nonmanifold_edges > 0 {
         return None;
     }
-    PolyMesh::from_faces(positions, &kept).ok()
+    Some((PolyMesh::from_faces(positions, &kept).ok()?, old))
 }
 
 /// Pass 2 (module doc): the loops closed over that are at most
@@ -295,7 +306,7 @@ mod tests {
         let surface = SurfaceIndex::new(&input).unwrap();
         let covered = quad_grid(10, |_, _| true);
         assert_eq!(preservation_metrics(&covered, &input).loops_closed.len(), 1);
-        let (opened, n) = reopen_closed_loops(&covered, &input, &surface).unwrap();
+        let (opened, n, _) = reopen_closed_loops(&covered, &input, &surface).unwrap();
         assert_eq!(n, 1);
         assert_eq!(opened.face_count(), 96);
         assert_eq!(opened.boundary_loops().len(), 2);
