@@ -606,7 +606,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
                 boundary_tangents: &[],
                 cyclic_loops: used,
                 stiffening: 0,
-                across: &[],
+                anisotropy: &[],
             })
             .expect("a map");
             assert_eq!(m.conflicts, 0);
@@ -990,7 +990,7 @@ fn a_graded_sizing_gets_cones_instead_of_shear() {
             let f = param::cross_field_of(&mesh, p, &params).expect("a cross field");
             let m = param::grid_map_of(&mesh, p, &f, &params).expect("a map");
             (
-                param::measures::measures(&mesh, &m, &p.face_sizing, &curvature(p)),
+                param::measures::measures(&mesh, &m, &p.face_sizing, &curvature(p), &[]),
                 f.cones.len(),
             )
         };

@@ -19,6 +19,7 @@
 //! Parameter units: one unit is one target edge of the calibrated sizing
 //! field (the same calibration as the local path's).
 
+pub mod anisotropy;
 pub mod boundary;
 pub mod conformal;
 pub mod constraints;
@@ -341,6 +342,19 @@ pub struct Params {
     /// the filtered normals' σ capped as well (5 round): cow 0.179,
     /// 13.4°; spot 0.094, 11.0°; suzanne 0.255, 17.7°.
     pub thin_part_across: f64,
+    /// Curvature-aligned anisotropic target lengths ([`anisotropy`]): per
+    /// face, the edge along the direction of largest |κ| shorter and the
+    /// one across it longer, equal sagittas both ways at the same quad
+    /// area, the ratio of the two capped at this; ≤ 1 turns it off.
+    /// Default 0 (off).
+    pub curvature_anisotropy: f64,
+    /// With [`Params::curvature_anisotropy`]: the faces whose ratio
+    /// reaches the cap get a soft cross-field constraint to the direction
+    /// of largest |κ| (weight [`Params::region_cross_weight`], 1 when that
+    /// is a hard constraint), so the cross follows the anisotropy it is
+    /// asked (the smoothest field need not: at 45° to it the map's quads
+    /// stay square). Default false.
+    pub curvature_anisotropy_cross: bool,
 }
 
 impl Default for Params {
@@ -367,6 +381,8 @@ impl Default for Params {
             loop_separation: 4.0,
             close_small_holes: true,
             thin_part_across: 0.0,
+            curvature_anisotropy: 0.0,
+            curvature_anisotropy_cross: false,
         }
     }
 }
@@ -404,6 +420,8 @@ impl Params {
             loop_separation: p.remesh.loop_separation,
             close_small_holes: p.remesh.close_small_holes,
             thin_part_across: p.remesh.thin_part_across,
+            curvature_anisotropy: p.remesh.curvature_anisotropy,
+            curvature_anisotropy_cross: p.remesh.curvature_anisotropy_cross,
             ..Params::default()
         }
     }
@@ -451,10 +469,10 @@ pub struct Prepared {
     /// aligned with and which picks a boundary edge's isoline; `None` off
     /// the boundary.
     pub boundary_tangents: Vec<[Option<DVec3>; 3]>,
-    /// Per face on a thin part: the target edge across it as a fraction
-    /// of S(f), and that direction ([`thin_parts`],
-    /// [`Params::thin_part_across`]); all `None` when off.
-    pub across: thin_parts::Across,
+    /// Per face: the map's target lengths per direction ([`anisotropy`]:
+    /// the thin parts', [`Params::thin_part_across`], and the curvature's,
+    /// [`Params::curvature_anisotropy`]); all `None` when both are off.
+    pub anisotropy: anisotropy::Anisotropy,
 }
 
 /// Analysis, calibrated sizing, filtered normals (σ = factor · S(f) of the
@@ -539,8 +557,15 @@ fn prepare_timed(mesh: &TriMesh, params: &Params, clock: &dyn Fn() -> f64) -> (P
         params,
     );
     let across = thin_parts::across_thin_parts(mesh, &analysis, params.thin_part_across);
+    let curvature = anisotropy::curvature_lengths(
+        mesh,
+        &analysis,
+        &face_sizing,
+        &feature_edges,
+        params.curvature_anisotropy,
+    );
     let prepared = Prepared {
-        across,
+        anisotropy: anisotropy::combine(across, &curvature, &analysis.face_normals),
         analysis,
         face_sizing,
         normals,
@@ -1020,6 +1045,20 @@ pub fn alignment_constraints(
             }
         }
     }
+    let cap = params.curvature_anisotropy;
+    if params.curvature_anisotropy_cross && cap > 1.0 {
+        if soft.is_empty() {
+            soft = vec![None; nf];
+        }
+        for (f, l) in p.anisotropy.iter().enumerate() {
+            if let Some(l) = l
+                && soft[f].is_none()
+                && l.along / l.across >= cap * (1.0 - 1e-9)
+            {
+                soft[f] = Some(l.a);
+            }
+        }
+    }
     for (f, t) in mesh.triangles.iter().enumerate() {
         let edge = (0..3).find(|&e| p.topology.opposite[f][e] == NO_FACE || p.feature_edges[f][e]);
         if let Some(e) = edge {
@@ -1048,7 +1087,7 @@ pub fn cross_field_of(
         normals: &p.normals,
         constraints: &constraints,
         soft_constraints: &soft,
-        soft_weight: params.region_cross_weight.unwrap_or(0.0),
+        soft_weight: params.region_cross_weight.unwrap_or(1.0),
         feature_edges: &p.feature_edges,
         face_sizing: &p.face_sizing,
         snap_distance: if params.feature_curve_degrees > 0.0 {
@@ -1120,7 +1159,7 @@ fn grid_map_with_progress(
         region_alignment: dirs.as_deref().map(|d| (d, params.region_weight)),
         feature_edges: &p.feature_edges,
         boundary_tangents: &p.boundary_tangents,
-        across: &p.across,
+        anisotropy: &p.anisotropy,
         cyclic_loops: &loops,
         stiffening: params.stiffening,
     };
@@ -1230,7 +1269,13 @@ pub fn run_with_progress(
         || analysis::smooth_regions::face_curvatures(mesh, &prepared.analysis.curvature),
         |r| r.faces.clone(),
     );
-    let measures = measures::measures(mesh, &map, &prepared.face_sizing, &curvature);
+    let measures = measures::measures(
+        mesh,
+        &map,
+        &prepared.face_sizing,
+        &curvature,
+        &prepared.anisotropy,
+    );
     let t4 = clock();
     Ok(Run {
         mesh: closed.or(split),

@@ -134,10 +134,9 @@ pub struct MapInput<'a> {
     /// one coordinate must come back to its start value through the
     /// transitions, so that isolines close around them (empty: none).
     pub cyclic_loops: &'a [Vec<u32>],
-    /// Per face on a thin part: the target edge across it as a fraction
-    /// of S(f) and that direction (`super::thin_parts`; empty or `None`:
-    /// S(f) both ways).
-    pub across: &'a [Option<(f64, DVec3)>],
+    /// Per face: its target lengths per direction (`super::anisotropy`;
+    /// empty or `None`: S(f) both ways).
+    pub anisotropy: &'a [Option<super::anisotropy::AxisLengths>],
     /// Re-solves of MIQ's stiffening after the rounding (see
     /// [`super::Params::stiffening`]); 0: none.
     pub stiffening: usize,
@@ -489,8 +488,8 @@ fn energy_rows(
                     .map(|i| (lay.w(c.wedge[f][i], comp), w * grad[i].dot(*axis)))
                     .collect();
                 let target = if k == comp {
-                    let across = input.across.get(f).copied().flatten();
-                    w * super::thin_parts::inverse_length(s, *axis, across)
+                    let lengths = input.anisotropy.get(f).copied().flatten();
+                    w * super::anisotropy::inverse_length(s, *axis, lengths)
                 } else {
                     0.0
                 };
