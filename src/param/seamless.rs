@@ -482,17 +482,14 @@ fn energy_rows(
         let w = (projected * stiffness.map_or(1.0, |k| k[f])).sqrt();
         let grad: [DVec3; 3] =
             std::array::from_fn(|i| n.cross(p[(i + 2) % 3] - p[(i + 1) % 3]) / area2);
+        let lengths = input.anisotropy.get(f).copied().flatten();
+        let inverse = super::anisotropy::inverse_lengths(s, frames[f], lengths);
         for comp in 0..2 {
             for (k, axis) in frames[f].iter().enumerate() {
                 let terms = (0..3)
                     .map(|i| (lay.w(c.wedge[f][i], comp), w * grad[i].dot(*axis)))
                     .collect();
-                let target = if k == comp {
-                    let lengths = input.anisotropy.get(f).copied().flatten();
-                    w * super::anisotropy::inverse_length(s, *axis, lengths)
-                } else {
-                    0.0
-                };
+                let target = if k == comp { w * inverse[k] } else { 0.0 };
                 rows.push((terms, target));
             }
         }

@@ -94,6 +94,7 @@ pub fn across_thin_parts(
                 a,
                 along: 1.0 / ratio,
                 across: 1.0,
+                keep_area: false,
             })
         })
         .collect()
