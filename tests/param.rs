@@ -1241,6 +1241,9 @@ fn a_cylinder_gets_curvature_anisotropic_quads_with_the_option_and_square_ones_w
     let ratio = on_round / on_along;
     assert!((ratio - 2.0).abs() < 0.1, "ratio {ratio}");
     // The area is kept: as many quads as without.
-    assert!((on_round * on_along - off_round * off_along).abs() < 0.1, "area");
+    assert!(
+        (on_round * on_along - off_round * off_along).abs() < 0.1,
+        "area"
+    );
     assert!(m.flipped().iter().all(|&x| !x));
 }

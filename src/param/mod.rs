@@ -347,13 +347,49 @@ pub struct Params {
     /// one across it longer, equal sagittas both ways at the same quad
     /// area, the ratio of the two capped at this; ≤ 1 turns it off.
     /// Default 0 (off).
+    ///
+    /// Off because it does not bring issue 19's limit bar (≤ 0.8× Instant
+    /// Meshes' at equal control-vertex count) to the organic meshes: the
+    /// smoothest cross field is not aligned with their principal
+    /// directions (`measures.anisotropy_realised` 0.18 on spot, 0.40 on
+    /// rocker-arm at ratio 2), so the map realises little of what it is
+    /// asked. Medians over 5 vertex orders at 4× the default target
+    /// (`FIT=1 TARGET_X=4 python3 scripts/orders.py BIN TAG
+    /// '{"remesh":{"mode":"global","curvature_anisotropy":R}}' MESH…`),
+    /// limit after fit / Instant Meshes' (docs/QUALITY.md's medians at the
+    /// default target, split) and control vertices, off → 2 → 3: spot
+    /// 0.88 (732) → 0.86 (736) → 0.86 (746); cow 0.92 (704) → 0.91 (696)
+    /// → 0.90 (714); bunny 0.98 (8,630) → 0.96 (8,817) → 0.96 (8,797);
+    /// rocker-arm 0.96 (2,482) → 0.92 (2,580) → 0.90 (2,572); fandisk
+    /// 0.23 (1,526) → 0.17 (1,590) → 0.17 (1,609); beetle 0.53 → 0.50 →
+    /// 0.52; teapot 1.02 (833) → 0.84 (848) → 0.75 (847); suzanne 0.82
+    /// → 0.76 → 0.76. The maps come out a few per cent denser; at the
+    /// base's count (target scaled to it) ratio 3 gives spot 0.90 (731),
+    /// bunny 0.98 (8,618), rocker-arm 0.94 (2,498), against teapot 0.72
+    /// (836) and fandisk 0.18 (1,486): the surfaces of revolution and
+    /// the fillets gain 20–30 %, the organic ones nothing. Corner
+    /// deviation off → 3: spot 5.22° → 5.53°, cow 7.12° → 6.95°, bunny
+    /// 3.07° → 3.40°, rocker-arm 3.00° → 3.30°, fandisk 4.54° → 4.67°,
+    /// beetle 25.0° → 27.7° (Instant Meshes 9.77°, 11.55°, 4.83°, 5.42°,
+    /// 5.81°, 17.3°); EV within 1 point of off (all far below Instant
+    /// Meshes'). The sagitta's exponent ¼ replaced by ⅜ (a cubic
+    /// spline's error κ³h⁴ per direction), ratio 3: spot 0.86, cow 0.95,
+    /// bunny 0.96, rocker-arm 0.88 (2,675 vertices), teapot 0.70.
     pub curvature_anisotropy: f64,
     /// With [`Params::curvature_anisotropy`]: the faces whose ratio
     /// reaches the cap get a soft cross-field constraint to the direction
     /// of largest |κ| (weight [`Params::region_cross_weight`], 1 when that
     /// is a hard constraint), so the cross follows the anisotropy it is
     /// asked (the smoothest field need not: at 45° to it the map's quads
-    /// stay square). Default false.
+    /// stay square). Default false: it realises more of the anisotropy
+    /// (`measures.anisotropy_realised` at ratio 2, one map: rocker-arm
+    /// 0.40 → 0.73, spot 0.18 → 0.35, its cones 44 → 70) but costs
+    /// corners and, on the organic meshes, the limit. With ratio 2,
+    /// medians as at [`Params::curvature_anisotropy`], without → with:
+    /// limit / Instant Meshes' spot 0.86 → 1.00, cow 0.91 → 0.96, bunny
+    /// 0.96 → 0.99, rocker-arm 0.92 → 0.90, teapot 0.84 → 0.86; corner
+    /// deviation spot 5.46° → 8.91°, cow 7.54° → 9.43°, bunny 3.31° →
+    /// 5.74°; EV spot 5.8 → 9.6 %, cow 6.5 → 9.3 %.
     pub curvature_anisotropy_cross: bool,
 }
 
