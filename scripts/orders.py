@@ -1,9 +1,11 @@
 """orders.py BIN TAG PARAMSJSON MESH... — Quadrille (defaults + a params
 overlay, e.g. '{"remesh":{"mode":"global"}}') on each shared mesh and on
 re-ordered copies of it (scripts/quality.py's orders), at the default
-target; prints per-order metrics and their medians (the cells of
+target (times TARGET_X, as scripts/quality.py's "global x4" row asks 4×
+it); prints per-order metrics and their medians (the cells of
 scripts/quality.py). Env: ORDERS (5), FIT (1; 0 skips the control-mesh
-fit), OUT (run directory, /tmp/quadrille-orders), QUADRILLE_MESHES."""
+fit), OUT (run directory, /tmp/quadrille-orders), TARGET_X (1),
+QUADRILLE_MESHES."""
 import json, os, statistics, sys, types
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -14,6 +16,7 @@ BIN, TAG, P = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
 ORD = int(os.environ.get("ORDERS", "5"))
 FIT = os.environ.get("FIT", "1") == "1"
 OUT = os.environ.get("OUT", "/tmp/quadrille-orders")
+TARGET_X = float(os.environ.get("TARGET_X", "1"))
 MESHES = os.environ.get("QUADRILLE_MESHES", os.path.join(HERE, "..", "..", "shared", "meshes"))
 args = types.SimpleNamespace(bin=BIN, timeout=1200)
 os.makedirs(OUT, exist_ok=True)
@@ -22,7 +25,7 @@ if not FIT:
         compare.quadrille_json(a, ["metrics", out, "--reference", src], 1200),
         {},
     )
-keys = ["V", "nonquad", "ev", "corner", "maxcorner", "hausdorff", "out_in", "in_out", "limit"]
+keys = ["V", "controlV", "nonquad", "ev", "corner", "maxcorner", "hausdorff", "out_in", "in_out", "limit", "limit2"]
 for name in sys.argv[4:]:
     src = os.path.join(MESHES, f"{name}.obj")
     # The default target as quality.py asks it: the imported vertices / 16
@@ -36,7 +39,8 @@ for name in sys.argv[4:]:
             if not os.path.exists(s):
                 quality.reordered_copy(src, s, o)
         stem = os.path.join(OUT, f"{name}-{TAG}-o{o}")
-        r = quality.run_quadrille(args, s, stem, ("default", P), target)
+        # The target times TARGET_X, as quality.py's ("default", P, 4) rows.
+        r = quality.run_quadrille(args, s, stem, ("default", P), round(target * TARGET_X))
         if "error" in r:
             print(name, o, "ERROR", r["error"], flush=True)
             continue

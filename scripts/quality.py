@@ -137,6 +137,9 @@ ROWS = {
     # Thin parts asked only across (the map's edge round the part capped,
     # along it kept; src/param/thin_parts.rs, off by default).
     "global + thin parts across (5 round)": ("default", {"remesh": {"mode": "global", "thin_part_across": 5}}),
+    # Curvature-aligned anisotropic lengths in the map (src/param/anisotropy.rs,
+    # off by default), at equal control-vertex count.
+    "global x4 + curvature anisotropy 3": ("default", {"remesh": {"mode": "global", "curvature_anisotropy": 3}}, 4),
     "global + least-squares placement": ("default", {"remesh": {"mode": "global",
                                                                 "least_squares_placement": True}}),
     "default - least-squares placement": ("default", {"extraction": {"post": {"least_squares_iterations": 0}}}),
@@ -256,7 +259,7 @@ ORDER_ROWS = ("instant-meshes", "im-equivalent", "+scale consistency", "default"
               "default - pairing fallback and odd-edge collapse",
               "global + least-squares placement", "global - loop separation", "global loop separation 3",
               "global loop separation 2", "global + thin parts (5 edges)", "global + thin parts (8 edges)",
-              "global + thin parts across (5 round)")
+              "global + thin parts across (5 round)", "global x4 + curvature anisotropy 3")
 
 
 def default_target(args, src, divisor=16):
@@ -377,7 +380,8 @@ def ratio_table(results):
     for name, entry in results["meshes"].items():
         im = cells(entry["rows"].get("instant-meshes", {})) or {}
         for label in ("im-equivalent", "default", "global", "global x4", "global - feature curves",
-                      "global x4 - feature curves", "global - stiffening", "global - conformal scale"):
+                      "global x4 - feature curves", "global - stiffening", "global - conformal scale",
+                      "global x4 + curvature anisotropy 3"):
             row = entry["rows"].get(label)
             c = cells(row) if row and "error" not in row else None
             if not c:

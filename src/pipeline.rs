@@ -191,6 +191,16 @@ pub struct RemeshParams {
     /// ([`crate::param::Params::thin_part_across`], which has the
     /// figures); 0 turns it off. Default 0 (off).
     pub thin_part_across: f64,
+    /// The global mode's curvature-aligned anisotropic target lengths:
+    /// the cap on the ratio of the edges across and along the direction of
+    /// largest |κ| ([`crate::param::Params::curvature_anisotropy`], which
+    /// has the figures); ≤ 1 turns it off. Default 0 (off).
+    pub curvature_anisotropy: f64,
+    /// With it, the cross field follows the direction of largest |κ|
+    /// where the ratio reaches the cap
+    /// ([`crate::param::Params::curvature_anisotropy_cross`]). Default
+    /// false.
+    pub curvature_anisotropy_cross: bool,
 }
 
 impl Default for RemeshParams {
@@ -206,6 +216,8 @@ impl Default for RemeshParams {
             loop_separation: map.loop_separation,
             close_small_holes: map.close_small_holes,
             thin_part_across: map.thin_part_across,
+            curvature_anisotropy: map.curvature_anisotropy,
+            curvature_anisotropy_cross: map.curvature_anisotropy_cross,
         }
     }
 }

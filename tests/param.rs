@@ -606,7 +606,7 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
                 boundary_tangents: &[],
                 cyclic_loops: used,
                 stiffening: 0,
-                across: &[],
+                anisotropy: &[],
             })
             .expect("a map");
             assert_eq!(m.conflicts, 0);
@@ -990,7 +990,7 @@ fn a_graded_sizing_gets_cones_instead_of_shear() {
             let f = param::cross_field_of(&mesh, p, &params).expect("a cross field");
             let m = param::grid_map_of(&mesh, p, &f, &params).expect("a map");
             (
-                param::measures::measures(&mesh, &m, &p.face_sizing, &curvature(p)),
+                param::measures::measures(&mesh, &m, &p.face_sizing, &curvature(p), &[]),
                 f.cones.len(),
             )
         };
@@ -1191,4 +1191,59 @@ fn a_thin_tube_gets_its_edges_round_it_and_keeps_them_along_it() {
     assert!((on - 4.0).abs() < 0.05, "on: {on}");
     assert!((off_along - 1.0).abs() < 0.1, "{off_along}");
     assert!((on_along - 1.0).abs() < 0.1, "{on_along}");
+}
+
+#[test]
+fn a_cylinder_gets_curvature_anisotropic_quads_with_the_option_and_square_ones_without() {
+    // Radius 1, height 6; 236 target vertices on an area of 37.7: S ≈ 0.4,
+    // κ₀ = 8 · 0.01 / S = 0.2, ρ⁴ = 1.2 / 0.2 = 6: the ratio √6 ≈ 2.45
+    // asked, capped at 2 (edges S/√2 round, S·√2 along).
+    let mesh = cylinder(1.0, 6.0, 64, 64);
+    let measure = |cap: f64| {
+        let mut params = uniform(236);
+        params.filtered_normals = false;
+        params.curvature_anisotropy = cap;
+        let prepared = param::prepare(&mesh, &params);
+        let s = prepared.face_sizing[0];
+        let (_, m) = map(&mesh, &params);
+        check_seamless(&mesh, &m, true);
+        let (mut round, mut round_length, mut along, mut along_length) = (0.0, 0.0, 0.0, 0.0);
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for e in 0..3 {
+                let (a, b) = (
+                    mesh.positions[t[e] as usize],
+                    mesh.positions[t[(e + 1) % 3] as usize],
+                );
+                if a.z.abs() > 1.5 || b.z.abs() > 1.5 {
+                    continue; // the rims' curvature estimate
+                }
+                let duv = (m.uv[f][(e + 1) % 3] - m.uv[f][e]).length();
+                if (a.z - b.z).abs() < 1e-12 {
+                    round += duv;
+                    round_length += (b - a).length();
+                }
+                if (a.x - b.x).abs() < 1e-12 && (a.y - b.y).abs() < 1e-12 {
+                    along += duv;
+                    along_length += (b - a).length();
+                }
+            }
+        }
+        // Units per length times S: 1 / (the quads' edge in units of S).
+        (round / round_length * s, along / along_length * s, m)
+    };
+    let (off_round, off_along, _) = measure(0.0);
+    let (on_round, on_along, m) = measure(2.0);
+    println!(
+        "cylinder, units per S round / along: off {off_round:.3} / {off_along:.3}, \
+         ratio 2 {on_round:.3} / {on_along:.3}"
+    );
+    assert!((off_round / off_along - 1.0).abs() < 0.05, "off");
+    let ratio = on_round / on_along;
+    assert!((ratio - 2.0).abs() < 0.1, "ratio {ratio}");
+    // The area is kept: as many quads as without.
+    assert!(
+        (on_round * on_along - off_round * off_along).abs() < 0.1,
+        "area"
+    );
+    assert!(m.flipped().iter().all(|&x| !x));
 }

@@ -216,6 +216,23 @@ pub fn log_size_at_target_scale(mesh: &TriMesh, vertex_sizing: &[f64]) -> Option
     if used.iter().all(|&x| x == used[0]) {
         return None;
     }
+    heat_step_at_target_scale(mesh, vertex_sizing, vec![ln])?.pop()
+}
+
+/// Per-vertex `channels` at the target scale: one implicit heat step
+/// (M + t L) x = M x₀ each, with the lumped areas M, the clamped cotangent
+/// L ([`half_cotangents`]) and t = S̄²/2 (S̄ the area-weighted mean of
+/// `vertex_sizing`, so σ = S̄); unreferenced vertices keep their values.
+/// `None` when the solve fails or a result is not finite.
+pub fn heat_step_at_target_scale(
+    mesh: &TriMesh,
+    vertex_sizing: &[f64],
+    channels: Vec<Vec<f64>>,
+) -> Option<Vec<Vec<f64>>> {
+    let nv = mesh.positions.len();
+    if vertex_sizing.len() != nv || channels.iter().any(|c| c.len() != nv) {
+        return None;
+    }
     let mut mass = vec![0.0; nv];
     let (mut area, mut weighted) = (0.0, 0.0);
     for (f, t) in mesh.triangles.iter().enumerate() {
@@ -240,14 +257,21 @@ pub fn log_size_at_target_scale(mesh: &TriMesh, vertex_sizing: &[f64]) -> Option
         }
     }
     // Unreferenced vertices get a unit row and keep their value.
-    let mut rhs = vec![0.0; nv];
-    for v in 0..nv {
-        let m = if mass[v] > 0.0 { mass[v] } else { 1.0 };
-        triplets.push((v, v, m));
-        rhs[v] = m * ln[v];
+    let m: Vec<f64> = mass
+        .iter()
+        .map(|&m| if m > 0.0 { m } else { 1.0 })
+        .collect();
+    for (v, &mv) in m.iter().enumerate() {
+        triplets.push((v, v, mv));
     }
-    let x = solve_spd(nv, &triplets, &[rhs])?.pop()?;
-    x.iter().all(|x| x.is_finite()).then_some(x)
+    let rhs: Vec<Vec<f64>> = channels
+        .iter()
+        .map(|c| c.iter().zip(&m).map(|(x, mv)| mv * x).collect())
+        .collect();
+    let x = solve_spd(nv, &triplets, &rhs)?;
+    x.iter()
+        .all(|c| c.iter().all(|x| x.is_finite()))
+        .then_some(x)
 }
 
 /// S(f) · e^{−φ(f)} (φ averaged over the face's corners), scaled so that

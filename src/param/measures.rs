@@ -3,7 +3,8 @@
 //! (mean relative deviation of |∇u|, |∇v| from the target 1/S(f)), shear
 //! (mean deviation of the angle between ∇u and ∇v from 90°),
 //! misalignment (mean angle between the gradients and the principal
-//! directions, (κ_min − κ_max)²-weighted), singularities (cones).
+//! directions, (κ_min − κ_max)²-weighted), singularities (cones); and how
+//! much of the anisotropy asked (`super::anisotropy`) the map realises.
 //! Means are area-weighted; the parametrization-curvature measure is not
 //! computed.
 
@@ -33,6 +34,14 @@ pub struct Measures {
     pub stretch: f64,
     pub shear_degrees: f64,
     pub misalignment_degrees: f64,
+    /// Over the faces with anisotropic target lengths
+    /// ([`super::anisotropy`]), area-weighted: the ratio asked of the
+    /// edges across and along a (the geometric mean of p/q), and the
+    /// fraction of its logarithm the map realises, ln(|J a| / |J b|) /
+    /// ln(p/q) with J the map's Jacobian (1: as asked; 0: isotropic, e.g.
+    /// a cross at 45° to a). Both 0 without.
+    pub anisotropy_asked: f64,
+    pub anisotropy_realised: f64,
     pub cut_edges: usize,
     pub wedges: usize,
 }
@@ -87,8 +96,10 @@ pub fn measures(
     map: &GridMap,
     face_sizing: &[f64],
     curvature: &[FaceCurvature],
+    anisotropy: &[Option<super::anisotropy::AxisLengths>],
 ) -> Measures {
     let (mut area, mut stretch, mut shear) = (0.0, 0.0, 0.0);
+    let (mut aniso_area, mut asked, mut realised) = (0.0, 0.0, 0.0);
     let (mut weight, mut misalignment) = (0.0, 0.0);
     for f in 0..mesh.face_count() {
         let Some(g) = gradients(mesh, map, f) else {
@@ -101,6 +112,20 @@ pub fn measures(
         let angle = g[0].angle_between(g[1]).to_degrees();
         if angle.is_finite() {
             shear += a * (angle - 90.0).abs();
+        }
+        if let Some(l) = anisotropy.get(f).copied().flatten() {
+            let n = g[0].cross(g[1]).normalize_or_zero();
+            let b = n.cross(l.a);
+            let jacobian = |d: DVec3| (g[0].dot(d).powi(2) + g[1].dot(d).powi(2)).sqrt();
+            let (want, got) = (
+                (l.along / l.across).ln(),
+                (jacobian(l.a) / jacobian(b)).ln(),
+            );
+            if want.abs() > 1e-9 && got.is_finite() {
+                aniso_area += a;
+                asked += a * want;
+                realised += a * got / want;
+            }
         }
         if let Some(c) = curvature.get(f) {
             let w = a * (c.kappa_min - c.kappa_max).powi(2);
@@ -138,6 +163,12 @@ pub fn measures(
         stretch: mean(stretch, area),
         shear_degrees: mean(shear, area),
         misalignment_degrees: mean(misalignment, weight),
+        anisotropy_asked: if aniso_area > 0.0 {
+            (asked / aniso_area).exp()
+        } else {
+            0.0
+        },
+        anisotropy_realised: mean(realised, aniso_area),
         cut_edges,
         wedges: map.cut.wedge_count,
     }

@@ -134,10 +134,9 @@ pub struct MapInput<'a> {
     /// one coordinate must come back to its start value through the
     /// transitions, so that isolines close around them (empty: none).
     pub cyclic_loops: &'a [Vec<u32>],
-    /// Per face on a thin part: the target edge across it as a fraction
-    /// of S(f) and that direction (`super::thin_parts`; empty or `None`:
-    /// S(f) both ways).
-    pub across: &'a [Option<(f64, DVec3)>],
+    /// Per face: its target lengths per direction (`super::anisotropy`;
+    /// empty or `None`: S(f) both ways).
+    pub anisotropy: &'a [Option<super::anisotropy::AxisLengths>],
     /// Re-solves of MIQ's stiffening after the rounding (see
     /// [`super::Params::stiffening`]); 0: none.
     pub stiffening: usize,
@@ -483,17 +482,14 @@ fn energy_rows(
         let w = (projected * stiffness.map_or(1.0, |k| k[f])).sqrt();
         let grad: [DVec3; 3] =
             std::array::from_fn(|i| n.cross(p[(i + 2) % 3] - p[(i + 1) % 3]) / area2);
+        let lengths = input.anisotropy.get(f).copied().flatten();
+        let inverse = super::anisotropy::inverse_lengths(s, frames[f], lengths);
         for comp in 0..2 {
             for (k, axis) in frames[f].iter().enumerate() {
                 let terms = (0..3)
                     .map(|i| (lay.w(c.wedge[f][i], comp), w * grad[i].dot(*axis)))
                     .collect();
-                let target = if k == comp {
-                    let across = input.across.get(f).copied().flatten();
-                    w * super::thin_parts::inverse_length(s, *axis, across)
-                } else {
-                    0.0
-                };
+                let target = if k == comp { w * inverse[k] } else { 0.0 };
                 rows.push((terms, target));
             }
         }

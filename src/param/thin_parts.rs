@@ -8,9 +8,9 @@
 //! E_orient) asks per face ∇u = w₀/S, ∇v = w₁/S for the combed cross
 //! (w₀, w₁); a frame field asks a length of its own per axis. Here the
 //! cross stays a cross (its cones are unchanged) and only the lengths
-//! differ: on a face of a thin part, the axis at angle φ from the
-//! direction across the part asks 1/L = (cos²φ / r + sin²φ) / S, r the
-//! cap's ratio to S (`analysis::thickness::thin_part_cap`, graded, with
+//! differ ([`super::anisotropy`]): on a face of a thin part, the axis at
+//! angle φ from the direction across the part asks
+//! 1/L = (cos²φ / r + sin²φ) / S, r the cap's ratio to S (`analysis::thickness::thin_part_cap`, graded, with
 //! its floor; the shape diameter d gives the cross-section's
 //! circumference π d). The direction across a tube is its principal
 //! direction of largest |κ| (round the tube), averaged over the face's
@@ -28,19 +28,21 @@
 
 use glam::DVec3;
 
+use super::anisotropy::{Anisotropy, AxisLengths};
 use crate::analysis::{SurfaceAnalysis, thickness};
 use crate::mesh::TriMesh;
 use crate::spatial::SurfaceIndex;
 
-/// Per face on a thin part: (r, unit direction across the part), r ∈
-/// (0, 1) the target edge across as a fraction of S(f); `None` elsewhere.
-pub type Across = Vec<Option<(f64, DVec3)>>;
-
 /// The faces of the parts thinner than `edges_around` target edges round
-/// (the calibrated sizing `analysis.sizing.edge_length`), with the
-/// fraction of S asked across them and that direction; all `None` when
-/// `edges_around` is not positive or no part is that thin.
-pub fn across_thin_parts(mesh: &TriMesh, analysis: &SurfaceAnalysis, edges_around: f64) -> Across {
+/// (the calibrated sizing `analysis.sizing.edge_length`): along the unit
+/// direction across the part 1/r, r ∈ (0, 1) the target edge across as a
+/// fraction of S(f), and 1 along the part; all `None` when `edges_around`
+/// is not positive or no part is that thin.
+pub fn across_thin_parts(
+    mesh: &TriMesh,
+    analysis: &SurfaceAnalysis,
+    edges_around: f64,
+) -> Anisotropy {
     let nf = mesh.triangles.len();
     if !(edges_around.is_finite() && edges_around > 0.0) {
         return vec![None; nf];
@@ -88,40 +90,19 @@ pub fn across_thin_parts(mesh: &TriMesh, analysis: &SurfaceAnalysis, edges_aroun
                 first.get_or_insert(d);
                 sum += d;
             }
-            sum.try_normalize().map(|a| (ratio, a))
+            sum.try_normalize().map(|a| AxisLengths {
+                a,
+                along: 1.0 / ratio,
+                across: 1.0,
+                keep_area: false,
+            })
         })
         .collect()
-}
-
-/// The inverse target length along the unit `axis` of a face with S = `s`
-/// and `across` = (r, a): (cos²φ / r + sin²φ) / S, φ the angle between
-/// the axis and a; 1/S without.
-pub fn inverse_length(s: f64, axis: DVec3, across: Option<(f64, DVec3)>) -> f64 {
-    match across {
-        Some((r, a)) => {
-            let c2 = axis.normalize_or_zero().dot(a).powi(2);
-            (c2 / r + (1.0 - c2)) / s
-        }
-        None => 1.0 / s,
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_inverse_length_is_one_over_r_across_and_one_along() {
-        let a = DVec3::X;
-        let s = 2.0;
-        assert_eq!(inverse_length(s, DVec3::Y, None), 0.5);
-        assert!((inverse_length(s, DVec3::X, Some((0.25, a))) - 2.0).abs() < 1e-12);
-        assert!((inverse_length(s, -3.0 * DVec3::X, Some((0.25, a))) - 2.0).abs() < 1e-12);
-        assert!((inverse_length(s, DVec3::Y, Some((0.25, a))) - 0.5).abs() < 1e-12);
-        // 45°: the mean of the two.
-        let d = DVec3::new(1.0, 1.0, 0.0);
-        assert!((inverse_length(s, d, Some((0.25, a))) - 1.25).abs() < 1e-12);
-    }
 
     #[test]
     fn a_thick_sphere_has_no_thin_part_and_a_thin_tube_is_thin_round_it() {
@@ -154,8 +135,10 @@ mod tests {
             if c.z.abs() > 1.5 {
                 continue; // the rims' curvature estimate
             }
-            let (r, d) = x.expect("the tube is thin");
+            let l = x.expect("the tube is thin");
+            let (r, d) = (1.0 / l.along, l.a);
             assert!((r - thickness::FLOOR).abs() < 1e-9, "r {r}");
+            assert_eq!(l.across, 1.0);
             assert!(d.z.abs() < 0.1, "face {f}: {d} is along the tube");
             checked += 1;
         }
