@@ -641,22 +641,13 @@ mod tests {
     use super::*;
     use crate::mesh::FaceList;
 
+    /// [`postprocess::tests::plane_graph`] with `mesh`'s boundary.
     fn plane_graph(mesh: &PolyMesh) -> Graph {
-        let n = mesh.vertex_count();
-        Graph {
-            pos: mesh.positions.clone(),
-            normal: vec![DVec3::Z; n],
-            scale: vec![1.0; n],
-            curvature: vec![0.0; n],
-            q: vec![DVec3::X; n],
-            feature_count: vec![0; n],
-            size: vec![1; n],
-            boundary: (0..n as u32).map(|v| mesh.is_boundary_vertex(v)).collect(),
-            boundary_loop: vec![u32::MAX; n],
-            input_loop_length: Vec::new(),
-            component: vec![0; n],
-            adj: vec![Vec::new(); n],
-        }
+        let mut g = postprocess::tests::plane_graph(mesh.positions.clone());
+        g.boundary = (0..mesh.vertex_count() as u32)
+            .map(|v| mesh.is_boundary_vertex(v))
+            .collect();
+        g
     }
 
     /// A quad on a rim with a vertex of that quad alone 8° off the chord

@@ -1920,7 +1920,7 @@ fn union_polygon(faces: &[Vec<u32>], chain: &[usize]) -> Option<Vec<u32>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The least-squares regular polygon of a 2 × 1 rectangle is the
@@ -2104,7 +2104,9 @@ mod tests {
         assert_eq!(canonical(&faces), canonical(&grid));
     }
 
-    fn plane_graph(pos: Vec<DVec3>) -> Graph {
+    /// A graph on the plane z = 0 at `pos`: no boundary, features or
+    /// input loops.
+    pub(crate) fn plane_graph(pos: Vec<DVec3>) -> Graph {
         let n = pos.len();
         Graph {
             normal: vec![DVec3::Z; n],

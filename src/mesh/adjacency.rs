@@ -580,27 +580,9 @@ mod tests {
         // A 4 × 4 sheet without squares (1, 1) and (2, 2), which touch at
         // vertex (2, 2): the rim (16) and one loop round both holes (8), as
         // on the surface with vertex (2, 2) split into one per fan.
-        let mut positions = Vec::new();
-        for y in 0..5 {
-            for x in 0..5 {
-                positions.push(DVec3::new(x as f64, y as f64, 0.0));
-            }
-        }
-        let mut triangles = Vec::new();
-        for y in 0..4u32 {
-            for x in 0..4u32 {
-                if (x, y) == (1, 1) || (x, y) == (2, 2) {
-                    continue;
-                }
-                let v = |dx: u32, dy: u32| (y + dy) * 5 + x + dx;
-                triangles.push([v(0, 0), v(1, 0), v(1, 1)]);
-                triangles.push([v(0, 0), v(1, 1), v(0, 1)]);
-            }
-        }
-        let arcs = BoundaryArcs::new(&TriMesh {
-            positions,
-            triangles,
-        });
+        let arcs = BoundaryArcs::new(&crate::mesh::generate::grid_cells(4, |x, y| {
+            (x, y) != (1, 1) && (x, y) != (2, 2)
+        }));
         assert_eq!(lengths(&arcs), vec![8.0, 16.0]);
         assert!(arcs.is_boundary(12));
     }
