@@ -9,7 +9,7 @@ TOOLS := $(CURDIR)/.tools
 # Honours CARGO_TARGET_DIR (tests/e2e/run.mjs finds the static server the same way).
 WASM := $(or $(CARGO_TARGET_DIR),target)/wasm32-unknown-unknown/release/quadrille.wasm
 
-.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench bench-param bench-design quality
+.PHONY: run test lint web wasm-target wasm-tools native-test wasm-check browser-test browser-tools samples serve clean bench bench-param bench-design quality scanlike
 
 run: web
 	cargo run --release --example serve -- www $(PORT)
@@ -102,6 +102,14 @@ bench-design: web browser-tools
 quality:
 	cargo build --release --bin quadrille
 	QUADRILLE_MESHES="$(MESHES)" python3 scripts/quality.py $(QUALITY_ARGS)
+
+## Scan-like probes (not part of `make test`): the shared meshes with noise,
+## occlusion holes and far-off units, remeshed and checked against the
+## quality issue's bars. SCANLIKE_ARGS passes options to scripts/scanlike.py
+## (e.g. SCANLIKE_ARGS="--mode global").
+scanlike:
+	cargo build --release --bin quadrille
+	QUADRILLE_MESHES="$(MESHES)" python3 scripts/scanlike.py $(SCANLIKE_ARGS)
 
 clean:
 	cargo clean
