@@ -27,8 +27,9 @@
 //! are [`Stage::Parametrization`] (the integer-grid map of
 //! [`crate::param`], Ebke et al. 2014 / Campen et al. 2016), then
 //! [`Stage::Extraction`] by QEx ([`crate::extract::qex`]: pure quads),
-//! [`Stage::PostProcess`] (only what keeps the quads pure: the reopening of
-//! input holes the mesh closed over) and [`Stage::Fit`], fitted without the
+//! [`Stage::PostProcess`] (only what keeps the quads pure: the wide-corner
+//! fix's vertex moves and the reopening of input holes the mesh closed
+//! over) and [`Stage::Fit`], fitted without the
 //! extra Catmull–Clark split ([`crate::subdivision::FitSplit`]);
 //! [`Stage::remeshing`] lists each mode's stages.
 //!
@@ -1304,14 +1305,34 @@ impl Pipeline {
             ExtractedMesh::Local(e) => {
                 extract::post_process(e, surface.as_deref(), &self.params.extraction, progress)?
             }
-            // The global mode's quads stay pure: none of the local mode's
-            // clean-up (it mends what the position field leaves).
-            ExtractedMesh::Global(q) => PostProcessed {
-                mesh: q.mesh.clone(),
-                report: Default::default(),
-                repair: Default::default(),
-                graph: None,
-            },
+            // The global mode's quads stay pure: of the local mode's
+            // clean-up (it mends what the position field leaves) only the
+            // wide-corner fix's vertex moves, which keep every face.
+            ExtractedMesh::Global(q) => {
+                let mut mesh = q.mesh.clone();
+                let mut report = extract::postprocess::PostProcessReport::default();
+                let post = &self.params.extraction.post;
+                if post.fix_wide_corners && post.wide_corner_degrees > 0.0 {
+                    let faces: Vec<Vec<u32>> =
+                        mesh.to_face_list().iter().map(|f| f.to_vec()).collect();
+                    let boundary: Vec<bool> = (0..mesh.vertex_count() as u32)
+                        .map(|v| mesh.is_boundary_vertex(v))
+                        .collect();
+                    report.wide_corner_vertices_moved = extract::postprocess::untangle_wide_corners(
+                        &faces,
+                        &mut mesh.positions,
+                        &boundary,
+                        post.wide_corner_degrees,
+                        surface.as_deref(),
+                    );
+                }
+                PostProcessed {
+                    mesh,
+                    report,
+                    repair: Default::default(),
+                    graph: None,
+                }
+            }
         };
         if self.params.extraction.post.reopen_input_holes
             && let Some(surface) = surface.as_deref()
