@@ -128,8 +128,9 @@ def versions():
 
 # ------------------------------------------------------------ competitor child (runs in the venv)
 
-def read_obj_triangles(path):
-    import numpy as np
+def obj_triangles(path):
+    """The OBJ's vertices and its faces fanned into triangles, as lists
+    (0-based, negative indices resolved)."""
     v, f = [], []
     with open(path) as src:
         for line in src:
@@ -143,6 +144,12 @@ def read_obj_triangles(path):
                 idx = [i - 1 if i > 0 else len(v) + i for i in idx]
                 for k in range(1, len(idx) - 1):
                     f.append([idx[0], idx[k], idx[k + 1]])
+    return v, f
+
+
+def read_obj_triangles(path):
+    import numpy as np
+    v, f = obj_triangles(path)
     return np.array(v, np.float32), np.array(f, np.int32)
 
 

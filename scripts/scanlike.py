@@ -38,25 +38,10 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from compare import obj_triangles  # noqa: E402
 DEFAULT_MESHES = os.path.join(HERE, "..", "..", "shared", "meshes")
 KINDS = ("noise", "holes", "scale")
-
-
-def load(path):
-    verts, tris = [], []
-    with open(path) as f:
-        for line in f:
-            p = line.split()
-            if not p:
-                continue
-            if p[0] == "v":
-                verts.append([float(x) for x in p[1:4]])
-            elif p[0] == "f":
-                face = [int(x.split("/")[0]) for x in p[1:]]
-                face = [i - 1 if i > 0 else len(verts) + i for i in face]
-                for k in range(1, len(face) - 1):
-                    tris.append([face[0], face[k], face[k + 1]])
-    return verts, tris
 
 
 def save(path, verts, tris):
@@ -89,7 +74,7 @@ def mean_edge(verts, tris):
 def make(src, dst, kind, seed):
     """Writes the `kind` probe of `src` to `dst` (seeded)."""
     rng = random.Random(seed)
-    verts, tris = load(src)
+    verts, tris = obj_triangles(src)
     edge = mean_edge(verts, tris)
     if kind == "noise":
         normals = [[0.0, 0.0, 0.0] for _ in verts]
