@@ -524,9 +524,6 @@ fn a_spacing_consistent_with_the_cross_field_removes_position_singularities() {
     );
 }
 
-/// The global mode's vertex-count correction: the cow's quads at its
-/// default target (181) come out 15 % short, since its thin parts and
-/// folds lose quads; the corrected map brings them within 10 %.
 /// The cow's global quads at the default target: QEx leaves a folded quad
 /// (a corner of 276°) where the map is distorted near a hoof; the
 /// wide-corner fix's vertex moves untangle it and keep every face a quad.
@@ -562,6 +559,9 @@ fn the_global_mode_untangles_wide_quad_corners_and_stays_pure_quads() {
     assert!(with.0 <= 170.0 && with.1 > 0, "{with:?}");
 }
 
+/// The global mode's vertex-count correction: the cow's quads at its
+/// default target (181) come out 15 % short, since its thin parts and
+/// folds lose quads; the corrected map brings them within 10 %.
 #[test]
 fn the_global_mode_corrects_its_vertex_count() {
     let count = |correction: bool| {

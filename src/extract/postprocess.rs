@@ -159,6 +159,7 @@ pub struct PostProcessParams {
     /// deviation spot 12.27 / 12.48°, cow 13.07 / 13.41°, suzanne 23.30 /
     /// 24.43°, the rest within 0.2°; odd faces and distances unchanged but
     /// suzanne's limit 5.52e-3 / 5.75e-3.
+    ///
     /// In the global mode only its vertex moves run
     /// ([`untangle_wide_corners`]: no split, the quads stay pure). QEx
     /// leaves folded quads where the map is distorted; medians over 5
