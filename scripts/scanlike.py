@@ -23,11 +23,15 @@ scripts/quality.py's) are checked:
 Loops too small for the target (shorter than two output edges) are
 reported, not counted as failures.
 
+Instant Meshes and QuadriFlow run on the same probes at the same target
+(scripts/compare.py installs and drives them) and are checked the same way.
+
 Usage: scripts/scanlike.py [--bin target/release/quadrille]
          [--meshes DIR] [--names spot,cow,...] [--kinds noise,holes,scale]
          [--out target/scanlike] [--mode local|global] [--timeout S]
+         [--tools instant-meshes,quadriflow]
 Prints a Markdown table; the exit status is 0 whatever the bars say.
-Standard library only.
+Standard library only (the competitors run in scripts/compare.py's venv).
 """
 import argparse
 import json
@@ -39,7 +43,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from compare import obj_triangles  # noqa: E402
+import compare  # noqa: E402
 DEFAULT_MESHES = os.path.join(HERE, "..", "..", "shared", "meshes")
 KINDS = ("noise", "holes", "scale")
 
@@ -74,7 +78,7 @@ def mean_edge(verts, tris):
 def make(src, dst, kind, seed):
     """Writes the `kind` probe of `src` to `dst` (seeded)."""
     rng = random.Random(seed)
-    verts, tris = obj_triangles(src)
+    verts, tris = compare.obj_triangles(src)
     edge = mean_edge(verts, tris)
     if kind == "noise":
         normals = [[0.0, 0.0, 0.0] for _ in verts]
@@ -123,15 +127,16 @@ def remesh(args, src, stem):
         return json.load(f), None
 
 
-def check(stats):
-    """The bars a stats JSON misses, and what it reports beside them."""
-    m = stats["metrics"]
+def check(metrics, target):
+    """The bars an output's `quadrille metrics` miss at `target` vertices."""
+    m = metrics["metrics"]
     topo, pres, quads = m["topology"], m["preservation"], m["quads"]
     missed = []
     if topo["nonmanifold_edges"] or topo["nonmanifold_vertices"] or topo["inconsistent_edges"]:
         missed.append("manifold")
-    if abs(stats["vertex_count_error_percent"]) > 10:
-        missed.append("count %+.1f %%" % stats["vertex_count_error_percent"])
+    error = 100.0 * (topo["vertices"] - target) / max(1, target)
+    if abs(error) > 10:
+        missed.append("count %+.1f %%" % error)
     if topo["non_quad_percent"] > 5:
         missed.append("odd %.1f %%" % topo["non_quad_percent"])
     if quads["max_corner_angle_degrees"] > 170:
@@ -141,11 +146,24 @@ def check(stats):
     # Parts lost are listed by their input triangles; a part of fewer than
     # two output faces' worth (a closed mesh has about 2 triangles per
     # vertex) is below the target scale.
-    per_face = 2.0 * topo["input_vertices"] / max(1, stats["target_vertices"])
+    per_face = 2.0 * topo["input_vertices"] / max(1, target)
     big = [c for c in pres["components_lost"] if c >= 2.0 * per_face]
     if big:
         missed.append("parts lost %s" % big)
     return missed
+
+
+def row(label, metrics, target):
+    m = metrics["metrics"]
+    topo, pres, quads = m["topology"], m["preservation"], m["quads"]
+    missed = check(metrics, target)
+    return (
+        f"| {label} | {topo['vertices']} / {target} "
+        f"| {topo['extraordinary_vertex_percent']:.1f} | {quads['corner_angle_deviation_degrees']:.1f} "
+        f"| {topo['non_quad_percent']:.1f} | {quads['max_corner_angle_degrees']:.0f} "
+        f"| {m['distance']['hausdorff']:.4f} | {pres['loops_kept']} of {pres['input_loops']} / {pres['loops_too_small']} "
+        f"| {', '.join(missed) if missed else 'none'} |"
+    )
 
 
 def main():
@@ -157,8 +175,16 @@ def main():
     ap.add_argument("--out", default=os.path.join(HERE, "..", "target", "scanlike"))
     ap.add_argument("--mode", default=None, choices=["local", "global"])
     ap.add_argument("--timeout", type=float, default=900)
+    ap.add_argument("--tools", default="instant-meshes,quadriflow",
+                    help="competitors run on the same probes at the same target ('' for none)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    tools = [t for t in args.tools.split(",") if t]
+    status = compare.ensure_venv(tools) if tools else {}
+    for t, reason in status.items():
+        if reason:
+            print(f"scanlike: {t} left out: {reason}", file=sys.stderr)
+    tools = [t for t in tools if not status.get(t)]
     print("| probe | V / target | EV % | corner dev ° | non-quad % | widest corner ° | Hausdorff | input loops kept / too small | bars missed |")
     print("|---|---|---|---|---|---|---|---|---|")
     for name in args.names.split(","):
@@ -167,21 +193,32 @@ def main():
             seed = KINDS.index(kind) + 1
             probe = os.path.join(args.out, f"{name}-{kind}.obj")
             make(src, probe, kind, seed)
-            stats, error = remesh(args, probe, os.path.join(args.out, f"{name}-{kind}-out"))
+            label = f"{name} {kind}"
+            stem = os.path.join(args.out, f"{name}-{kind}-out")
+            stats, error = remesh(args, probe, stem)
             if error:
-                print(f"| {name} {kind} | – | – | – | – | – | – | – | **failed: {error}** |", flush=True)
+                print(f"| {label}, Quadrille | – | – | – | – | – | – | – | **failed: {error}** |", flush=True)
                 continue
-            m = stats["metrics"]
-            topo, pres, quads = m["topology"], m["preservation"], m["quads"]
-            missed = check(stats)
-            print(
-                f"| {name} {kind} | {topo['vertices']} / {stats['target_vertices']} "
-                f"| {topo['extraordinary_vertex_percent']:.1f} | {quads['corner_angle_deviation_degrees']:.1f} "
-                f"| {topo['non_quad_percent']:.1f} | {quads['max_corner_angle_degrees']:.0f} "
-                f"| {m['distance']['hausdorff']:.4f} | {pres['loops_kept']} of {pres['input_loops']} / {pres['loops_too_small']} "
-                f"| {', '.join(missed) if missed else 'none'} |",
-                flush=True,
-            )
+            target = stats["target_vertices"]
+            print(row(f"{label}, Quadrille", stats, target), flush=True)
+            for tool in tools:
+                out = os.path.join(args.out, f"{name}-{kind}-{tool}.obj")
+                r = compare.run_competitor(args, tool, probe, out, target)
+                measure = ["metrics", out, "--reference", probe]
+                metrics = None if "error" in r else compare.quadrille_json(args, measure, args.timeout)
+                # One corrective run when the count is more than 15 % off,
+                # as scripts/quality.py does (their targets are not vertex
+                # counts in the same sense).
+                got = compare.vertex_count(metrics) if metrics else None
+                if got and abs(got - target) > 0.15 * target:
+                    r2 = compare.run_competitor(args, tool, probe, out, max(4, round(target * target / got)))
+                    if "error" not in r2:
+                        r, metrics = r2, compare.quadrille_json(args, measure, args.timeout)
+                if metrics is None or "error" in metrics:
+                    reason = r.get("error") or metrics.get("error")
+                    print(f"| {label}, {tool} | – | – | – | – | – | – | – | **failed: {reason}** |", flush=True)
+                    continue
+                print(row(f"{label}, {tool}", metrics, target), flush=True)
     return 0
 
 
