@@ -154,6 +154,23 @@ def check(metrics, target):
 
 
 def row(label, metrics, target):
+    if "metrics" not in metrics:
+        # A non-manifold output: `quadrille metrics` reports its face
+        # soup's counts and shape, not its boundaries.
+        q = metrics["quads"]
+        error = 100.0 * (metrics["vertices"] - target) / max(1, target)
+        missed = ["manifold (%s)" % metrics.get("why", "")]
+        if abs(error) > 10:
+            missed.append("count %+.1f %%" % error)
+        if metrics["non_quad_percent"] > 5:
+            missed.append("odd %.1f %%" % metrics["non_quad_percent"])
+        if q["max_corner_angle_degrees"] > 170:
+            missed.append("corner %.0f°" % q["max_corner_angle_degrees"])
+        return (
+            f"| {label} | {metrics['vertices']} / {target} | {metrics['extraordinary_vertex_percent']:.1f} "
+            f"| {q['corner_angle_deviation_degrees']:.1f} | {metrics['non_quad_percent']:.1f} "
+            f"| {q['max_corner_angle_degrees']:.0f} | {metrics['hausdorff']:.4f} | – | {', '.join(missed)} |"
+        )
     m = metrics["metrics"]
     topo, pres, quads = m["topology"], m["preservation"], m["quads"]
     missed = check(metrics, target)
