@@ -17,6 +17,8 @@
 //! a closed mesh the loops through spread vertices that provisional answers
 //! are made of);
 //! `BENCH_QUERIES=n` queries n vertices instead of 200.
+//! `BENCH_NO_BRIDGE=1` shows no provisional loop bridged to a recent one
+//! (`LoopEngine::bridge`).
 //! `BENCH_PROGRESSIVE=n` answers each hover progressively, as the design
 //! tool does (`LoopEngine::hover_begin` and `hover_resume` by slices of n
 //! settled g′ nodes), and reports the time to the first answer (the
@@ -63,6 +65,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             engine.memory_bytes() as f64 / 1e6
         );
         let repeats = env_count("BENCH_REPEATS", 3);
+        // `BENCH_NO_BRIDGE=1`: no provisional loops bridged to recent ones
+        // (`LoopEngine::bridge`, for before/after comparisons).
+        engine.bridge = std::env::var_os("BENCH_NO_BRIDGE").is_none();
         if std::env::var_os("BENCH_IDLE").is_some() {
             let t = Instant::now();
             while engine.prepare_fields(&[], u64::MAX) {}

@@ -150,8 +150,10 @@ export function createDesignMode(ctx) {
     // `?hoverHold=ms`: how long an unfinished hover search goes on before
     // its provisional loop is posted (layout-worker.js's HOVER_HOLD).
     const hoverHold = new URLSearchParams(location.search).get('hoverHold');
+    // `?hoverBridge=0`: no provisional loops bridged to recent ones (benchmarks).
+    const hoverBridge = new URLSearchParams(location.search).get('hoverBridge');
     inbox = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
-    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst, hoverHold, inbox: inbox && inbox.buffer }, [bytes]);
+    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst, hoverHold, hoverBridge, inbox: inbox && inbox.buffer }, [bytes]);
     $('design-note').textContent = `Building the loop engine for ${input.name}…`;
     return true;
   }

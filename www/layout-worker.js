@@ -5,9 +5,10 @@
 // and so do the exports, the grid and the fit, which it makes from its
 // newest analysis.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name, hoverFirst, hoverHold, inbox }  hoverFirst: null, a count of g′
+// Messages in:   { type: 'init', bytes: ArrayBuffer, name, hoverFirst, hoverHold, hoverBridge, inbox }  hoverFirst: null, a count of g′
 //                  nodes instead of HOVER_FIRST, or 'all' (every hover answered exactly at once); hoverHold:
-//                  null or ms instead of HOVER_HOLD (below); inbox: null
+//                  null or ms instead of HOVER_HOLD (below); hoverBridge: '0' shows no provisional loop
+//                  bridged to a recent one (benchmarks); inbox: null
 //                  or a SharedArrayBuffer where the page counts the messages it posts after init
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
 //                { type: 'action', name, args: [...], t, serial } addAnchor, setLastAnchorDirection,
@@ -232,6 +233,7 @@ self.onmessage = async (event) => {
       hoverHold = m.hoverHold != null && Number(m.hoverHold) >= 0 ? Number(m.hoverHold) : HOVER_HOLD;
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
+      if (m.hoverBridge === '0') designer.setHoverBridge(false);
       // The analysis worker gets the design mesh (the proxy, for a large
       // input) made here, and the input: it neither imports nor decimates
       // the file again while the first hovers run.

@@ -87,7 +87,10 @@
 //!   the vertex, or one with a node or two replaced by g-edges through it
 //!   ([`LoopEngine::recent_through`]; on a closed mesh, where every loop
 //!   through the vertex is found only as the search ends, the idle time
-//!   fills the recent answers with loops through spread vertices); and on
+//!   fills the recent answers with loops through spread vertices), else a
+//!   walk out of the vertex onto a nearby recent closed loop, along it and
+//!   back into the vertex ([`LoopEngine::recent_bridge`], bounded
+//!   searches); and on
 //!   an open mesh whose distances from ∂ do not reach the vertex yet, a
 //!   dual curve through it to where they do, by a greedy A*
 //!   ([`LoopEngine::provisional_curve`]).
@@ -462,6 +465,9 @@ pub struct LoopEngine {
     recent: Vec<RecentLoop>,
     /// Idle-time queries begun ([`LoopEngine::fill_recent`]).
     idle_queries: u64,
+    /// Whether a hover with nothing else to show bridges to a recent loop
+    /// ([`LoopEngine::recent_bridge`]; on by default, off for comparisons).
+    pub bridge: bool,
 }
 
 /// A hover query answered progressively ([`LoopEngine::hover_begin`]):
@@ -889,6 +895,7 @@ impl LoopEngine {
             boundary_gap: Vec::new(),
             recent: Vec::new(),
             idle_queries: 0,
+            bridge: true,
         };
         if engine.has_boundary {
             // What a provisional dual curve needs, made here rather than in
@@ -1123,7 +1130,7 @@ impl LoopEngine {
             Some((c, k)) => Some(self.make_loop(k, c)),
             None => self.recent_through(v),
         };
-        if best.is_none() {
+        if best.is_none() && self.bridge {
             best = self.recent_bridge(v);
         }
         if best.is_none() && !dual_proven {
