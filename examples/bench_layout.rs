@@ -53,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let boundary_edges = boundary_edge_count(mesh);
         println!("{name}: {boundary_edges} boundary edges");
         let t = Instant::now();
-        let mut engine = LoopEngine::new(mesh, &ElasticaParams::default());
+        let mut engine = new_engine(mesh);
         let build = t.elapsed().as_secs_f64();
         println!(
             "{name}: {} vertices, {} faces; g′ {} nodes; build {:.2} s; g+g′ {:.1} MB, with query buffers {:.1} MB",
@@ -65,9 +65,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             engine.memory_bytes() as f64 / 1e6
         );
         let repeats = env_count("BENCH_REPEATS", 3);
-        // `BENCH_NO_BRIDGE=1`: no provisional loops bridged to recent ones
-        // (`LoopEngine::bridge`, for before/after comparisons).
-        engine.bridge = std::env::var_os("BENCH_NO_BRIDGE").is_none();
         if std::env::var_os("BENCH_IDLE").is_some() {
             let t = Instant::now();
             while engine.prepare_fields(&[], u64::MAX) {}
@@ -189,6 +186,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The loop engine of `mesh`; `BENCH_NO_BRIDGE=1`: without bridged
+/// provisional loops (`LoopEngine::bridge`, for before/after comparisons).
+fn new_engine(mesh: &quadrille::mesh::TriMesh) -> LoopEngine {
+    let mut engine = LoopEngine::new(mesh, &ElasticaParams::default());
+    engine.bridge = std::env::var_os("BENCH_NO_BRIDGE").is_none();
+    engine
 }
 
 /// The positive count in environment variable `name`, else `default`.

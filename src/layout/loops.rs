@@ -1321,88 +1321,105 @@ impl LoopEngine {
         let leaves: Vec<Vec<u32>> = hits.iter().map(|h| path_to(&self.layered, h.2)).collect();
         let mut best: Option<(f64, Vec<u32>)> = None;
         for (h, leave) in hits.iter().zip(&leaves) {
-            let (o, i) = (h.0, h.1);
-            let lo = &oriented[o as usize];
-            let m = lo.len();
-            let back_o = (o ^ 1) as usize;
-            if oriented[back_o].len() != m || leave.is_empty() {
-                continue;
-            }
-            let b = leave[0];
-            let r = self.graph.g.reverse[b as usize];
-            if r == NONE || self.disabled[r as usize] {
-                continue;
-            }
-            // The loop's arc weights from position i onwards.
-            let mut from_i = vec![0f32; m];
-            for s in 1..m {
-                let (a, c) = (lo[(i as usize + s - 1) % m], lo[(i as usize + s) % m]);
-                from_i[(i as usize + s) % m] = from_i[(i as usize + s - 1) % m]
-                    + self.graph.arc_weight(a as usize, c as usize);
-            }
-            // Entering: from reverse(b) onto the loop's reverse, where
-            // reverse(z) = lo[j], z at position m − 1 − j of the reverse.
-            let leave_cost = self.walk_weight(leave, false) as f32;
-            let mut found: Option<(f32, u32, usize)> = None;
-            let mut left = BRIDGE_NODES;
-            let graph = &self.graph;
-            let disabled = &self.disabled;
-            self.ws.effort += astar(
-                graph,
-                &mut self.layered,
-                &[(r, 0.0)],
-                |x| disabled[x],
-                |_| 0.0,
-                f32::INFINITY,
-                |x, d, bound| {
-                    if let Some(list) = at.get(&(x as u32)) {
-                        for &(_, k) in list.iter().filter(|e| e.0 as usize == back_o) {
-                            let j = m - 1 - k as usize;
-                            let total = leave_cost + d + from_i[j];
-                            if found.is_none() {
-                                // Returns much dearer than the first are
-                                // not looked for.
-                                *bound = bound.min(2.0 * d.max(leave_cost).max(LEVEL_STEP));
-                            }
-                            if found.is_none_or(|f| total < f.0) {
-                                found = Some((total, x as u32, j));
-                                *bound = bound.min(total - leave_cost);
-                            }
-                        }
-                    }
-                    left = left.saturating_sub(1);
-                    if left == 0 {
-                        *bound = f32::NEG_INFINITY;
-                    }
-                },
-            );
-            let Some((_, z, j)) = found else {
+            let (o, i) = (h.0 as usize, h.1 as usize);
+            let Some((cost, nodes)) = self.bridge_back(&oriented, o, i, leave, &at) else {
                 continue;
             };
-            let enter = path_to(&self.layered, z);
-            let g = &self.graph.g;
-            // b … lo[i], lo[i+1] … lo[j], then reverse(enter) without
-            // lo[j] and without b (the loop's first node).
-            let mut nodes = leave.clone();
-            let mut s = i as usize;
-            while s != j {
-                s = (s + 1) % m;
-                nodes.push(lo[s]);
-            }
-            let back: Vec<u32> = enter.iter().rev().map(|&x| g.reverse[x as usize]).collect();
-            if back.len() >= 2 {
-                nodes.extend_from_slice(&back[1..back.len() - 1]);
-            }
-            if !self.is_enabled_cycle(&nodes) {
-                continue;
-            }
-            let cost = self.walk_weight(&nodes, true);
             if best.as_ref().is_none_or(|(c, _)| cost < *c) {
                 best = Some((cost, nodes));
             }
         }
         let (cost, nodes) = best?;
         Some(self.loop_from_nodes(nodes, cost, true))
+    }
+
+    /// [`Self::recent_bridge`]'s way back: `leave` runs from an out-edge
+    /// `b` of the vertex to `oriented[o][i]`; the walk from `reverse(b)`
+    /// onto the loop's reverse (`oriented[o ^ 1]`, the cheapest return in
+    /// the sum of both walks and the part of the loop between them, at most
+    /// [`BRIDGE_NODES`] settled nodes), and the closed walk b … lo[i] …
+    /// lo[j] … back into `b` with its cost, if it is one of enabled arcs.
+    fn bridge_back(
+        &mut self,
+        oriented: &[Vec<u32>],
+        o: usize,
+        i: usize,
+        leave: &[u32],
+        at: &std::collections::HashMap<u32, Vec<(u32, u32)>>,
+    ) -> Option<(f64, Vec<u32>)> {
+        let lo = &oriented[o];
+        let m = lo.len();
+        let back_o = o ^ 1;
+        if oriented[back_o].len() != m || leave.is_empty() {
+            return None;
+        }
+        let b = leave[0];
+        let r = self.graph.g.reverse[b as usize];
+        if r == NONE || self.disabled[r as usize] {
+            return None;
+        }
+        // The loop's arc weights from position i onwards.
+        let mut from_i = vec![0f32; m];
+        for s in 1..m {
+            let (a, c) = (lo[(i + s - 1) % m], lo[(i + s) % m]);
+            from_i[(i + s) % m] =
+                from_i[(i + s - 1) % m] + self.graph.arc_weight(a as usize, c as usize);
+        }
+        // Entering: from reverse(b) onto the loop's reverse, where
+        // reverse(z) = lo[j], z at position m − 1 − j of the reverse.
+        let leave_cost = self.walk_weight(leave, false) as f32;
+        let mut found: Option<(f32, u32, usize)> = None;
+        let mut left = BRIDGE_NODES;
+        let graph = &self.graph;
+        let disabled = &self.disabled;
+        self.ws.effort += astar(
+            graph,
+            &mut self.layered,
+            &[(r, 0.0)],
+            |x| disabled[x],
+            |_| 0.0,
+            f32::INFINITY,
+            |x, d, bound| {
+                if let Some(list) = at.get(&(x as u32)) {
+                    for &(_, k) in list.iter().filter(|e| e.0 as usize == back_o) {
+                        let j = m - 1 - k as usize;
+                        let total = leave_cost + d + from_i[j];
+                        if found.is_none() {
+                            // Returns much dearer than the first are
+                            // not looked for.
+                            *bound = bound.min(2.0 * d.max(leave_cost).max(LEVEL_STEP));
+                        }
+                        if found.is_none_or(|f| total < f.0) {
+                            found = Some((total, x as u32, j));
+                            *bound = bound.min(total - leave_cost);
+                        }
+                    }
+                }
+                left = left.saturating_sub(1);
+                if left == 0 {
+                    *bound = f32::NEG_INFINITY;
+                }
+            },
+        );
+        let (_, z, j) = found?;
+        let enter = path_to(&self.layered, z);
+        let g = &self.graph.g;
+        // b … lo[i], lo[i+1] … lo[j], then reverse(enter) without
+        // lo[j] and without b (the loop's first node).
+        let mut nodes = leave.to_vec();
+        let mut s = i;
+        while s != j {
+            s = (s + 1) % m;
+            nodes.push(lo[s]);
+        }
+        let back: Vec<u32> = enter.iter().rev().map(|&x| g.reverse[x as usize]).collect();
+        if back.len() >= 2 {
+            nodes.extend_from_slice(&back[1..back.len() - 1]);
+        }
+        if !self.is_enabled_cycle(&nodes) {
+            return None;
+        }
+        Some((self.walk_weight(&nodes, true), nodes))
     }
 
     /// Whether `nodes` is a closed walk of enabled g′ nodes and arcs.
