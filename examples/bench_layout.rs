@@ -17,6 +17,8 @@
 //! a closed mesh the loops through spread vertices that provisional answers
 //! are made of);
 //! `BENCH_QUERIES=n` queries n vertices instead of 200.
+//! `BENCH_NO_BRIDGE=1` shows no provisional loop bridged to a recent one
+//! (`LoopEngine::bridge`).
 //! `BENCH_PROGRESSIVE=n` answers each hover progressively, as the design
 //! tool does (`LoopEngine::hover_begin` and `hover_resume` by slices of n
 //! settled g′ nodes), and reports the time to the first answer (the
@@ -51,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let boundary_edges = boundary_edge_count(mesh);
         println!("{name}: {boundary_edges} boundary edges");
         let t = Instant::now();
-        let mut engine = LoopEngine::new(mesh, &ElasticaParams::default());
+        let mut engine = new_engine(mesh);
         let build = t.elapsed().as_secs_f64();
         println!(
             "{name}: {} vertices, {} faces; g′ {} nodes; build {:.2} s; g+g′ {:.1} MB, with query buffers {:.1} MB",
@@ -184,6 +186,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The loop engine of `mesh`; `BENCH_NO_BRIDGE=1`: without bridged
+/// provisional loops (`LoopEngine::bridge`, for before/after comparisons).
+fn new_engine(mesh: &quadrille::mesh::TriMesh) -> LoopEngine {
+    let mut engine = LoopEngine::new(mesh, &ElasticaParams::default());
+    engine.bridge = std::env::var_os("BENCH_NO_BRIDGE").is_none();
+    engine
 }
 
 /// The positive count in environment variable `name`, else `default`.

@@ -147,8 +147,13 @@ export function createDesignMode(ctx) {
     // `?hoverFirst=N`: g′ nodes the layout worker searches before a hover's
     // first answer (benchmarks; `all`: every hover answered exactly at once).
     const hoverFirst = new URLSearchParams(location.search).get('hoverFirst');
+    // `?hoverHold=ms`: how long an unfinished hover search goes on before
+    // its provisional loop is posted (layout-worker.js's HOVER_HOLD).
+    const hoverHold = new URLSearchParams(location.search).get('hoverHold');
+    // `?hoverBridge=0`: no provisional loops bridged to recent ones (benchmarks).
+    const hoverBridge = new URLSearchParams(location.search).get('hoverBridge');
     inbox = self.crossOriginIsolated ? new Int32Array(new SharedArrayBuffer(4)) : null;
-    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst, inbox: inbox && inbox.buffer }, [bytes]);
+    worker.postMessage({ type: 'init', bytes, name: input.name, hoverFirst, hoverHold, hoverBridge, inbox: inbox && inbox.buffer }, [bytes]);
     $('design-note').textContent = `Building the loop engine for ${input.name}…`;
     return true;
   }

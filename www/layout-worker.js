@@ -5,8 +5,10 @@
 // and so do the exports, the grid and the fit, which it makes from its
 // newest analysis.
 //
-// Messages in:   { type: 'init', bytes: ArrayBuffer, name, hoverFirst, inbox }  hoverFirst: null, a count of g′
-//                  nodes instead of HOVER_FIRST, or 'all' (every hover answered exactly at once); inbox: null
+// Messages in:   { type: 'init', bytes: ArrayBuffer, name, hoverFirst, hoverHold, hoverBridge, inbox }  hoverFirst: null, a count of g′
+//                  nodes instead of HOVER_FIRST, or 'all' (every hover answered exactly at once); hoverHold:
+//                  null or ms instead of HOVER_HOLD (below); hoverBridge: '0' shows no provisional loop
+//                  bridged to a recent one (benchmarks); inbox: null
 //                  or a SharedArrayBuffer where the page counts the messages it posts after init
 //                { type: 'hover', point: [x, y, z], t }          the page keeps one in flight
 //                { type: 'action', name, args: [...], t, serial } addAnchor, setLastAnchorDirection,
@@ -154,6 +156,18 @@ const PREPARE_SLICE = 10000; // g′ nodes per slice
 const HOVER_FIRST = 6000; // g′ nodes before the first answer
 let hoverFirst = HOVER_FIRST;
 const HOVER_SLICE = 4000; // g′ nodes per later slice
+// `hoverHold` (ms, `?hoverHold=`): a hover whose first slice did not finish
+// its search goes on searching for up to this long from its start (in the
+// same task, while no message waits) before its provisional loop is posted:
+// an exact loop found meanwhile is posted instead, so the page does not
+// draw a provisional frame that the exact one replaces a moment later (on
+// a software renderer each frame holds the page's main thread for about
+// 120 ms, and the exact answer waits behind it). 0: off — measured with
+// 16 and 50 ms it did not lower the exact draw's 95th percentile on
+// rocker-arm or the bunny and made the first draw later (docs/RESULTS.md,
+// issue21s).
+const HOVER_HOLD = 0;
+let hoverHold = HOVER_HOLD;
 const idle = new MessageChannel();
 let scheduled = false;
 let prepareMore = false; // prepareFields has more to settle
@@ -216,8 +230,10 @@ self.onmessage = async (event) => {
       inbox = m.inbox ? new Int32Array(m.inbox) : null;
       received = 0;
       hoverFirst = m.hoverFirst === 'all' ? 0xffffffff : Number(m.hoverFirst) > 0 ? Number(m.hoverFirst) : HOVER_FIRST;
+      hoverHold = m.hoverHold != null && Number(m.hoverHold) >= 0 ? Number(m.hoverHold) : HOVER_HOLD;
       const started = performance.now();
       designer = new LayoutDesigner(new Uint8Array(m.bytes), m.name);
+      if (m.hoverBridge === '0') designer.setHoverBridge(false);
       // The analysis worker gets the design mesh (the proxy, for a large
       // input) made here, and the input: it neither imports nor decimates
       // the file again while the first hovers run.
@@ -241,8 +257,13 @@ self.onmessage = async (event) => {
       throw new Error('the layout worker has no mesh yet');
     } else if (m.type === 'hover') {
       const started = performance.now();
-      const proposal = designer.hoverBegin(m.point, hoverFirst);
-      const exact = designer.hoverExact();
+      let proposal = designer.hoverBegin(m.point, hoverFirst);
+      let exact = designer.hoverExact();
+      while (!exact && hoverHold > 0 && designer.hoverPending() && performance.now() - started < hoverHold
+        && (!inbox || Atomics.load(inbox, 0) === received)) {
+        const found = designer.hoverStep(HOVER_SLICE);
+        if (found !== undefined) { proposal = found; exact = true; }
+      }
       const ms = performance.now() - started;
       self.postMessage({ type: 'hover', proposal, ms, t: m.t, exact, final: false }, [proposal.buffer]);
       hoverJob = exact ? null : { t: m.t, ms };

@@ -253,6 +253,13 @@ impl LayoutDesigner {
         Ok(out)
     }
 
+    /// Whether a hover with nothing else to show bridges to a recent loop
+    /// (on by default; `?hoverBridge=0` turns it off, for benchmarks).
+    #[wasm_bindgen(js_name = setHoverBridge)]
+    pub fn set_hover_bridge(&mut self, on: bool) {
+        self.design.engine.bridge = on;
+    }
+
     /// Whether the last [`Self::hover_begin`] answered exactly.
     #[wasm_bindgen(js_name = hoverExact)]
     pub fn hover_exact(&self) -> bool {

@@ -25,6 +25,9 @@
 //   BENCH_BACKEND=webgl2|webgpu (default webgl2)
 //   BENCH_HOVER_FIRST=n|all  g′ nodes the worker searches before a hover's first answer (default: the
 //   worker's; all: every hover answered exactly at once, as before the progressive hover)
+//   BENCH_HOVER_HOLD=ms  an unfinished hover search goes on for up to ms before its provisional loop is
+//   posted (the page's ?hoverHold=; default: the worker's HOVER_HOLD)
+//   BENCH_HOVER_BRIDGE=0  no provisional loops bridged to recent ones (the page's ?hoverBridge=0)
 //   BENCH_ACTION_TIMEOUT=s  an action still unanswered after s seconds (default 30) counts as a
 //   timeout (∞ in the percentiles); the layout worker is then restarted and the next trial begins.
 // Writes target/bench/design.json (with each hover's latency, worker time and pick time: hoverRaw).
@@ -40,6 +43,8 @@ const hovers = Number(process.env.BENCH_HOVERS || 40);
 const backend = process.env.BENCH_BACKEND || 'webgl2';
 const actionTimeout = 1000 * Number(process.env.BENCH_ACTION_TIMEOUT || 30);
 const hoverFirst = process.env.BENCH_HOVER_FIRST;
+const hoverHold = process.env.BENCH_HOVER_HOLD;
+const hoverBridge = process.env.BENCH_HOVER_BRIDGE;
 
 const sorted = (xs) => [...xs].sort((a, b) => a - b);
 // Nearest-rank percentile.
@@ -100,7 +105,7 @@ async function hoverAt(page, { x, y }) {
 const d2 = (p, q) => (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
 
 async function benchSample(env, sample) {
-  const { page, errors } = await open(env, `sample=${sample}${hoverFirst ? `&hoverFirst=${hoverFirst}` : ''}`);
+  const { page, errors } = await open(env, `sample=${sample}${hoverFirst ? `&hoverFirst=${hoverFirst}` : ''}${hoverHold ? `&hoverHold=${hoverHold}` : ''}${hoverBridge ? `&hoverBridge=${hoverBridge}` : ''}`);
   await waitForRun(page, `${sample}.obj`);
   await enterDesign(page, 300000);
   const info = await page.evaluate(() => ({ faces: window.quadrille.design.faces, inputFaces: window.quadrille.design.inputFaces,
@@ -194,7 +199,7 @@ async function benchSample(env, sample) {
   worker.undo = w.undo || [];
   if (errors.length) throw new Error(`${sample}: console errors: ${errors.join(' | ')}`);
   await page.close();
-  const result = { sample, ...info, hoverFirst: hoverFirst || null, restarts, actions: {}, hoverProvisional: first.provisional, hoverUnchanged: first.unchanged,
+  const result = { sample, ...info, hoverFirst: hoverFirst || null, hoverHold: hoverHold || null, hoverBridge: hoverBridge || null, restarts, actions: {}, hoverProvisional: first.provisional, hoverUnchanged: first.unchanged,
     hoverRaw: { latency: runs.hover, worker: worker.hover, pick, firstLatency: first.latency, firstWorker: first.worker } };
   for (const [name, xs] of Object.entries(runs)) result.actions[name] = { ...summary(xs), timeouts: timeouts[name], workerMedian: pct(worker[name] || [], 0.5) };
   return result;
