@@ -342,6 +342,14 @@ pub struct Params {
     /// the filtered normals' σ capped as well (5 round): cow 0.179,
     /// 13.4°; spot 0.094, 11.0°; suzanne 0.255, 17.7°.
     pub thin_part_across: f64,
+    /// Thin parts, the hard way: around every part between
+    /// [`thin_parts::LEVEL_OF_DETAIL`] and this many target edges round
+    /// (the shortest plane section through a face,
+    /// [`thin_parts::thin_part_loops`]) the map's translation round the
+    /// part is at least this many units (`seamless::widen_loops`, a
+    /// constraint of the integer rounding like Campen §4.3's); 0 turns it
+    /// off.
+    pub thin_part_loops: f64,
     /// Curvature-aligned anisotropic target lengths ([`anisotropy`]): per
     /// face, the edge along the direction of largest |κ| shorter and the
     /// one across it longer, equal sagittas both ways at the same quad
@@ -420,6 +428,7 @@ impl Default for Params {
             loop_separation: 4.0,
             close_small_holes: true,
             thin_part_across: 0.0,
+            thin_part_loops: 0.0,
             curvature_anisotropy: 0.0,
             curvature_anisotropy_cross: false,
         }
@@ -459,6 +468,7 @@ impl Params {
             loop_separation: p.remesh.loop_separation,
             close_small_holes: p.remesh.close_small_holes,
             thin_part_across: p.remesh.thin_part_across,
+            thin_part_loops: p.remesh.thin_part_loops,
             curvature_anisotropy: p.remesh.curvature_anisotropy,
             curvature_anisotropy_cross: p.remesh.curvature_anisotropy_cross,
             ..Params::default()
@@ -1181,6 +1191,8 @@ fn grid_map_with_progress(
             .collect()
     });
     let loops = cyclic_loops(p, params);
+    let thin_loops =
+        thin_parts::thin_part_loops(mesh, &p.topology, &p.face_sizing, params.thin_part_loops);
     let conformal = (params.conformal_scale > 0.0)
         .then(|| {
             let log_size = p.log_size.as_deref().unwrap_or(&[]);
@@ -1201,6 +1213,8 @@ fn grid_map_with_progress(
         anisotropy: &p.anisotropy,
         cyclic_loops: &loops,
         stiffening: params.stiffening,
+        thin_loops: &thin_loops,
+        thin_loop_translation: params.thin_part_loops,
     };
     seamless::grid_map_timed(&input, clock, go_on).map_err(|e| match e {
         seamless::MapStop::Solve => ParamError::Solve("parametrization"),
