@@ -157,6 +157,8 @@ pub fn thin_part_loops(
     // Per face: its shortest closed section within the bound, with the
     // plane it lies in.
     let mut candidates: Vec<(ThinLoop, DVec3, DVec3)> = Vec::new();
+    // Per face: its shortest section's length (∞: none within the bound).
+    let mut shortest = vec![f64::INFINITY; nf];
     for f in 0..nf {
         let n = mesh.face_normal_unnormalized(f);
         let Some(n) = n.try_normalize() else {
@@ -188,12 +190,18 @@ pub fn thin_part_loops(
                 best = Some((l, m));
             }
         }
-        if let Some((l, m)) = best
-            && l.units >= LEVEL_OF_DETAIL
-        {
+        if let Some((l, m)) = best {
+            shortest[f] = l.units;
             candidates.push((l, centre, m));
         }
     }
+    // A loop through a part below the level of detail is none (a tilted
+    // section over the cap of a part thinner than that, say).
+    candidates.retain(|(l, _, _)| {
+        l.faces
+            .iter()
+            .all(|&g| shortest[g as usize] >= LEVEL_OF_DETAIL)
+    });
     candidates.sort_by(|x, y| {
         x.0.units
             .total_cmp(&y.0.units)
@@ -336,5 +344,42 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 100);
+    }
+
+    #[test]
+    fn loops_go_round_a_thin_capsule_and_not_round_a_sphere_or_below_the_detail() {
+        let loops = |mesh: &TriMesh, s: f64| {
+            let topology = EdgeTopology::new(mesh);
+            thin_part_loops(mesh, &topology, &vec![s; mesh.face_count()], 3.0)
+        };
+        // A great circle of the unit sphere is 2π / 0.5 ≈ 12.6 edges.
+        assert!(loops(&crate::mesh::generate::icosphere(1.0, 3), 0.5).is_empty());
+        // A capsule of circumference 2π · 0.1 ≈ 0.63: 2.1 target edges
+        // round at 0.3, loops round it (at most 1 / cos(11.25°) longer
+        // than the circle, the polygon a little shorter); 0.63 edges at
+        // 1, below the level of detail.
+        let capsule = crate::mesh::generate::capsule(0.1, 3.0, 32, 8, 60);
+        let round = loops(&capsule, 0.3);
+        assert!(round.len() >= 4, "{} loops", round.len());
+        let circle = std::f64::consts::TAU * 0.1 / 0.3;
+        for l in &round {
+            assert!(
+                l.units > 0.97 * circle && l.units < 1.03 * circle,
+                "{} against {circle}",
+                l.units
+            );
+            assert_eq!(l.faces.len(), l.points.len());
+            // Each point lies on the edge shared with the previous face.
+            for (i, p) in l.points.iter().enumerate() {
+                let prev = l.faces[(i + l.faces.len() - 1) % l.faces.len()];
+                let c = capsule.corners(prev as usize);
+                let on = (0..3).any(|e| {
+                    let (a, b) = (c[e], c[(e + 1) % 3]);
+                    (p - a).cross(b - a).length() <= 1e-9 * (b - a).length()
+                });
+                assert!(on, "point {i} of a loop");
+            }
+        }
+        assert!(loops(&capsule, 1.0).is_empty());
     }
 }
