@@ -502,8 +502,8 @@ struct Development {
     /// The holonomy's rotation k.
     k: u8,
     /// The chord E_orient asks for (the loop's segments written in the
-    /// combed crosses, over S(f), turned into the first face's chart),
-    /// and the loop's length in those units.
+    /// combed crosses, over S(f) or the anisotropy's lengths, turned into
+    /// the first face's chart), and the loop's length in those units.
     asked: DVec2,
     length: f64,
 }
@@ -566,7 +566,12 @@ fn thin_loop_developments(
                 if !(s.is_finite() && s > 0.0) {
                     return None;
                 }
-                let seg = in_frame(&frames[f], l.points[(i + 1) % n] - l.points[i])? / s;
+                // E_orient's target per face: ∇g_c · w̄_c = its inverse
+                // length along w̄_c (1/S, or the anisotropy's).
+                let lengths = input.anisotropy.get(f).copied().flatten();
+                let inverse = super::anisotropy::inverse_lengths(s, frames[f], lengths);
+                let seg = in_frame(&frames[f], l.points[(i + 1) % n] - l.points[i])?
+                    * DVec2::from(inverse);
                 asked += rotate((4 - acc) % 4, seg);
                 length += seg.length();
                 let g = l.faces[(i + 1) % n] as usize;
