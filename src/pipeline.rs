@@ -192,6 +192,11 @@ pub struct RemeshParams {
     /// ([`crate::param::Params::thin_part_across`], which has the
     /// figures); 0 turns it off. Default 0 (off).
     pub thin_part_across: f64,
+    /// The global mode's thin parts, the hard way: the least translation
+    /// of the map round a part thinner than that many target edges round
+    /// ([`crate::param::Params::thin_part_loops`], which has the
+    /// figures); 0 turns it off.
+    pub thin_part_loops: f64,
     /// The global mode's curvature-aligned anisotropic target lengths:
     /// the cap on the ratio of the edges across and along the direction of
     /// largest |κ| ([`crate::param::Params::curvature_anisotropy`], which
@@ -217,6 +222,7 @@ impl Default for RemeshParams {
             loop_separation: map.loop_separation,
             close_small_holes: map.close_small_holes,
             thin_part_across: map.thin_part_across,
+            thin_part_loops: map.thin_part_loops,
             curvature_anisotropy: map.curvature_anisotropy,
             curvature_anisotropy_cross: map.curvature_anisotropy_cross,
         }

@@ -607,6 +607,8 @@ fn cyclic_region_gets_closed_isolines_with_the_topology_constraint_and_a_helix_w
                 cyclic_loops: used,
                 stiffening: 0,
                 anisotropy: &[],
+                thin_loops: &[],
+                thin_loop_translation: 0.0,
             })
             .expect("a map");
             assert_eq!(m.conflicts, 0);

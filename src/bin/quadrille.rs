@@ -628,6 +628,7 @@ fn param(args: ParamArgs) -> Result<(), String> {
             "integer_conflicts": result.map.conflicts,
             "cyclic_loops": quadrille::param::cyclic_loops(&result.prepared, &params).len(),
             "closed_loops": result.map.closed_loops,
+            "widened_loops": result.map.widened_loops,
             "import_ms": import_ms,
             "timings": result.timings,
             "total_ms": clock(),

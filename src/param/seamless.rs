@@ -29,6 +29,14 @@
 //! (isolines close there; no helix), the one whose closing raises the
 //! energy least.
 //!
+//! Thin parts (not from the seeds; Campen §4.3's kind of constraint on
+//! another loop): round a loop of [`MapInput::thin_loops`] (a part
+//! between one and a few target edges round,
+//! [`super::thin_parts::thin_part_loops`]) the chord of the loop's image
+//! is the one E_orient asks for, scaled to [`MapInput::thin_loop_translation`]
+//! units ([`widen_loops`]): without it the map folds such a part flat
+//! (its cones round together) and QEx drops it.
+//!
 //! Deviations: the target is Id/S(f) (one parameter unit = one target
 //! edge; Ebke writes S(f)·Id, a density convention); the re-solves are
 //! not MIQ's local Gauss–Seidel updates but exact: the continuous unknowns
@@ -140,6 +148,13 @@ pub struct MapInput<'a> {
     /// Re-solves of MIQ's stiffening after the rounding (see
     /// [`super::Params::stiffening`]); 0: none.
     pub stiffening: usize,
+    /// Loops round thin parts ([`super::thin_parts::thin_part_loops`])
+    /// whose image must be at least `thin_loop_translation` units long
+    /// ([`widen_loops`]; empty: none).
+    pub thin_loops: &'a [super::thin_parts::ThinLoop],
+    /// The least length of a thin part's loop in the map, in units
+    /// (target edges); 0: no constraint.
+    pub thin_loop_translation: f64,
 }
 
 /// The factor on a flipped face's E_orient weight per stiffening re-solve
@@ -169,6 +184,8 @@ pub struct GridMap {
     pub conflicts: usize,
     /// Loops of [`MapInput::cyclic_loops`] that got a closing constraint.
     pub closed_loops: usize,
+    /// Loops of [`MapInput::thin_loops`] that got a translation constraint.
+    pub widened_loops: usize,
 }
 
 impl GridMap {
@@ -367,10 +384,15 @@ fn rotate_terms(k: u8, t: &Affine) -> Affine {
     std::array::from_fn(|c| t[src[c]].iter().map(|&(i, x)| (i, sign[c] * x)).collect())
 }
 
-/// Campen §4.3: the translation of each loop's holonomy, a sum of seam
-/// translations rotated along the way, per coordinate. Loops whose
-/// holonomy rotates, or that are not closed face paths, get None.
-fn loop_holonomies(input: &MapInput<'_>, c: &Cut, lay: &Layout) -> Vec<Option<Affine>> {
+/// Campen §4.3: each loop's holonomy X ↦ R^k X + t from its first face's
+/// chart to itself, k and t (a sum of seam translations rotated along the
+/// way, per coordinate). Loops that are not closed face paths get None.
+fn loop_holonomies<'l>(
+    input: &MapInput<'_>,
+    loops: impl Iterator<Item = &'l [u32]>,
+    c: &Cut,
+    lay: &Layout,
+) -> Vec<Option<(u8, Affine)>> {
     let mut seam_of = vec![[u32::MAX; 3]; input.mesh.triangles.len()];
     for (s, &(f, e)) in lay.seams.iter().enumerate() {
         seam_of[f][e] = s as u32;
@@ -378,7 +400,7 @@ fn loop_holonomies(input: &MapInput<'_>, c: &Cut, lay: &Layout) -> Vec<Option<Af
             seam_of[g][ge] = s as u32;
         }
     }
-    let holonomy = |faces: &[u32]| -> Option<Affine> {
+    let holonomy = |faces: &[u32]| -> Option<(u8, Affine)> {
         let n = faces.len();
         if n < 3 {
             return None;
@@ -412,9 +434,20 @@ fn loop_holonomies(input: &MapInput<'_>, c: &Cut, lay: &Layout) -> Vec<Option<Af
                 k = (k + m) % 4;
             }
         }
-        (k == 0).then_some(t)
+        Some((k, t))
     };
-    input.cyclic_loops.iter().map(|l| holonomy(l)).collect()
+    loops.map(holonomy).collect()
+}
+
+/// The translations of [`MapInput::cyclic_loops`]' holonomies: Campen's
+/// loops close isolines only where the holonomy does not rotate (None
+/// elsewhere).
+fn cyclic_holonomies(input: &MapInput<'_>, c: &Cut, lay: &Layout) -> Vec<Option<Affine>> {
+    let loops = input.cyclic_loops.iter().map(Vec::as_slice);
+    loop_holonomies(input, loops, c, lay)
+        .into_iter()
+        .map(|h| h.and_then(|(k, t)| (k == 0).then_some(t)))
+        .collect()
 }
 
 /// Campen §4.3 on the [`Condensed`] system (the holonomies are sums of
@@ -457,6 +490,178 @@ fn close_loops(
         }
     }
     Ok(constrained)
+}
+
+/// A thin loop's development in the map ([`widen_loops`]).
+struct Development {
+    /// The chord T⁻¹(X₀) − X₀ of the loop's image, from its base point
+    /// X₀ (a corner of the first face) round to the same point in
+    /// the chart continued along the loop, over the unknowns; T is the
+    /// holonomy X ↦ R^k X + t ([`GridMap::holonomy`]).
+    chord: Affine,
+    /// The holonomy's rotation k.
+    k: u8,
+    /// The chord E_orient asks for (the loop's segments written in the
+    /// combed crosses, over S(f) or the anisotropy's lengths, turned into
+    /// the first face's chart), and the loop's length in those units.
+    asked: DVec2,
+    length: f64,
+}
+
+/// Per thin loop of the input, its [`Development`]; None when the loop
+/// is not a closed face path or its frames are degenerate.
+fn thin_loop_developments(
+    input: &MapInput<'_>,
+    c: &Cut,
+    frames: &[[DVec3; 2]],
+    lay: &Layout,
+) -> Vec<Option<Development>> {
+    if input.thin_loops.is_empty() {
+        return Vec::new();
+    }
+    let holonomies = loop_holonomies(
+        input,
+        input.thin_loops.iter().map(|l| l.faces.as_slice()),
+        c,
+        lay,
+    );
+    // Vertices with an integer coordinate (cones, boundary and feature
+    // isolines): no base point, a continuous value there would contradict
+    // the rounding. Nor a wedge another loop uses.
+    let mut pinned = vec![false; input.mesh.positions.len()];
+    for k in &input.field.cones {
+        if let Some(p) = pinned.get_mut(k.vertex as usize) {
+            *p = true;
+        }
+    }
+    for (f, t) in input.mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let feature = input.feature_edges.get(f).is_some_and(|x| x[e]);
+            if feature || input.topology.across(f, e).is_none() {
+                pinned[t[e] as usize] = true;
+                pinned[t[(e + 1) % 3] as usize] = true;
+            }
+        }
+    }
+    let mut used = std::collections::HashSet::new();
+    input
+        .thin_loops
+        .iter()
+        .zip(holonomies)
+        .map(|(l, h)| {
+            let (k, t) = h?;
+            let n = l.faces.len();
+            if l.points.len() != n {
+                return None;
+            }
+            // Σ over the faces of the segment in the face's chart (the
+            // combed cross's coordinates over S), turned back into the
+            // first face's chart: X_b = R^m X_a + t across an edge of
+            // matching m, so vectors of chart i are R^acc of chart 0's.
+            let mut acc = 0u8;
+            let (mut asked, mut length) = (DVec2::ZERO, 0.0);
+            for i in 0..n {
+                let f = l.faces[i] as usize;
+                let s = input.face_sizing.get(f).copied().unwrap_or(1.0);
+                if !(s.is_finite() && s > 0.0) {
+                    return None;
+                }
+                // E_orient's target per face: ∇g_c · w̄_c = its inverse
+                // length along w̄_c (1/S, or the anisotropy's).
+                let lengths = input.anisotropy.get(f).copied().flatten();
+                let inverse = super::anisotropy::inverse_lengths(s, frames[f], lengths);
+                let seg = in_frame(&frames[f], l.points[(i + 1) % n] - l.points[i])?
+                    * DVec2::from(inverse);
+                asked += rotate((4 - acc) % 4, seg);
+                length += seg.length();
+                let g = l.faces[(i + 1) % n] as usize;
+                let e =
+                    (0..3).find(|&e| input.topology.across(f, e).is_some_and(|(h, _)| h == g))?;
+                acc = (acc + c.matching[f][e]) % 4;
+            }
+            // T⁻¹(X) = R^{−k}(X − t); chord = R^{−k}(X₀ − t) − X₀, X₀ a
+            // corner of the first face (its chart is the holonomy's).
+            let f0 = l.faces[0] as usize;
+            let corner = (0..3).find(|&i| {
+                let v = input.mesh.triangles[f0][i] as usize;
+                !pinned[v] && !used.contains(&c.wedge[f0][i])
+            })?;
+            let w = c.wedge[f0][corner];
+            used.insert(w);
+            let x0: Affine = std::array::from_fn(|comp| vec![(lay.w(w, comp), 1.0)]);
+            let shifted: Affine = std::array::from_fn(|comp| {
+                let mut terms = x0[comp].clone();
+                terms.extend(t[comp].iter().map(|&(i, v)| (i, -v)));
+                terms
+            });
+            let mut chord = rotate_terms((4 - k) % 4, &shifted);
+            for comp in 0..2 {
+                chord[comp].push((lay.w(w, comp), -1.0));
+            }
+            Some(Development {
+                chord,
+                k,
+                asked,
+                length,
+            })
+        })
+        .collect()
+}
+
+/// The hard constraint round thin parts, on the [`Condensed`] system as
+/// [`close_loops`]: round each loop of [`MapInput::thin_loops`] shorter
+/// than `least` units in the map's own sizing, the loop's image gets the
+/// chord E_orient asks for scaled to a loop of `least` units. Without
+/// rotation (k = 0) the chord is the holonomy's translation, integer: the
+/// nearest reachable integers ([`nearest_reachable_integer`]); with a
+/// rotation it fixes the base point's distance from the holonomy's
+/// centre (the cones inside acting as one), a continuous quantity. The
+/// asked chord, not the relaxed map's, which is about 0 round a part the
+/// map folds flat. A loop whose chord is already fixed (a homotopic
+/// loop's constraint, no cone between) or whose constraint would
+/// contradict the ones so far gets none. Returns the number of loops
+/// constrained.
+fn widen_loops(el: &mut Eliminator, least: f64, developments: &[Option<Development>]) -> usize {
+    if !(least.is_finite() && least > 0.0) {
+        return 0;
+    }
+    let mut widened = 0;
+    for d in developments.iter().flatten() {
+        if !(d.length > 1e-9 && d.length < least) {
+            continue;
+        }
+        let target = d.asked * (least / d.length);
+        let mut added = false;
+        for comp in 0..2 {
+            let e = el.reduce(&d.chord[comp], 0.0);
+            if e.terms.iter().all(|x| x.1.abs() < 1e-12) {
+                continue;
+            }
+            let value = if d.k == 0 {
+                nearest_reachable_integer(&e, target[comp])
+            } else {
+                target[comp]
+            };
+            if let Added::Eliminated(_) = el.add(&d.chord[comp], value, 1e-9) {
+                added = true;
+            }
+        }
+        widened += usize::from(added);
+    }
+    widened
+}
+
+/// `d` (in the face's plane) as a·w̄0 + b·w̄1; None for a degenerate
+/// frame.
+fn in_frame(w: &[DVec3; 2], d: DVec3) -> Option<DVec2> {
+    // Least squares in 3D: the 2×2 Gram system.
+    let (g00, g01, g11) = (w[0].dot(w[0]), w[0].dot(w[1]), w[1].dot(w[1]));
+    let (r0, r1) = (w[0].dot(d), w[1].dot(d));
+    let det = g00 * g11 - g01 * g01;
+    if !(det.is_finite() && det > 1e-12 * (g00 * g11).max(1e-300)) {
+        return None;
+    }
+    Some(DVec2::new(g11 * r0 - g01 * r1, g00 * r1 - g01 * r0) / det)
 }
 
 /// Per face: the four weighted E_orient rows (terms over x, target).
@@ -1146,7 +1351,8 @@ pub fn grid_map_timed(
     let mut el = Eliminator::new(lay.len(), 2 * lay.wedges);
     let mut conflicts = seam_constraints(&mut el, input, &c, &lay);
     let boundary = boundary_constraints(&mut el, input, &c, &frames, &lay);
-    let holonomies = loop_holonomies(input, &c, &lay);
+    let holonomies = cyclic_holonomies(input, &c, &lay);
+    let thin = thin_loop_developments(input, &c, &frames, &lay);
     gauge(&mut el, input, &c, &lay);
     let mut quantities: Vec<Vec<(usize, f64)>> = Vec::new();
     for k in &input.field.cones {
@@ -1178,10 +1384,13 @@ pub fn grid_map_timed(
     } else {
         Vec::new()
     };
-    z_quantities.extend(holonomies.iter().flatten().flat_map(|t| t.iter().cloned()));
+    let loops = holonomies.iter().flatten();
+    let chords = thin.iter().flatten().map(|d| &d.chord);
+    z_quantities.extend(loops.chain(chords).flat_map(|t| t.iter().cloned()));
     let sys = Condensed::new(&el, &rows, &z_quantities, &mut || go_on(0.0))?;
     drop(z_quantities);
     let closed_loops = close_loops(&mut el, &sys, &holonomies)?;
+    let widened_loops = widen_loops(&mut el, input.thin_loop_translation, &thin);
     let t2 = clock();
     let (x, energy, steps, more, analyses) = if input.round {
         round(
@@ -1190,7 +1399,7 @@ pub fn grid_map_timed(
             &rows,
             &Integers { quantities, first },
             input.batch_fraction.clamp(1e-3, 1.0),
-            closed_loops > 0,
+            closed_loops + widened_loops > 0,
             go_on,
         )?
     } else {
@@ -1257,6 +1466,7 @@ pub fn grid_map_timed(
         symbolic_analyses: analyses,
         conflicts,
         closed_loops,
+        widened_loops,
     };
     let t3 = clock();
     let timings = MapTimings {

@@ -195,6 +195,7 @@ mod tests {
             symbolic_analyses: 0,
             conflicts: 0,
             closed_loops: 0,
+            widened_loops: 0,
         };
         let a = GridMapArrays::new(&mesh, &map);
         assert_eq!(a.positions.len(), 9 * mesh.face_count());

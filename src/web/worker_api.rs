@@ -512,6 +512,7 @@ fn parametrization_layers(
         "rounding_steps": run.map.rounding_steps,
         "alignment": params.alignment,
         "closed_loops": run.map.closed_loops,
+        "widened_loops": run.map.widened_loops,
     });
     set(&r.obj, "param", to_js(&summary)?)
 }
