@@ -127,58 +127,61 @@ def remesh(args, src, stem):
         return json.load(f), None
 
 
-def check(metrics, target):
-    """The bars an output's `quadrille metrics` miss at `target` vertices."""
-    m = metrics["metrics"]
-    topo, pres, quads = m["topology"], m["preservation"], m["quads"]
+def cells(metrics):
+    """The figures of an output's `quadrille metrics`, manifold or not (a
+    non-manifold output's report has its face soup's counts and shape, not
+    its boundaries: `preservation` is None)."""
+    if "metrics" in metrics:
+        m = metrics["metrics"]
+        topo = m["topology"]
+        return {
+            "manifold": not (topo["nonmanifold_edges"] or topo["nonmanifold_vertices"]
+                             or topo["inconsistent_edges"]),
+            "vertices": topo["vertices"], "input_vertices": topo["input_vertices"],
+            "ev": topo["extraordinary_vertex_percent"], "odd": topo["non_quad_percent"],
+            "quads": m["quads"], "hausdorff": m["distance"]["hausdorff"], "preservation": m["preservation"],
+        }
+    return {
+        "manifold": False, "why": metrics.get("why", ""), "vertices": metrics["vertices"],
+        "ev": metrics["extraordinary_vertex_percent"], "odd": metrics["non_quad_percent"],
+        "quads": metrics["quads"], "hausdorff": metrics["hausdorff"], "preservation": None,
+    }
+
+
+def check(c, target):
+    """The bars an output's `cells` miss at `target` vertices."""
     missed = []
-    if topo["nonmanifold_edges"] or topo["nonmanifold_vertices"] or topo["inconsistent_edges"]:
-        missed.append("manifold")
-    error = 100.0 * (topo["vertices"] - target) / max(1, target)
+    if not c["manifold"]:
+        missed.append("manifold (%s)" % c["why"] if c.get("why") else "manifold")
+    error = 100.0 * (c["vertices"] - target) / max(1, target)
     if abs(error) > 10:
         missed.append("count %+.1f %%" % error)
-    if topo["non_quad_percent"] > 5:
-        missed.append("odd %.1f %%" % topo["non_quad_percent"])
-    if quads["max_corner_angle_degrees"] > 170:
-        missed.append("corner %.0f°" % quads["max_corner_angle_degrees"])
-    if pres["loops_closed"]:
-        missed.append("%d loops closed" % len(pres["loops_closed"]))
-    # Parts lost are listed by their input triangles; a part of fewer than
-    # two output faces' worth (a closed mesh has about 2 triangles per
-    # vertex) is below the target scale.
-    per_face = 2.0 * topo["input_vertices"] / max(1, target)
-    big = [c for c in pres["components_lost"] if c >= 2.0 * per_face]
-    if big:
-        missed.append("parts lost %s" % big)
+    if c["odd"] > 5:
+        missed.append("odd %.1f %%" % c["odd"])
+    if c["quads"]["max_corner_angle_degrees"] > 170:
+        missed.append("corner %.0f°" % c["quads"]["max_corner_angle_degrees"])
+    pres = c["preservation"]
+    if pres is not None:
+        if pres["loops_closed"]:
+            missed.append("%d loops closed" % len(pres["loops_closed"]))
+        # Parts lost are listed by their input triangles; a part of fewer
+        # than two output faces' worth (a closed mesh has about 2 triangles
+        # per vertex) is below the target scale.
+        per_face = 2.0 * c["input_vertices"] / max(1, target)
+        big = [n for n in pres["components_lost"] if n >= 2.0 * per_face]
+        if big:
+            missed.append("parts lost %s" % big)
     return missed
 
 
 def row(label, metrics, target):
-    if "metrics" not in metrics:
-        # A non-manifold output: `quadrille metrics` reports its face
-        # soup's counts and shape, not its boundaries.
-        q = metrics["quads"]
-        error = 100.0 * (metrics["vertices"] - target) / max(1, target)
-        missed = ["manifold (%s)" % metrics.get("why", "")]
-        if abs(error) > 10:
-            missed.append("count %+.1f %%" % error)
-        if metrics["non_quad_percent"] > 5:
-            missed.append("odd %.1f %%" % metrics["non_quad_percent"])
-        if q["max_corner_angle_degrees"] > 170:
-            missed.append("corner %.0f°" % q["max_corner_angle_degrees"])
-        return (
-            f"| {label} | {metrics['vertices']} / {target} | {metrics['extraordinary_vertex_percent']:.1f} "
-            f"| {q['corner_angle_deviation_degrees']:.1f} | {metrics['non_quad_percent']:.1f} "
-            f"| {q['max_corner_angle_degrees']:.0f} | {metrics['hausdorff']:.4f} | – | {', '.join(missed)} |"
-        )
-    m = metrics["metrics"]
-    topo, pres, quads = m["topology"], m["preservation"], m["quads"]
-    missed = check(metrics, target)
+    c = cells(metrics)
+    q, pres = c["quads"], c["preservation"]
+    loops = "–" if pres is None else f"{pres['loops_kept']} of {pres['input_loops']} / {pres['loops_too_small']}"
+    missed = check(c, target)
     return (
-        f"| {label} | {topo['vertices']} / {target} "
-        f"| {topo['extraordinary_vertex_percent']:.1f} | {quads['corner_angle_deviation_degrees']:.1f} "
-        f"| {topo['non_quad_percent']:.1f} | {quads['max_corner_angle_degrees']:.0f} "
-        f"| {m['distance']['hausdorff']:.4f} | {pres['loops_kept']} of {pres['input_loops']} / {pres['loops_too_small']} "
+        f"| {label} | {c['vertices']} / {target} | {c['ev']:.1f} | {q['corner_angle_deviation_degrees']:.1f} "
+        f"| {c['odd']:.1f} | {q['max_corner_angle_degrees']:.0f} | {c['hausdorff']:.4f} | {loops} "
         f"| {', '.join(missed) if missed else 'none'} |"
     )
 
